@@ -13,3 +13,9 @@
 
 pub mod math;
 pub mod scene;
+pub mod dae;
+pub mod effect;
+pub mod model;
+pub mod state;
+pub mod integrator;
+pub mod sim;

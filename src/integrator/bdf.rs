@@ -1,0 +1,580 @@
+//! Variable-order (1-5), variable-step BDF (Gear) on the stabilized index-2 (GGL) form.
+//!
+//! Unknowns at `t1`: chart positions `x` (`q = q_n ⊕ x`), speeds `v`, multipliers `lambda`, `mu`:
+//!
+//! ```text
+//! sum_j alpha_j x_j = dexp_inv(x) v - G^T mu      (mu = 0 at the exact solution)
+//! M sum_j alpha_j v_j = f - G^T lambda
+//! Phi(q, t1) = 0,   G v + Phi_t = 0
+//! ```
+//!
+//! `alpha_j` are the derivative weights at `t1` of the polynomial through the last `k + 1`
+//! points of the (variable) grid. The local error of positions and speeds (not multipliers) is
+//! estimated from the predictor-corrector difference `h / (t1 - t_{n-k}) |Y1 - Y_pred|`; orders
+//! `k - 1` and `k + 1` are judged from scaled divided differences of the accepted solutions.
+//! In fixed-step mode (order studies) the first `k - 1` points come from a tight DOPRI5 run.
+//! The history is re-expressed in the chart of the newest point at every step.
+
+use super::dopri::Dopri5;
+use super::{Integrator, IntegratorKind, Settings, SolverError, Stats, time_eps, weights};
+use crate::dae::System;
+use crate::dae::linear::LinearSolver;
+use crate::math::wrms;
+use crate::state::State;
+use std::collections::VecDeque;
+
+/// One accepted solution point.
+#[derive(Debug, Clone, PartialEq)]
+struct Point {
+    t: f64,
+    q: Vec<f64>,
+    v: Vec<f64>,
+    /// Dissipated energy and input work [J].
+    z: [f64; 2],
+}
+
+/// BDF integrator.
+#[derive(Debug, Clone)]
+pub struct Bdf {
+    s: Settings,
+    hist: VecDeque<Point>,
+    h: f64,
+    order: usize,
+    steps_at_order: usize,
+    lin: LinearSolver,
+    jac_alpha0: f64,
+    jac_valid: bool,
+    stats: Stats,
+    // scratch: chart coordinates of history points (newest first), unknowns, residuals
+    xs: Vec<Vec<f64>>,
+    x: Vec<f64>,
+    v: Vec<f64>,
+    lam: Vec<f64>,
+    mu: Vec<f64>,
+    q1: Vec<f64>,
+    f: Vec<f64>,
+    rhs: Vec<f64>,
+    tmp: Vec<f64>,
+    wx: Vec<f64>,
+    wv: Vec<f64>,
+    vdot: Vec<f64>,
+}
+
+/// Weights `w` with `p(tau) = sum w_j y_j` for the polynomial through `(ts[j], y_j)`.
+fn interp_weights(ts: &[f64], tau: f64, w: &mut [f64]) {
+    for j in 0..ts.len() {
+        let mut l = 1.0;
+        for i in 0..ts.len() {
+            if i != j {
+                l *= (tau - ts[i]) / (ts[j] - ts[i]);
+            }
+        }
+        w[j] = l;
+    }
+}
+
+/// Weights `w` with `p'(ts[0]) = sum w_j y_j`.
+fn derivative_weights(ts: &[f64], w: &mut [f64]) {
+    let tau = ts[0];
+    for j in 0..ts.len() {
+        let mut d = 0.0;
+        for m in 0..ts.len() {
+            if m == j {
+                continue;
+            }
+            let mut p = 1.0 / (ts[j] - ts[m]);
+            for i in 0..ts.len() {
+                if i != j && i != m {
+                    p *= (tau - ts[i]) / (ts[j] - ts[i]);
+                }
+            }
+            d += p;
+        }
+        w[j] = d;
+    }
+}
+
+enum Outcome {
+    Converged,
+    Failed(String),
+}
+
+impl Bdf {
+    /// A new integrator with the given settings.
+    pub fn new(s: Settings) -> Self {
+        Bdf {
+            s,
+            hist: VecDeque::new(),
+            h: 0.0,
+            order: 1,
+            steps_at_order: 0,
+            lin: LinearSolver::new(),
+            jac_alpha0: 0.0,
+            jac_valid: false,
+            stats: Stats::default(),
+            xs: Vec::new(),
+            x: Vec::new(),
+            v: Vec::new(),
+            lam: Vec::new(),
+            mu: Vec::new(),
+            q1: Vec::new(),
+            f: Vec::new(),
+            rhs: Vec::new(),
+            tmp: Vec::new(),
+            wx: Vec::new(),
+            wv: Vec::new(),
+            vdot: Vec::new(),
+        }
+    }
+
+    fn resize(&mut self, nq: usize, nv: usize, nc: usize) {
+        for v in [&mut self.x, &mut self.v, &mut self.f, &mut self.tmp, &mut self.wx, &mut self.wv, &mut self.vdot] {
+            v.resize(nv, 0.0);
+        }
+        self.lam.resize(nc, 0.0);
+        self.mu.resize(nc, 0.0);
+        self.q1.resize(nq, 0.0);
+        self.rhs.resize(2 * nv + 2 * nc, 0.0);
+    }
+
+    fn push_point(&mut self, st: &State) {
+        self.hist.push_front(Point { t: st.t, q: st.q.clone(), v: st.v.clone(), z: [st.energy_dissipated, st.work_input] });
+        self.hist.truncate(7);
+    }
+
+    /// Chart coordinates of history points `0..m` relative to the newest.
+    fn chart_history(&mut self, sys: &System, m: usize) {
+        let nv = sys.n_v();
+        self.xs.resize(m, Vec::new());
+        for j in 0..m {
+            self.xs[j].resize(nv, 0.0);
+            if j == 0 {
+                self.xs[0].fill(0.0);
+            } else {
+                let mut x = std::mem::take(&mut self.xs[j]);
+                sys.model.local(&self.hist[0].q, &self.hist[j].q, &mut x);
+                self.xs[j] = x;
+            }
+        }
+    }
+
+    /// Newton iteration for one step of order `k` to `t1`; leaves the solution in `x`, `v`, ...
+    fn solve_step(&mut self, sys: &mut System, k: usize, t1: f64, alpha: &[f64]) -> Outcome {
+        let (nv, nc) = (sys.n_v(), sys.n_c());
+        let a0 = alpha[0];
+        let n = 2 * nv + 2 * nc;
+        let q0 = self.hist[0].q.clone();
+        let mut prev = f64::INFINITY;
+        for it in 0..10 {
+            sys.model.retract(&q0, &self.x, &mut self.q1);
+            sys.forces(t1, &self.q1, &self.v, &mut self.f);
+            sys.eval_constraints(t1, &self.q1, &self.v);
+            self.stats.rhs_evaluations += 1;
+            self.stats.newton_iterations += 1;
+            // x rows: -(sum alpha x - dexp_inv(x) v + G^T mu)
+            sys.model.chart_rate(&self.x, &self.v, &mut self.tmp);
+            for i in 0..nv {
+                let mut s = a0 * self.x[i];
+                for j in 0..k {
+                    s += alpha[j + 1] * self.xs[j][i];
+                }
+                self.rhs[i] = -(s - self.tmp[i]);
+            }
+            {
+                let mut gtmu = vec![0.0; nv];
+                sys.gt_mul_add(&self.mu, &mut gtmu);
+                for i in 0..nv {
+                    self.rhs[i] -= gtmu[i];
+                }
+            }
+            // v rows: -(M sum alpha v + G^T lambda - f)
+            for i in 0..nv {
+                let mut s = a0 * self.v[i];
+                for j in 0..k {
+                    s += alpha[j + 1] * self.hist[j].v[i];
+                }
+                self.vdot[i] = s;
+            }
+            sys.mass_mul(&self.vdot, &mut self.tmp);
+            for i in 0..nv {
+                self.rhs[nv + i] = self.f[i] - self.tmp[i];
+            }
+            {
+                let neg: Vec<f64> = self.lam.iter().map(|l| -l).collect();
+                sys.gt_mul_add(&neg, &mut self.rhs[nv..2 * nv]);
+            }
+            let mut phi_max: f64 = 0.0;
+            let mut gv = vec![0.0; nc];
+            sys.g_mul(&self.v, &mut gv);
+            for (r, row) in sys.rows.iter().enumerate() {
+                self.rhs[2 * nv + r] = -a0 * row.phi;
+                self.rhs[2 * nv + nc + r] = -(gv[r] + row.phi_t);
+                phi_max = phi_max.max(row.phi.abs());
+            }
+            if self.rhs[..n].iter().any(|x| !x.is_finite()) {
+                return Outcome::Failed(format!("non-finite residual at t = {t1:.9e} s"));
+            }
+            let refresh = !self.jac_valid || (a0 / self.jac_alpha0 - 1.0).abs() > 0.3;
+            if refresh {
+                self.lin.begin(n);
+                for i in 0..nv {
+                    self.lin.push(i, i, a0);
+                    self.lin.push(i, nv + i, -1.0);
+                }
+                sys.add_constraint_blocks(&mut self.lin, 2 * nv, 0, a0, Some((0, 2 * nv + nc, 1.0)));
+                sys.add_dynamics_matrix_at(t1, &self.q1, &self.v, [a0, 1.0, 0.0], &mut self.lin, nv, nv);
+                sys.add_dynamics_matrix_at(t1, &self.q1, &self.v, [0.0, 0.0, 1.0], &mut self.lin, nv, 0);
+                sys.add_constraint_blocks(&mut self.lin, 2 * nv + nc, nv, 1.0, Some((nv, 2 * nv, 1.0)));
+                self.stats.jacobians += 1;
+                self.stats.factorizations += 1;
+                if let Err(e) = self.lin.factor() {
+                    self.jac_valid = false;
+                    return Outcome::Failed(e);
+                }
+                self.jac_valid = true;
+                self.jac_alpha0 = a0;
+            }
+            if let Err(e) = self.lin.solve(&mut self.rhs[..n]) {
+                self.jac_valid = false;
+                return Outcome::Failed(e);
+            }
+            for i in 0..nv {
+                self.x[i] += self.rhs[i];
+                self.v[i] += self.rhs[nv + i];
+            }
+            for r in 0..nc {
+                self.lam[r] += self.rhs[2 * nv + r];
+                self.mu[r] += self.rhs[2 * nv + nc + r];
+            }
+            let norm = wrms(&self.rhs[..nv], &self.wx).max(wrms(&self.rhs[nv..2 * nv], &self.wv));
+            let rate = norm / prev;
+            if it >= 2 && rate > 0.9 {
+                return Outcome::Failed(format!("Newton iteration diverges at t = {t1:.9e} s (rate {rate:.2})"));
+            }
+            prev = norm;
+            let est = if it == 0 { norm } else { norm * rate / (1.0 - rate).max(1e-3) };
+            if (est <= 0.03 || norm <= 1e-12) && phi_max <= 10.0 * self.s.atol {
+                sys.model.retract(&q0, &self.x, &mut self.q1);
+                for i in 0..nv {
+                    let mut s = a0 * self.v[i];
+                    for j in 0..k {
+                        s += alpha[j + 1] * self.hist[j].v[i];
+                    }
+                    self.vdot[i] = s;
+                }
+                return Outcome::Converged;
+            }
+        }
+        Outcome::Failed(format!("Newton iteration did not converge in 10 iterations at t = {t1:.9e} s"))
+    }
+
+    /// Tries one step of size `h` at the current order. Returns the error estimates at orders
+    /// (k-1, k, k+1) (NaN where unavailable) on convergence.
+    fn try_step(&mut self, sys: &mut System, h: f64) -> Result<[f64; 3], String> {
+        let (nv, nc) = (sys.n_v(), sys.n_c());
+        let k = self.order.min(self.hist.len());
+        let t1 = self.hist[0].t + h;
+        let navail = self.hist.len();
+        self.chart_history(sys, navail);
+        // predictor through k+1 points if available (k otherwise)
+        let np = (k + 1).min(navail);
+        let mut ts: Vec<f64> = self.hist.iter().take(np).map(|p| p.t).collect();
+        let mut wp = vec![0.0; np];
+        interp_weights(&ts, t1, &mut wp);
+        for i in 0..nv {
+            let (mut sx, mut sv) = (0.0, 0.0);
+            for j in 0..np {
+                sx += wp[j] * self.xs[j][i];
+                sv += wp[j] * self.hist[j].v[i];
+            }
+            self.x[i] = sx;
+            self.v[i] = sv;
+        }
+        let (xp, vp) = (self.x.clone(), self.v.clone());
+        self.mu.iter_mut().for_each(|m| *m = 0.0);
+        if self.lam.len() != nc {
+            self.lam.resize(nc, 0.0);
+        }
+        // corrector weights over t1, t_n, ..., t_{n-k+1}
+        ts.clear();
+        ts.push(t1);
+        ts.extend(self.hist.iter().take(k).map(|p| p.t));
+        let mut alpha = vec![0.0; k + 1];
+        derivative_weights(&ts, &mut alpha);
+        let h0 = &self.hist[0];
+        let (q0, v0) = (h0.q.clone(), h0.v.clone());
+        weights(sys, &q0, &v0, &self.s, &mut self.wx, &mut self.wv);
+        if let Outcome::Failed(e) = self.solve_step(sys, k, t1, &alpha) {
+            return Err(e);
+        }
+        if self.s.fixed_step > 0.0 {
+            return Ok([f64::NAN, 0.0, f64::NAN]);
+        }
+        // error at order k
+        let span = t1 - self.hist[np - 1].t;
+        let c = h / span;
+        let mut ex = vec![0.0; nv];
+        let mut ev = vec![0.0; nv];
+        for i in 0..nv {
+            ex[i] = c * (self.x[i] - xp[i]);
+            ev[i] = c * (self.v[i] - vp[i]);
+        }
+        let combine = |a: f64, b: f64| ((a * a + b * b) * 0.5).sqrt();
+        let err_k = if np < k + 1 { combine(wrms(&ex, &self.wx), wrms(&ev, &self.wv)).max(1e-300) } else { combine(wrms(&ex, &self.wx), wrms(&ev, &self.wv)) };
+        // scaled divided differences of order j over (t1, t_n, ...)
+        let dd = |j: usize, this: &Bdf| -> f64 {
+            if j + 1 > navail + 1 {
+                return f64::NAN;
+            }
+            let mut tsj = vec![t1];
+            tsj.extend(this.hist.iter().take(j).map(|p| p.t));
+            let mut fact = 1.0;
+            for m in 1..=j {
+                fact *= m as f64;
+            }
+            let scale = fact * h.powi(j as i32);
+            let mut cx = vec![0.0; nv];
+            let mut cv = vec![0.0; nv];
+            for i in 0..nv {
+                let mut vals_x: Vec<f64> = vec![this.x[i]];
+                let mut vals_v: Vec<f64> = vec![this.v[i]];
+                for m in 0..j {
+                    vals_x.push(this.xs[m][i]);
+                    vals_v.push(this.hist[m].v[i]);
+                }
+                for lvl in 1..=j {
+                    for m in 0..=(j - lvl) {
+                        let dt = tsj[m] - tsj[m + lvl];
+                        vals_x[m] = (vals_x[m] - vals_x[m + 1]) / dt;
+                        vals_v[m] = (vals_v[m] - vals_v[m + 1]) / dt;
+                    }
+                }
+                cx[i] = scale * vals_x[0];
+                cv[i] = scale * vals_v[0];
+            }
+            combine(wrms(&cx, &this.wx), wrms(&cv, &this.wv))
+        };
+        let err_lo = if k >= 2 { dd(k, self) / k as f64 } else { f64::NAN };
+        let err_hi = if k < self.s.max_order && navail >= k + 2 { dd(k + 2, self) / (k + 2) as f64 } else { f64::NAN };
+        Ok([err_lo, err_k, err_hi])
+    }
+
+    fn accept(&mut self, sys: &mut System, st: &mut State, h: f64, alpha0_k: usize) {
+        let t1 = self.hist[0].t + h;
+        // quadrature of powers with the same BDF formula (explicit in z)
+        let drive: f64 = sys.rows.iter().zip(&self.lam).map(|(r, l)| l * r.phi_t).sum();
+        let (pd, pi) = sys.powers(t1, &self.q1, &self.v);
+        let pi = pi + drive;
+        let k = alpha0_k;
+        let mut ts = vec![t1];
+        ts.extend(self.hist.iter().take(k).map(|p| p.t));
+        let mut alpha = vec![0.0; k + 1];
+        derivative_weights(&ts, &mut alpha);
+        let mut z = [0.0; 2];
+        for (c, p) in [pd, pi].into_iter().enumerate() {
+            let mut s = 0.0;
+            for j in 0..k {
+                s += alpha[j + 1] * self.hist[j].z[c];
+            }
+            z[c] = (p - s) / alpha[0];
+        }
+        st.t = t1;
+        st.q.copy_from_slice(&self.q1);
+        st.v.copy_from_slice(&self.v);
+        st.vdot.copy_from_slice(&self.vdot);
+        st.lambda.clear();
+        st.lambda.extend_from_slice(&self.lam);
+        st.energy_dissipated = z[0];
+        st.work_input = z[1];
+        self.push_point(st);
+        self.stats.steps += 1;
+        self.stats.last_step = h;
+    }
+
+    /// Fixed-step start: fills the history with `order - 1` points from a tight DOPRI5 run.
+    fn bootstrap(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
+        let h = self.s.fixed_step;
+        let tight = Settings { rtol: 1e-13, atol: 1e-15, h_max: h, fixed_step: 0.0, ..self.s };
+        let mut rk = Dopri5::new(tight);
+        rk.start(sys, st)?;
+        while self.hist.len() < self.s.max_order {
+            let t = st.t + h;
+            rk.advance_to(sys, st, t)?;
+            self.push_point(st);
+        }
+        self.order = self.s.max_order;
+        Ok(())
+    }
+}
+
+impl Integrator for Bdf {
+    fn kind(&self) -> IntegratorKind {
+        IntegratorKind::Bdf
+    }
+
+    fn start(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
+        self.resize(sys.n_q(), sys.n_v(), sys.n_c());
+        self.hist.clear();
+        self.push_point(st);
+        self.lam.copy_from_slice(&st.lambda);
+        self.order = 1;
+        self.steps_at_order = 0;
+        weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
+        let acc = wrms(&st.vdot, &self.wv).max(wrms(&st.v, &self.wx)).max(1e-12);
+        self.h = if self.s.h_init > 0.0 { self.s.h_init } else { (0.001 / acc).clamp(1e-8, self.s.h_max) };
+        self.jac_valid = false;
+        Ok(())
+    }
+
+    fn advance_to(&mut self, sys: &mut System, st: &mut State, t_end: f64) -> Result<(), SolverError> {
+        self.resize(sys.n_q(), sys.n_v(), sys.n_c());
+        self.jac_valid = false;
+        if self.hist.is_empty() {
+            return Err(SolverError("bdf: advance_to before start".into()));
+        }
+        let fixed = self.s.fixed_step > 0.0;
+        if fixed && self.hist.len() == 1 && self.s.max_order > 1 {
+            self.bootstrap(sys, st)?;
+        }
+        let mut steps = 0u64;
+        let mut refreshed = false;
+        let mut fails = 0;
+        while t_end - st.t > time_eps(t_end) {
+            steps += 1;
+            if steps > self.s.max_steps {
+                return Err(SolverError(format!("more than {} steps in one call at t = {:.9e} s: raise h_max or loosen rtol/atol", self.s.max_steps, st.t)));
+            }
+            let natural = if fixed { self.s.fixed_step } else { self.h.min(self.s.h_max) };
+            let remaining = t_end - st.t;
+            let h = if natural >= remaining - time_eps(t_end) { remaining } else { natural };
+            let k = self.order.min(self.hist.len());
+            match self.try_step(sys, h) {
+                Ok([lo, errk, hi]) => {
+                    if !fixed && errk > 1.0 {
+                        self.stats.rejected += 1;
+                        fails += 1;
+                        let fac = (0.9 * errk.powf(-1.0 / (k as f64 + 1.0))).clamp(0.1, 0.9);
+                        self.h = h * fac;
+                        if fails >= 3 {
+                            self.order = 1;
+                            self.steps_at_order = 0;
+                        }
+                        continue;
+                    }
+                    fails = 0;
+                    refreshed = false;
+                    self.accept(sys, st, h, k);
+                    if fixed {
+                        continue;
+                    }
+                    self.steps_at_order += 1;
+                    // order and step selection
+                    let ratio = |e: f64, ord: usize| if e.is_finite() && e > 0.0 { 0.9 * e.powf(-1.0 / (ord as f64 + 1.0)) } else if e == 0.0 { 2.0 } else { 0.0 };
+                    let mut best = (ratio(errk, k), k);
+                    if self.steps_at_order > k {
+                        let rl = ratio(lo, k - 1) / 1.3;
+                        if k > 1 && rl > best.0 {
+                            best = (rl, k - 1);
+                        }
+                        let rh = ratio(hi, k + 1) / 1.4;
+                        if k < self.s.max_order && rh > best.0 {
+                            best = (rh, k + 1);
+                        }
+                    }
+                    // startup: raise the order as soon as enough points exist
+                    if self.stats.steps < 8 && k < self.s.max_order && self.hist.len() > k && best.1 == k {
+                        best.1 = k + 1;
+                    }
+                    if best.1 != self.order {
+                        self.order = best.1;
+                        self.steps_at_order = 0;
+                    }
+                    let fac = best.0.clamp(0.2, 2.0);
+                    if h == natural && (fac > 1.2 || fac < 1.0) {
+                        self.h = h * fac;
+                    } else if fac < 1.0 {
+                        self.h = h * fac;
+                    }
+                }
+                Err(reason) => {
+                    self.stats.newton_failures += 1;
+                    if !refreshed && self.jac_valid {
+                        self.jac_valid = false;
+                        refreshed = true;
+                        continue;
+                    }
+                    refreshed = false;
+                    if fixed {
+                        return Err(SolverError(format!("{reason}; the fixed step {h:.3e} s is too large: reduce it or use adaptive steps")));
+                    }
+                    self.h = 0.25 * h;
+                    self.order = 1;
+                    self.steps_at_order = 0;
+                    if self.h < 1e-14 * st.t.abs().max(1.0) {
+                        return Err(SolverError(format!("step size fell below {:.1e} s at t = {:.9e} s: {reason} (check parameters, loosen rtol or raise damping)", self.h, st.t)));
+                    }
+                }
+            }
+        }
+        st.t = t_end;
+        if let Some(p) = self.hist.front_mut() {
+            p.t = t_end;
+        }
+        Ok(())
+    }
+
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    fn clone_box(&self) -> Box<dyn Integrator> {
+        Box::new(self.clone())
+    }
+
+    fn memory(&self) -> Vec<f64> {
+        let mut m = vec![self.h, self.order as f64, self.steps_at_order as f64, self.hist.len() as f64];
+        for p in &self.hist {
+            m.push(p.t);
+            m.push(p.q.len() as f64);
+            m.extend_from_slice(&p.q);
+            m.push(p.v.len() as f64);
+            m.extend_from_slice(&p.v);
+            m.extend_from_slice(&p.z);
+        }
+        m.push(self.lam.len() as f64);
+        m.extend_from_slice(&self.lam);
+        m
+    }
+
+    fn restore_memory(&mut self, m: &[f64]) -> Result<(), String> {
+        let bad = || "bdf memory is truncated or corrupt".to_string();
+        let mut it = m.iter().copied();
+        let mut next = || it.next().ok_or_else(bad);
+        let h = next()?;
+        let order = next()? as usize;
+        let sao = next()? as usize;
+        let n = next()? as usize;
+        if !(1..=5).contains(&order) || n > 7 {
+            return Err(bad());
+        }
+        let mut hist = VecDeque::new();
+        for _ in 0..n {
+            let t = next()?;
+            let nq = next()? as usize;
+            let q = (0..nq).map(|_| next()).collect::<Result<Vec<_>, _>>()?;
+            let nv = next()? as usize;
+            let v = (0..nv).map(|_| next()).collect::<Result<Vec<_>, _>>()?;
+            let z = [next()?, next()?];
+            hist.push_back(Point { t, q, v, z });
+        }
+        let nl = next()? as usize;
+        let lam = (0..nl).map(|_| next()).collect::<Result<Vec<_>, _>>()?;
+        self.h = h;
+        self.order = order;
+        self.steps_at_order = sao;
+        self.hist = hist;
+        self.lam = lam;
+        self.jac_valid = false;
+        Ok(())
+    }
+}

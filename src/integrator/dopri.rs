@@ -1,0 +1,220 @@
+//! Explicit Dormand-Prince 5(4) on the index-1 form, with projection onto the constraints.
+//!
+//! Each stage solves `[M G^T; G 0] [v_dot; lambda] = [f; gamma]`; positions are integrated in the
+//! chart `q = q_n ⊕ x` with `x_dot = dexp_inv(x) v`. After every accepted step positions and
+//! speeds are projected back onto `Phi = 0` and `G v + Phi_t = 0` (minimum mass-weighted change),
+//! so the drift of the index-1 form never accumulates. For non-stiff scenes: its stability region
+//! bounds the step by the stiffest mode (contact, rope segments).
+
+use super::init::{accelerations, project_positions, project_velocities};
+use super::{Integrator, IntegratorKind, Settings, SolverError, Stats, kkt, time_eps, weights};
+use crate::dae::System;
+use crate::dae::linear::LinearSolver;
+use crate::math::wrms;
+use crate::state::State;
+
+const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+const A: [[f64; 6]; 7] = [
+    [0.0; 6],
+    [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0, 0.0],
+    [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0],
+    [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
+];
+const B: [f64; 7] = [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0];
+const E: [f64; 7] = [71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0];
+
+/// Dormand-Prince 5(4) integrator.
+#[derive(Debug, Clone)]
+pub struct Dopri5 {
+    s: Settings,
+    h: f64,
+    lin: LinearSolver,
+    stats: Stats,
+    kx: Vec<Vec<f64>>,
+    kv: Vec<Vec<f64>>,
+    pw: [(f64, f64); 7],
+    x: Vec<f64>,
+    vs: Vec<f64>,
+    qs: Vec<f64>,
+    rhs: Vec<f64>,
+    ex: Vec<f64>,
+    ev: Vec<f64>,
+    wx: Vec<f64>,
+    wv: Vec<f64>,
+}
+
+impl Dopri5 {
+    /// A new integrator with the given settings.
+    pub fn new(s: Settings) -> Self {
+        Dopri5 {
+            s,
+            h: 0.0,
+            lin: LinearSolver::new(),
+            stats: Stats::default(),
+            kx: vec![Vec::new(); 7],
+            kv: vec![Vec::new(); 7],
+            pw: [(0.0, 0.0); 7],
+            x: Vec::new(),
+            vs: Vec::new(),
+            qs: Vec::new(),
+            rhs: Vec::new(),
+            ex: Vec::new(),
+            ev: Vec::new(),
+            wx: Vec::new(),
+            wv: Vec::new(),
+        }
+    }
+
+    fn resize(&mut self, nq: usize, nv: usize, nc: usize) {
+        for k in self.kx.iter_mut().chain(self.kv.iter_mut()) {
+            k.resize(nv, 0.0);
+        }
+        for v in [&mut self.x, &mut self.vs, &mut self.ex, &mut self.ev, &mut self.wx, &mut self.wv] {
+            v.resize(nv, 0.0);
+        }
+        self.qs.resize(nq, 0.0);
+        self.rhs.resize(nv + nc, 0.0);
+    }
+
+    /// Stage derivative at chart point `x`, speeds `vs`, time `t`: fills `kx[i]`, `kv[i]`, `pw[i]`.
+    fn stage(&mut self, sys: &mut System, st: &State, t: f64, i: usize) -> Result<(), String> {
+        let nv = sys.n_v();
+        sys.model.retract(&st.q, &self.x, &mut self.qs);
+        sys.forces(t, &self.qs, &self.vs, &mut self.rhs[..nv]);
+        sys.eval_constraints(t, &self.qs, &self.vs);
+        for (r, row) in sys.rows.iter().enumerate() {
+            self.rhs[nv + r] = row.gamma;
+        }
+        kkt::factor(sys, &mut self.lin, t, &self.qs, &self.vs)?;
+        kkt::solve(&mut self.lin, &mut self.rhs)?;
+        self.stats.rhs_evaluations += 1;
+        self.stats.factorizations += 1;
+        self.kv[i].copy_from_slice(&self.rhs[..nv]);
+        let drive: f64 = sys.rows.iter().zip(&self.rhs[nv..]).map(|(r, l)| l * r.phi_t).sum();
+        let (pd, pi) = sys.powers(t, &self.qs, &self.vs);
+        self.pw[i] = (pd, pi + drive);
+        let mut kx = std::mem::take(&mut self.kx[i]);
+        sys.model.chart_rate(&self.x, &self.vs, &mut kx);
+        self.kx[i] = kx;
+        Ok(())
+    }
+
+    /// One trial step of size `h`; returns the weighted error (0 in fixed-step mode).
+    fn try_step(&mut self, sys: &mut System, st: &State, h: f64) -> Result<f64, String> {
+        let nv = sys.n_v();
+        for i in 0..7 {
+            for k in 0..nv {
+                let (mut sx, mut sv) = (0.0, 0.0);
+                for j in 0..i {
+                    sx += A[i][j] * self.kx[j][k];
+                    sv += A[i][j] * self.kv[j][k];
+                }
+                self.x[k] = h * sx;
+                self.vs[k] = st.v[k] + h * sv;
+            }
+            self.stage(sys, st, st.t + C[i] * h, i)?;
+        }
+        // stage 7 is at the 5th-order solution: x, vs now hold it
+        if self.s.fixed_step > 0.0 {
+            return Ok(0.0);
+        }
+        for k in 0..nv {
+            let (mut sx, mut sv) = (0.0, 0.0);
+            for i in 0..7 {
+                sx += E[i] * self.kx[i][k];
+                sv += E[i] * self.kv[i][k];
+            }
+            self.ex[k] = h * sx;
+            self.ev[k] = h * sv;
+        }
+        weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
+        let e = (wrms(&self.ex, &self.wx).powi(2) + wrms(&self.ev, &self.wv).powi(2)) * 0.5;
+        Ok(e.sqrt())
+    }
+
+    fn accept(&mut self, sys: &mut System, st: &mut State, h: f64) -> Result<(), SolverError> {
+        let (pd, pi): (f64, f64) = (0..7).fold((0.0, 0.0), |acc, i| (acc.0 + B[i] * self.pw[i].0, acc.1 + B[i] * self.pw[i].1));
+        st.energy_dissipated += h * pd;
+        st.work_input += h * pi;
+        st.t += h;
+        st.q.copy_from_slice(&self.qs);
+        st.v.copy_from_slice(&self.vs);
+        let tol = 1e-3 * self.s.atol;
+        project_positions(sys, &mut self.lin, st, tol)?;
+        project_velocities(sys, &mut self.lin, st)?;
+        accelerations(sys, &mut self.lin, st)?;
+        self.stats.steps += 1;
+        self.stats.last_step = h;
+        Ok(())
+    }
+}
+
+impl Integrator for Dopri5 {
+    fn kind(&self) -> IntegratorKind {
+        IntegratorKind::Dopri5
+    }
+
+    fn start(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
+        self.resize(sys.n_q(), sys.n_v(), sys.n_c());
+        weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
+        let acc = wrms(&st.vdot, &self.wv).max(wrms(&st.v, &self.wx)).max(1e-12);
+        self.h = if self.s.h_init > 0.0 { self.s.h_init } else { (0.01 / acc).clamp(1e-8, self.s.h_max) };
+        Ok(())
+    }
+
+    fn advance_to(&mut self, sys: &mut System, st: &mut State, t_end: f64) -> Result<(), SolverError> {
+        self.resize(sys.n_q(), sys.n_v(), sys.n_c());
+        let adaptive = self.s.fixed_step == 0.0;
+        let mut steps = 0u64;
+        while t_end - st.t > time_eps(t_end) {
+            steps += 1;
+            if steps > self.s.max_steps {
+                return Err(SolverError(format!("more than {} steps in one call at t = {:.9e} s: the scene is too stiff for dopri5, choose gen-alpha or bdf", self.s.max_steps, st.t)));
+            }
+            let natural = if adaptive { self.h.min(self.s.h_max) } else { self.s.fixed_step };
+            let remaining = t_end - st.t;
+            let h = if natural >= remaining - time_eps(t_end) { remaining } else { natural };
+            let err = match self.try_step(sys, st, h) {
+                Ok(e) if e.is_finite() => e,
+                Ok(_) | Err(_) => f64::INFINITY,
+            };
+            if adaptive && err > 1.0 {
+                self.stats.rejected += 1;
+                self.h = h * if err.is_finite() { (0.9 * err.powf(-0.2)).clamp(0.1, 0.9) } else { 0.25 };
+                if self.h < 1e-14 * st.t.abs().max(1.0) {
+                    return Err(SolverError(format!("step size fell below {:.1e} s at t = {:.9e} s (non-finite or singular accelerations?)", self.h, st.t)));
+                }
+                continue;
+            }
+            if !err.is_finite() {
+                return Err(SolverError(format!("dopri5 step at t = {:.9e} s produced non-finite values with the fixed step {h:.3e} s", st.t)));
+            }
+            self.accept(sys, st, h)?;
+            if adaptive && h == natural {
+                self.h = h * if err > 0.0 { (0.9 * err.powf(-0.2)).clamp(0.2, 5.0) } else { 5.0 };
+            }
+        }
+        st.t = t_end;
+        Ok(())
+    }
+
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    fn clone_box(&self) -> Box<dyn Integrator> {
+        Box::new(self.clone())
+    }
+
+    fn memory(&self) -> Vec<f64> {
+        vec![self.h]
+    }
+
+    fn restore_memory(&mut self, m: &[f64]) -> Result<(), String> {
+        self.h = *m.first().ok_or("dopri5 memory is empty")?;
+        Ok(())
+    }
+}

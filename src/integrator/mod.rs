@@ -1,0 +1,176 @@
+//! Time integrators behind one trait, chosen at run time.
+//!
+//! - [`gen_alpha::GenAlpha`]: generalized-alpha (Chung-Hulbert coefficients in the Arnold-Bruls
+//!   form) on the index-3 equations, on the Lie group of rotations; fixed or adaptive steps.
+//! - [`bdf::Bdf`]: variable-order (1-5), variable-step BDF on the stabilized index-2 (GGL) form.
+//! - [`dopri::Dopri5`]: explicit Dormand-Prince 5(4) on the index-1 form with projection.
+//!
+//! All of them take `rtol`, `atol`, `h_max`, `h_init`, stop exactly at the requested time, count
+//! their work in [`Stats`] and keep all memory that influences future steps in plain vectors, so
+//! a clone or a serialized copy continues bit-identically.
+
+pub mod bdf;
+pub mod dopri;
+pub mod gen_alpha;
+pub mod init;
+mod kkt;
+
+use crate::dae::System;
+use crate::state::State;
+
+/// Which integrator; also the FMU enumeration (1-based there).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IntegratorKind {
+    GenAlpha,
+    Bdf,
+    Dopri5,
+}
+
+impl IntegratorKind {
+    /// All kinds, in enumeration order.
+    pub const ALL: [IntegratorKind; 3] = [IntegratorKind::GenAlpha, IntegratorKind::Bdf, IntegratorKind::Dopri5];
+
+    /// Short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::GenAlpha => "gen-alpha",
+            IntegratorKind::Bdf => "bdf",
+            IntegratorKind::Dopri5 => "dopri5",
+        }
+    }
+}
+
+/// Accuracy and step settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// Relative tolerance (> 0).
+    pub rtol: f64,
+    /// Absolute tolerance (> 0) [m, rad, m/s, rad/s].
+    pub atol: f64,
+    /// Largest step [s].
+    pub h_max: f64,
+    /// First step [s]; 0 lets the integrator choose.
+    pub h_init: f64,
+    /// Fixed step [s] (gen-alpha and, for order studies, BDF/DOPRI): no error control when > 0.
+    pub fixed_step: f64,
+    /// Spectral radius at infinity of generalized-alpha, in [0, 1].
+    pub rho_inf: f64,
+    /// Highest BDF order (1..=5).
+    pub max_order: usize,
+    /// Bound on the number of steps in one `advance_to` call.
+    pub max_steps: u64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings { rtol: 1e-6, atol: 1e-8, h_max: 0.1, h_init: 0.0, fixed_step: 0.0, rho_inf: 0.8, max_order: 5, max_steps: 5_000_000 }
+    }
+}
+
+impl Settings {
+    /// Checks the values; `Err` names the offending setting.
+    pub fn validate(&self) -> Result<Vec<String>, String> {
+        let mut warnings = Vec::new();
+        if !(self.rtol.is_finite() && self.rtol > 0.0) {
+            return Err(format!("rtol must be finite and > 0, got {}", self.rtol));
+        }
+        if !(self.atol.is_finite() && self.atol > 0.0) {
+            return Err(format!("atol must be finite and > 0, got {}", self.atol));
+        }
+        if !(self.h_max.is_finite() && self.h_max > 0.0) {
+            return Err(format!("h_max must be finite and > 0, got {}", self.h_max));
+        }
+        if !(self.h_init.is_finite() && self.h_init >= 0.0) {
+            return Err(format!("h_init must be finite and >= 0, got {}", self.h_init));
+        }
+        if !(self.fixed_step.is_finite() && self.fixed_step >= 0.0) {
+            return Err(format!("fixed_step must be finite and >= 0, got {}", self.fixed_step));
+        }
+        if !(0.0..=1.0).contains(&self.rho_inf) {
+            return Err(format!("rho_inf must be in [0, 1], got {}", self.rho_inf));
+        }
+        if !(1..=5).contains(&self.max_order) {
+            return Err(format!("max_order must be in 1..=5, got {}", self.max_order));
+        }
+        if self.rho_inf == 1.0 {
+            warnings.push("rho_inf = 1 gives no numerical damping: on the index-3 form velocities and multipliers lose accuracy; use 0.8-0.9".into());
+        }
+        Ok(warnings)
+    }
+}
+
+/// Work counters.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Stats {
+    pub steps: u64,
+    pub rejected: u64,
+    pub newton_iterations: u64,
+    pub newton_failures: u64,
+    pub jacobians: u64,
+    pub factorizations: u64,
+    pub rhs_evaluations: u64,
+    /// Last accepted step size [s].
+    pub last_step: f64,
+}
+
+/// Why integration stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolverError(pub String);
+
+impl std::fmt::Display for SolverError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for SolverError {}
+
+/// A time integrator for the multibody DAE.
+pub trait Integrator: Send + std::fmt::Debug {
+    /// Which method this is.
+    fn kind(&self) -> IntegratorKind;
+
+    /// Starts from a consistent state (positions, speeds, accelerations and multipliers set by
+    /// [`init::make_consistent`]); forgets any history.
+    fn start(&mut self, sys: &mut System, state: &State) -> Result<(), SolverError>;
+
+    /// Advances `state` exactly to `t_end` [s].
+    fn advance_to(&mut self, sys: &mut System, state: &mut State, t_end: f64) -> Result<(), SolverError>;
+
+    /// Work counters since construction.
+    fn stats(&self) -> Stats;
+
+    /// An exact copy (history included).
+    fn clone_box(&self) -> Box<dyn Integrator>;
+
+    /// The history that influences future steps, as plain numbers.
+    fn memory(&self) -> Vec<f64>;
+
+    /// Restores what [`Integrator::memory`] returned.
+    fn restore_memory(&mut self, m: &[f64]) -> Result<(), String>;
+}
+
+/// Creates an integrator of the given kind.
+pub fn create(kind: IntegratorKind, settings: Settings) -> Box<dyn Integrator> {
+    match kind {
+        IntegratorKind::GenAlpha => Box::new(gen_alpha::GenAlpha::new(settings)),
+        IntegratorKind::Bdf => Box::new(bdf::Bdf::new(settings)),
+        IntegratorKind::Dopri5 => Box::new(dopri::Dopri5::new(settings)),
+    }
+}
+
+/// Error weights `atol + rtol * scale` for positions and speeds.
+pub(crate) fn weights(sys: &System, q: &[f64], v: &[f64], s: &Settings, wx: &mut [f64], wv: &mut [f64]) {
+    sys.model.position_scale(q, wx);
+    for w in wx.iter_mut() {
+        *w = s.atol + s.rtol * *w;
+    }
+    for (w, x) in wv.iter_mut().zip(v) {
+        *w = s.atol + s.rtol * x.abs();
+    }
+}
+
+/// Relative tolerance for comparing communication times.
+pub(crate) fn time_eps(t: f64) -> f64 {
+    1e-12 * t.abs().max(1.0)
+}

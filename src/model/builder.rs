@@ -1,0 +1,243 @@
+//! Validating builder for [`Model`]: every bad input is an `Err` with a precise message.
+
+use super::body::{Body, BodyId, BodyInit, BodyKind};
+use super::element::{AppliedLoad, Frame, Joint, JointKind, JointTorque, SpringDamper, TorsionSpring};
+use super::kinematics::put_quat;
+use super::{Model, Profile};
+use crate::effect::applied::AppliedLoads;
+use crate::effect::gravity::Gravity;
+use crate::effect::spring_damper::SpringDampers;
+use crate::effect::torsion::{JointTorques, TorsionSprings};
+use crate::effect::ForceEffect;
+use crate::math::{Mat3, Vec3};
+use std::sync::Arc;
+
+/// Collects bodies, joints and force elements, then checks and assembles a [`Model`].
+#[derive(Debug, Default)]
+pub struct ModelBuilder {
+    bodies: Vec<(String, BodyKind, BodyInit)>,
+    joints: Vec<Joint>,
+    springs: Vec<SpringDamper>,
+    torsions: Vec<TorsionSpring>,
+    loads: Vec<AppliedLoad>,
+    joint_torques: Vec<JointTorque>,
+    gravity: Option<Vec3>,
+    extra: Vec<Arc<dyn ForceEffect>>,
+    inputs: Vec<String>,
+}
+
+fn finite3(v: &Vec3) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+impl ModelBuilder {
+    /// An empty model without gravity.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    fn check_init(name: &str, init: &BodyInit) -> Result<(), String> {
+        if !finite3(&init.position) || !finite3(&init.velocity) || !finite3(&init.omega) {
+            return Err(format!("body '{name}': initial position or velocity is not finite"));
+        }
+        if !init.orientation.coords.iter().all(|x| x.is_finite()) {
+            return Err(format!("body '{name}': initial orientation is not finite"));
+        }
+        Ok(())
+    }
+
+    /// Adds a rigid body of `mass` [kg] with `inertia` [kg m^2] about its centre of mass (body frame).
+    pub fn add_rigid_body(&mut self, name: &str, mass: f64, inertia: Mat3, init: BodyInit) -> Result<BodyId, String> {
+        if !(mass.is_finite() && mass > 0.0) {
+            return Err(format!("body '{name}': mass must be finite and positive, got {mass}"));
+        }
+        if !inertia.iter().all(|x| x.is_finite()) {
+            return Err(format!("body '{name}': inertia tensor has non-finite entries"));
+        }
+        if (inertia - inertia.transpose()).norm() > 1e-9 * inertia.norm().max(1e-300) {
+            return Err(format!("body '{name}': inertia tensor is not symmetric"));
+        }
+        let eig = inertia.symmetric_eigenvalues();
+        let (mut p, max) = ([eig[0], eig[1], eig[2]], eig.max());
+        if p.iter().any(|&x| x <= 1e-14 * max.max(1e-300)) || max <= 0.0 {
+            return Err(format!(
+                "body '{name}': inertia tensor is not positive definite (principal moments {:.6e}, {:.6e}, {:.6e} kg m^2)",
+                p[0], p[1], p[2]
+            ));
+        }
+        p.sort_by(|a, b| a.total_cmp(b));
+        if p[0] + p[1] < p[2] * (1.0 - 1e-9) {
+            return Err(format!(
+                "body '{name}': principal moments {:.6e}, {:.6e}, {:.6e} kg m^2 violate the triangle inequality (no real mass distribution has them)",
+                p[0], p[1], p[2]
+            ));
+        }
+        Self::check_init(name, &init)?;
+        self.bodies.push((name.to_string(), BodyKind::Rigid { mass, inertia }, init));
+        Ok(BodyId(self.bodies.len() - 1))
+    }
+
+    /// Adds a point mass [kg] at `position` [m] moving with `velocity` [m/s] (world frame).
+    pub fn add_particle(&mut self, name: &str, mass: f64, position: Vec3, velocity: Vec3) -> Result<BodyId, String> {
+        if !(mass.is_finite() && mass > 0.0) {
+            return Err(format!("particle '{name}': mass must be finite and positive, got {mass}"));
+        }
+        let init = BodyInit::at(position).moving(velocity, Vec3::zeros());
+        Self::check_init(name, &init)?;
+        self.bodies.push((name.to_string(), BodyKind::Particle { mass }, init));
+        Ok(BodyId(self.bodies.len() - 1))
+    }
+
+    /// Declares a model input (a controller signal) and returns its index for [`Profile::Input`].
+    pub fn add_input(&mut self, name: &str) -> usize {
+        self.inputs.push(name.to_string());
+        self.inputs.len() - 1
+    }
+
+    /// Switches gravity on with acceleration `g` [m/s^2] (world frame), or off with `None`.
+    pub fn set_gravity(&mut self, g: Option<Vec3>) -> Result<(), String> {
+        if let Some(g) = g {
+            if !finite3(&g) {
+                return Err("gravity vector is not finite".into());
+            }
+        }
+        self.gravity = g;
+        Ok(())
+    }
+
+    fn check_frame(&self, owner: &str, which: &str, f: &Frame, needs_rotation: bool) -> Result<(), String> {
+        if let Some(i) = f.body.index() {
+            let Some((bname, kind, _)) = self.bodies.get(i) else {
+                return Err(format!("{owner}: frame {which} references body #{i}, but the model has {} bodies", self.bodies.len()));
+            };
+            if needs_rotation && !kind.has_rotation() {
+                return Err(format!("{owner}: frame {which} is on particle '{bname}', which has no rotation"));
+            }
+        }
+        if !finite3(&f.origin) || !f.axes.iter().all(|x| x.is_finite()) {
+            return Err(format!("{owner}: frame {which} has a non-finite origin or axis (zero-length axis?)"));
+        }
+        if (f.axes.transpose() * f.axes - Mat3::identity()).norm() > 1e-9 || f.axes.determinant() < 0.0 {
+            return Err(format!("{owner}: frame {which} axes are not a right-handed orthonormal set"));
+        }
+        Ok(())
+    }
+
+    fn check_profile(&self, owner: &str, p: &Profile) -> Result<(), String> {
+        if !p.is_finite() {
+            return Err(format!("{owner}: profile has non-finite coefficients"));
+        }
+        if let Some(i) = p.input() {
+            if i >= self.inputs.len() {
+                return Err(format!("{owner}: profile reads input #{i}, but the model declares {} inputs", self.inputs.len()));
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds a joint between `frame_i` and `frame_j`.
+    pub fn add_joint(&mut self, name: &str, kind: JointKind, frame_i: Frame, frame_j: Frame) -> Result<(), String> {
+        let owner = format!("joint '{name}'");
+        self.check_frame(&owner, "i", &frame_i, kind.needs_rotation())?;
+        self.check_frame(&owner, "j", &frame_j, kind.needs_rotation())?;
+        if frame_i.body == frame_j.body {
+            return Err(format!("{owner}: both frames are on the same body"));
+        }
+        if let JointKind::AngleDrive(p) | JointKind::TranslationDrive(p) = &kind {
+            self.check_profile(&owner, p)?;
+        }
+        self.joints.push(Joint { name: name.to_string(), kind, frame_i, frame_j });
+        Ok(())
+    }
+
+    /// Adds a translational spring-damper.
+    pub fn add_spring_damper(&mut self, e: SpringDamper) -> Result<(), String> {
+        let owner = format!("spring-damper '{}'", e.name);
+        self.check_frame(&owner, "a", &e.a, false)?;
+        self.check_frame(&owner, "b", &e.b, false)?;
+        if !(e.stiffness >= 0.0 && e.damping >= 0.0 && e.free_length >= 0.0) || !(e.stiffness + e.damping + e.free_length).is_finite() {
+            return Err(format!("{owner}: stiffness, damping and free length must be finite and >= 0"));
+        }
+        self.springs.push(e);
+        Ok(())
+    }
+
+    /// Adds a rotational spring-damper about the z axes of its frames.
+    pub fn add_torsion_spring(&mut self, e: TorsionSpring) -> Result<(), String> {
+        let owner = format!("torsion spring '{}'", e.name);
+        self.check_frame(&owner, "i", &e.frame_i, true)?;
+        self.check_frame(&owner, "j", &e.frame_j, true)?;
+        if !(e.stiffness >= 0.0 && e.damping >= 0.0) || !(e.stiffness + e.damping + e.free_angle + e.angle_offset).is_finite() {
+            return Err(format!("{owner}: stiffness and damping must be finite and >= 0, angles finite"));
+        }
+        self.torsions.push(e);
+        Ok(())
+    }
+
+    /// Adds an applied force/torque.
+    pub fn add_applied_load(&mut self, e: AppliedLoad) -> Result<(), String> {
+        let owner = format!("load '{}'", e.name);
+        self.check_frame(&owner, "at", &e.at, false)?;
+        self.check_profile(&owner, &e.force)?;
+        self.check_profile(&owner, &e.torque)?;
+        if !finite3(&e.force_direction) || !finite3(&e.torque_direction) {
+            return Err(format!("{owner}: direction is not finite"));
+        }
+        self.loads.push(e);
+        Ok(())
+    }
+
+    /// Adds a torque between two bodies about a joint axis.
+    pub fn add_joint_torque(&mut self, e: JointTorque) -> Result<(), String> {
+        let owner = format!("joint torque '{}'", e.name);
+        self.check_frame(&owner, "i", &e.frame_i, true)?;
+        self.check_frame(&owner, "j", &e.frame_j, true)?;
+        self.check_profile(&owner, &e.torque)?;
+        self.joint_torques.push(e);
+        Ok(())
+    }
+
+    /// Adds a custom force effect (contacts, ropes, ...).
+    pub fn add_force_effect(&mut self, e: Arc<dyn ForceEffect>) {
+        self.extra.push(e);
+    }
+
+    /// Checks cross references and assembles the model.
+    pub fn build(self) -> Result<Model, String> {
+        let mut bodies = Vec::with_capacity(self.bodies.len());
+        let (mut n_q, mut n_v) = (0, 0);
+        for (name, kind, _) in &self.bodies {
+            bodies.push(Body { name: name.clone(), kind: kind.clone(), q_offset: n_q, v_offset: n_v });
+            n_q += kind.n_q();
+            n_v += kind.n_v();
+        }
+        let mut q0 = vec![0.0; n_q];
+        let mut v0 = vec![0.0; n_v];
+        for (b, (_, kind, init)) in bodies.iter().zip(&self.bodies) {
+            q0[b.q_offset..b.q_offset + 3].copy_from_slice(init.position.as_slice());
+            v0[b.v_offset..b.v_offset + 3].copy_from_slice(init.velocity.as_slice());
+            if kind.has_rotation() {
+                put_quat(&mut q0, b.q_offset + 3, &init.orientation);
+                v0[b.v_offset + 3..b.v_offset + 6].copy_from_slice(init.omega.as_slice());
+            }
+        }
+        let mut forces: Vec<Arc<dyn ForceEffect>> = Vec::new();
+        if let Some(g) = self.gravity {
+            forces.push(Arc::new(Gravity { g, masses: bodies.iter().map(|b| b.kind.mass()).collect() }));
+        }
+        if !self.springs.is_empty() {
+            forces.push(Arc::new(SpringDampers { elements: self.springs }));
+        }
+        if !self.torsions.is_empty() {
+            forces.push(Arc::new(TorsionSprings { elements: self.torsions }));
+        }
+        if !self.loads.is_empty() {
+            forces.push(Arc::new(AppliedLoads { elements: self.loads }));
+        }
+        if !self.joint_torques.is_empty() {
+            forces.push(Arc::new(JointTorques { elements: self.joint_torques }));
+        }
+        forces.extend(self.extra);
+        Ok(Model { bodies, joints: self.joints, gravity: self.gravity, forces, input_names: self.inputs, n_q, n_v, q0, v0 })
+    }
+}

@@ -1,0 +1,133 @@
+//! A simulation: system, state and integrator together, with inputs, energy bookkeeping and exact
+//! snapshots.
+
+use crate::dae::System;
+use crate::integrator::{self, Integrator, IntegratorKind, Settings, SolverError, Stats};
+use crate::model::Model;
+use crate::state::State;
+use std::sync::Arc;
+
+/// Energy bookkeeping [J].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Energy {
+    pub kinetic: f64,
+    pub potential: f64,
+    /// Dissipated since the start.
+    pub dissipated: f64,
+    /// Work of inputs and drives since the start.
+    pub input: f64,
+}
+
+impl Energy {
+    /// `kinetic + potential + dissipated - input`: constant for an exact solution.
+    pub fn balance(&self) -> f64 {
+        self.kinetic + self.potential + self.dissipated - self.input
+    }
+}
+
+/// A running simulation.
+#[derive(Debug)]
+pub struct Simulation {
+    pub system: System,
+    pub state: State,
+    integrator: Box<dyn Integrator>,
+    pub settings: Settings,
+    /// Warnings raised while setting up (e.g. `rho_inf = 1`).
+    pub warnings: Vec<String>,
+}
+
+impl Clone for Simulation {
+    fn clone(&self) -> Self {
+        Simulation {
+            system: self.system.clone(),
+            state: self.state.clone(),
+            integrator: self.integrator.clone_box(),
+            settings: self.settings,
+            warnings: self.warnings.clone(),
+        }
+    }
+}
+
+impl Simulation {
+    /// Validates settings, assembles the system and finds consistent initial conditions at `t0`.
+    pub fn new(model: Model, kind: IntegratorKind, settings: Settings, t0: f64) -> Result<Self, String> {
+        Self::with_inputs(model, kind, settings, t0, &[])
+    }
+
+    /// As [`Simulation::new`] with initial input values.
+    pub fn with_inputs(model: Model, kind: IntegratorKind, settings: Settings, t0: f64, inputs: &[f64]) -> Result<Self, String> {
+        let warnings = settings.validate()?;
+        if !t0.is_finite() {
+            return Err(format!("start time must be finite, got {t0}"));
+        }
+        let mut system = System::new(Arc::new(model))?;
+        for (i, &u) in inputs.iter().enumerate() {
+            if i < system.inputs.len() {
+                system.inputs[i] = u;
+            }
+        }
+        let mut state = integrator::init::initial_state(&system, t0);
+        let tol = (1e-3 * settings.atol).max(1e-14);
+        integrator::init::make_consistent(&mut system, &mut state, tol).map_err(|e| e.0)?;
+        let mut integrator = integrator::create(kind, settings);
+        integrator.start(&mut system, &state).map_err(|e| e.0)?;
+        Ok(Simulation { system, state, integrator, settings, warnings })
+    }
+
+    /// Sets model input `index` (held constant until changed).
+    pub fn set_input(&mut self, index: usize, value: f64) -> Result<(), String> {
+        if !value.is_finite() {
+            return Err(format!("input #{index} must be finite, got {value}"));
+        }
+        let n = self.system.inputs.len();
+        let slot = self.system.inputs.get_mut(index).ok_or_else(|| format!("input #{index} does not exist (the model has {n})"))?;
+        *slot = value;
+        Ok(())
+    }
+
+    /// Advances exactly to `t_end` [s].
+    pub fn advance_to(&mut self, t_end: f64) -> Result<(), SolverError> {
+        if !(t_end.is_finite() && t_end >= self.state.t) {
+            return Err(SolverError(format!("cannot advance from t = {} s to t = {t_end} s", self.state.t)));
+        }
+        self.integrator.advance_to(&mut self.system, &mut self.state, t_end)
+    }
+
+    /// Energy bookkeeping at the current state.
+    pub fn energy(&mut self) -> Energy {
+        let s = &self.state;
+        let (kinetic, potential) = self.system.energy(s.t, &s.q, &s.v);
+        Energy { kinetic, potential, dissipated: s.energy_dissipated, input: s.work_input }
+    }
+
+    /// Largest absolute constraint residual at the current state.
+    pub fn constraint_residual(&mut self) -> f64 {
+        let s = &self.state;
+        self.system.eval_constraints(s.t, &s.q, &s.v);
+        self.system.rows.iter().map(|r| r.phi.abs()).fold(0.0, f64::max)
+    }
+
+    /// Integrator work counters.
+    pub fn stats(&self) -> Stats {
+        self.integrator.stats()
+    }
+
+    /// Which integrator runs.
+    pub fn integrator_kind(&self) -> IntegratorKind {
+        self.integrator.kind()
+    }
+
+    /// The integrator's history as plain numbers (for serialization).
+    pub fn integrator_memory(&self) -> Vec<f64> {
+        self.integrator.memory()
+    }
+
+    /// Restores state and integrator history saved from a simulation of the same model.
+    pub fn restore(&mut self, state: State, memory: &[f64]) -> Result<(), String> {
+        if state.q.len() != self.system.n_q() || state.v.len() != self.system.n_v() {
+            return Err("state does not belong to this model (dimension mismatch)".into());
+        }
+        self.state = state;
+        self.integrator.restore_memory(memory)
+    }
+}
