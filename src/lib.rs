@@ -11,11 +11,11 @@
 //!
 //! Units are SI throughout. Nothing outside `fmi` knows that FMI exists.
 
-pub mod math;
-pub mod scene;
 pub mod dae;
 pub mod effect;
-pub mod model;
-pub mod state;
 pub mod integrator;
+pub mod math;
+pub mod model;
+pub mod scene;
 pub mod sim;
+pub mod state;

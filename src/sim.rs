@@ -2,7 +2,10 @@
 //! snapshots.
 
 use crate::dae::System;
-use crate::integrator::{self, Integrator, IntegratorKind, Settings, SolverError, Stats};
+use crate::integrator::{
+    self, Integrator, IntegratorKind, MemoryHook, Settings, SolverError, Stats, StepAction,
+    StepHook,
+};
 use crate::model::Model;
 use crate::state::State;
 use std::sync::Arc;
@@ -50,12 +53,23 @@ impl Clone for Simulation {
 
 impl Simulation {
     /// Validates settings, assembles the system and finds consistent initial conditions at `t0`.
-    pub fn new(model: Model, kind: IntegratorKind, settings: Settings, t0: f64) -> Result<Self, String> {
+    pub fn new(
+        model: Model,
+        kind: IntegratorKind,
+        settings: Settings,
+        t0: f64,
+    ) -> Result<Self, String> {
         Self::with_inputs(model, kind, settings, t0, &[])
     }
 
     /// As [`Simulation::new`] with initial input values.
-    pub fn with_inputs(model: Model, kind: IntegratorKind, settings: Settings, t0: f64, inputs: &[f64]) -> Result<Self, String> {
+    pub fn with_inputs(
+        model: Model,
+        kind: IntegratorKind,
+        settings: Settings,
+        t0: f64,
+        inputs: &[f64],
+    ) -> Result<Self, String> {
         let warnings = settings.validate()?;
         if !t0.is_finite() {
             return Err(format!("start time must be finite, got {t0}"));
@@ -69,9 +83,16 @@ impl Simulation {
         let mut state = integrator::init::initial_state(&system, t0);
         let tol = (1e-3 * settings.atol).max(1e-14);
         integrator::init::make_consistent(&mut system, &mut state, tol).map_err(|e| e.0)?;
+        state.memory = system.init_memory(state.t, &state.q, &state.v);
         let mut integrator = integrator::create(kind, settings);
         integrator.start(&mut system, &state).map_err(|e| e.0)?;
-        Ok(Simulation { system, state, integrator, settings, warnings })
+        Ok(Simulation {
+            system,
+            state,
+            integrator,
+            settings,
+            warnings,
+        })
     }
 
     /// Sets model input `index` (held constant until changed).
@@ -80,7 +101,11 @@ impl Simulation {
             return Err(format!("input #{index} must be finite, got {value}"));
         }
         let n = self.system.inputs.len();
-        let slot = self.system.inputs.get_mut(index).ok_or_else(|| format!("input #{index} does not exist (the model has {n})"))?;
+        let slot = self
+            .system
+            .inputs
+            .get_mut(index)
+            .ok_or_else(|| format!("input #{index} does not exist (the model has {n})"))?;
         *slot = value;
         Ok(())
     }
@@ -88,23 +113,81 @@ impl Simulation {
     /// Advances exactly to `t_end` [s].
     pub fn advance_to(&mut self, t_end: f64) -> Result<(), SolverError> {
         if !(t_end.is_finite() && t_end >= self.state.t) {
-            return Err(SolverError(format!("cannot advance from t = {} s to t = {t_end} s", self.state.t)));
+            return Err(SolverError(format!(
+                "cannot advance from t = {} s to t = {t_end} s",
+                self.state.t
+            )));
         }
-        self.integrator.advance_to(&mut self.system, &mut self.state, t_end)
+        self.integrator
+            .advance_to(&mut self.system, &mut self.state, t_end, &mut MemoryHook)
+    }
+
+    /// Advances towards `t_end` [s] calling `hook` after each accepted step (after the effects'
+    /// memory update); stops early when the hook says [`StepAction::Stop`].
+    pub fn advance_with(&mut self, t_end: f64, hook: &mut dyn StepHook) -> Result<(), SolverError> {
+        struct Both<'a>(&'a mut dyn StepHook);
+        impl StepHook for Both<'_> {
+            fn after_step(
+                &mut self,
+                sys: &mut System,
+                st: &mut State,
+            ) -> Result<StepAction, SolverError> {
+                let a = MemoryHook.after_step(sys, st)?;
+                let b = self.0.after_step(sys, st)?;
+                Ok(match (a, b) {
+                    (_, StepAction::Stop) => StepAction::Stop,
+                    (StepAction::Restart, _) | (_, StepAction::Restart) => StepAction::Restart,
+                    _ => StepAction::Continue,
+                })
+            }
+        }
+        if !(t_end.is_finite() && t_end >= self.state.t) {
+            return Err(SolverError(format!(
+                "cannot advance from t = {} s to t = {t_end} s",
+                self.state.t
+            )));
+        }
+        self.integrator
+            .advance_to(&mut self.system, &mut self.state, t_end, &mut Both(hook))
+    }
+
+    /// Replaces the system (after a structural change such as an inserted contact node) with
+    /// `state` mapped onto it, and restarts the integrator there.
+    pub fn replace_system(&mut self, system: System, state: State) -> Result<(), SolverError> {
+        self.system = system;
+        self.state = state;
+        let mut lin = crate::dae::linear::LinearSolver::new();
+        integrator::init::project_positions(
+            &mut self.system,
+            &mut lin,
+            &mut self.state,
+            (1e-3 * self.settings.atol).max(1e-14),
+        )?;
+        integrator::init::project_velocities(&mut self.system, &mut lin, &mut self.state)?;
+        self.integrator.restart(&mut self.system, &mut self.state)
     }
 
     /// Energy bookkeeping at the current state.
     pub fn energy(&mut self) -> Energy {
         let s = &self.state;
         let (kinetic, potential) = self.system.energy(s.t, &s.q, &s.v);
-        Energy { kinetic, potential, dissipated: s.energy_dissipated, input: s.work_input }
+        Energy {
+            kinetic,
+            potential,
+            dissipated: s.energy_dissipated,
+            input: s.work_input,
+        }
     }
 
     /// Largest absolute constraint residual at the current state.
     pub fn constraint_residual(&mut self) -> f64 {
         let s = &self.state;
         self.system.eval_constraints(s.t, &s.q, &s.v);
-        self.system.rows.iter().map(|r| r.phi.abs()).fold(0.0, f64::max)
+        self.system
+            .rows
+            .iter()
+            .map(|r| r.phi.abs())
+            .fold(0.0, f64::max)
     }
 
     /// Integrator work counters.

@@ -17,4 +17,7 @@ pub struct State {
     pub energy_dissipated: f64,
     /// Work done by inputs and prescribed loads since the start [J].
     pub work_input: f64,
+    /// Discrete memory of the force effects (contact onset speeds, latch flags), changed only
+    /// between steps.
+    pub memory: Vec<f64>,
 }

@@ -19,7 +19,11 @@ pub const DENSE_LIMIT: usize = 48;
 enum Backend {
     None,
     Dense(LU<f64, nalgebra::Dyn, nalgebra::Dyn>),
-    Sparse { symbolic: SymbolicLu<usize>, numeric: NumericLu<usize, f64>, mem: MemBuffer },
+    Sparse {
+        symbolic: SymbolicLu<usize>,
+        numeric: NumericLu<usize, f64>,
+        mem: MemBuffer,
+    },
 }
 
 /// Counters of the work done.
@@ -145,13 +149,19 @@ impl LinearSolver {
             self.dense = DMatrix::zeros(n, n);
             self.backend = Backend::None;
         } else {
-            let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
-            let symbolic = factorize_symbolic_lu(sym, Default::default()).map_err(|e| format!("sparse LU symbolic analysis failed: {e:?}"))?;
+            let sym =
+                SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
+            let symbolic = factorize_symbolic_lu(sym, Default::default())
+                .map_err(|e| format!("sparse LU symbolic analysis failed: {e:?}"))?;
             let req = StackReq::any_of(&[
                 symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
                 symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
             ]);
-            self.backend = Backend::Sparse { symbolic, numeric: NumericLu::new(), mem: MemBuffer::new(req) };
+            self.backend = Backend::Sparse {
+                symbolic,
+                numeric: NumericLu::new(),
+                mem: MemBuffer::new(req),
+            };
         }
         Ok(())
     }
@@ -159,7 +169,10 @@ impl LinearSolver {
     /// Factorizes the assembled matrix. `Err` names a singular or non-finite matrix.
     pub fn factor(&mut self) -> Result<(), String> {
         self.factored = false;
-        if self.pattern_n != self.n || self.rows != self.pattern_rows || self.cols != self.pattern_cols {
+        if self.pattern_n != self.n
+            || self.rows != self.pattern_rows
+            || self.cols != self.pattern_cols
+        {
             self.rebuild_pattern()?;
         }
         if self.vals.iter().any(|v| !v.is_finite()) {
@@ -182,7 +195,9 @@ impl LinearSolver {
             // refused when exactly zero or non-finite; the solve checks its result.
             let u = lu.u();
             if let Some(i) = (0..n).find(|&i| !(u[(i, i)].abs() > 0.0 && u[(i, i)].is_finite())) {
-                return Err(format!("Newton matrix is singular (pivot {i} of {n} vanishes)"));
+                return Err(format!(
+                    "Newton matrix is singular (pivot {i} of {n} vanishes)"
+                ));
             }
             self.backend = Backend::Dense(lu);
             self.factored = true;
@@ -192,7 +207,12 @@ impl LinearSolver {
         for (k, &p) in self.map.iter().enumerate() {
             self.csc_vals[p] += self.vals[k];
         }
-        let Backend::Sparse { symbolic, numeric, mem } = &mut self.backend else {
+        let Backend::Sparse {
+            symbolic,
+            numeric,
+            mem,
+        } = &mut self.backend
+        else {
             return Err("sparse backend missing".into());
         };
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
@@ -218,7 +238,11 @@ impl LinearSolver {
                     return Err("dense LU solve failed (singular matrix)".into());
                 }
             }
-            Backend::Sparse { symbolic, numeric, mem } => {
+            Backend::Sparse {
+                symbolic,
+                numeric,
+                mem,
+            } => {
                 let n = self.n;
                 let lu = lu_ref(symbolic, numeric);
                 let rhs_mat = MatMut::from_column_major_slice_mut(rhs, n, 1);
@@ -233,7 +257,10 @@ impl LinearSolver {
 }
 
 /// The factorization as a `LuRef` (faer builds it from the symbolic and numeric parts).
-fn lu_ref<'a>(symbolic: &'a SymbolicLu<usize>, numeric: &'a NumericLu<usize, f64>) -> faer::sparse::linalg::lu::LuRef<'a, usize, f64> {
+fn lu_ref<'a>(
+    symbolic: &'a SymbolicLu<usize>,
+    numeric: &'a NumericLu<usize, f64>,
+) -> faer::sparse::linalg::lu::LuRef<'a, usize, f64> {
     // `new_unchecked` is a safe fn in faer 0.24; `factored` guarantees the parts belong together.
     faer::sparse::linalg::lu::LuRef::new_unchecked(symbolic, numeric)
 }

@@ -10,7 +10,7 @@ pub mod linear;
 mod redundancy;
 
 use crate::effect::constraint::{RowEval, joint_rows};
-use crate::effect::{EvalCtx, JacobianSink};
+use crate::effect::{EvalCtx, JacobianSink, MemoryChange};
 use crate::math::{Mat3, Matrix6, Vec3, skew};
 use crate::model::kinematics::{self, BodyKin, kin_of};
 use crate::model::{BodyId, BodyKind, Model};
@@ -33,6 +33,10 @@ pub struct System {
     pub rows: Vec<RowEval>,
     /// Number of force/constraint evaluations (statistics).
     pub n_evals: u64,
+    /// Memory of each force effect: `memory_offsets[i]..memory_offsets[i + 1]`.
+    memory_offsets: Vec<usize>,
+    /// Current effect memory (copied from the state before each evaluation).
+    pub memory: Vec<f64>,
 }
 
 /// Adds `c_K K + c_D D` blocks into a linear solver at an offset.
@@ -54,7 +58,8 @@ impl JacobianSink for TripletSink<'_> {
         for c in 0..nc {
             for r in 0..nr {
                 let v = self.ck * k[(r, c)] + self.cd * d[(r, c)];
-                self.lin.push(self.row_off + row.col + r, self.col_off + col.col + c, v);
+                self.lin
+                    .push(self.row_off + row.col + r, self.col_off + col.col + c, v);
             }
         }
     }
@@ -71,7 +76,14 @@ impl System {
             }
         }
         let n_full = row_bodies.len();
+        let mut memory_offsets = vec![0];
+        for e in &model.forces {
+            memory_offsets.push(memory_offsets.last().copied().unwrap_or(0) + e.n_memory());
+        }
+        let n_mem = *memory_offsets.last().unwrap_or(&0);
         let mut sys = System {
+            memory_offsets,
+            memory: vec![0.0; n_mem],
             inputs: vec![0.0; model.n_inputs()],
             row_bodies,
             active: (0..n_full).collect(),
@@ -117,8 +129,60 @@ impl System {
         kinematics::evaluate(&self.model, q, v, &mut self.kins);
     }
 
-    fn ctx(&self, t: f64) -> EvalCtx<'_> {
-        EvalCtx { t, kins: &self.kins, inputs: &self.inputs }
+    /// Evaluation context of force effect `i`.
+    fn ctx(&self, t: f64, i: usize) -> EvalCtx<'_> {
+        let m = &self.memory[self.memory_offsets[i]..self.memory_offsets[i + 1]];
+        EvalCtx {
+            t,
+            kins: &self.kins,
+            inputs: &self.inputs,
+            memory: m,
+        }
+    }
+
+    /// Number of effect memory values.
+    pub fn n_memory(&self) -> usize {
+        self.memory.len()
+    }
+
+    /// Initial effect memory at `(q, v, t)`.
+    pub fn init_memory(&mut self, t: f64, q: &[f64], v: &[f64]) -> Vec<f64> {
+        self.update_kinematics(q, v);
+        let mut out = vec![0.0; self.memory.len()];
+        for (i, e) in self.model.forces.iter().enumerate() {
+            let (a, b) = (self.memory_offsets[i], self.memory_offsets[i + 1]);
+            let ctx = self.ctx(t, i);
+            e.init_memory(&ctx, &mut out[a..b]);
+        }
+        self.memory.copy_from_slice(&out);
+        out
+    }
+
+    /// Updates the effect memory in `memory` after an accepted step at `(q, v, t)`; returns the
+    /// strongest change.
+    pub fn update_memory(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        memory: &mut [f64],
+    ) -> MemoryChange {
+        if memory.is_empty() {
+            return MemoryChange::None;
+        }
+        self.memory.copy_from_slice(memory);
+        self.update_kinematics(q, v);
+        let mut change = MemoryChange::None;
+        for (i, e) in self.model.forces.iter().enumerate() {
+            let (a, b) = (self.memory_offsets[i], self.memory_offsets[i + 1]);
+            if a == b {
+                continue;
+            }
+            let ctx = self.ctx(t, i);
+            change = change.max(e.update_memory(&ctx, &mut memory[a..b]));
+        }
+        self.memory.copy_from_slice(memory);
+        change
     }
 
     /// `out = M a` (block diagonal mass matrix).
@@ -155,22 +219,39 @@ impl System {
                 }
             }
         }
-        let model = self.model.clone();
-        let ctx = self.ctx(t);
-        for e in &model.forces {
-            e.add_forces(&ctx, f);
+        for (i, e) in self.model.forces.iter().enumerate() {
+            e.add_forces(&self.ctx(t, i), f);
         }
     }
 
     /// Adds `c_M M + c_D D + c_K K` at `(off, off)` into `lin`, evaluated at `(q, v, t)`.
     #[allow(clippy::too_many_arguments)]
-    pub fn add_dynamics_matrix(&mut self, t: f64, q: &[f64], v: &[f64], cm: f64, cd: f64, ck: f64, lin: &mut LinearSolver, off: usize) {
+    pub fn add_dynamics_matrix(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        cm: f64,
+        cd: f64,
+        ck: f64,
+        lin: &mut LinearSolver,
+        off: usize,
+    ) {
         self.add_dynamics_matrix_at(t, q, v, [cm, cd, ck], lin, off, off);
     }
 
     /// Adds `c[0] M + c[1] D + c[2] K` at `(row_off, col_off)` into `lin`.
     #[allow(clippy::too_many_arguments)]
-    pub fn add_dynamics_matrix_at(&mut self, t: f64, q: &[f64], v: &[f64], c: [f64; 3], lin: &mut LinearSolver, row_off: usize, col_off: usize) {
+    pub fn add_dynamics_matrix_at(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        c: [f64; 3],
+        lin: &mut LinearSolver,
+        row_off: usize,
+        col_off: usize,
+    ) {
         let [cm, cd, ck] = c;
         self.update_kinematics(q, v);
         for (b, k) in self.model.bodies.iter().zip(&self.kins) {
@@ -196,11 +277,15 @@ impl System {
                 }
             }
         }
-        let model = self.model.clone();
-        let ctx = EvalCtx { t, kins: &self.kins, inputs: &self.inputs };
-        let mut sink = TripletSink { lin, ck, cd, row_off, col_off };
-        for e in &model.forces {
-            e.add_jacobian(&ctx, &mut sink);
+        let mut sink = TripletSink {
+            lin,
+            ck,
+            cd,
+            row_off,
+            col_off,
+        };
+        for (i, e) in self.model.forces.iter().enumerate() {
+            e.add_jacobian(&self.ctx(t, i), &mut sink);
         }
     }
 
@@ -222,7 +307,10 @@ impl System {
         let [bi, bj] = self.row_bodies[self.active[r]];
         let f = |b: BodyId| {
             let k = kin_of(&self.kins, b);
-            (k.is_free().then_some(k.col), if k.rotational { 6 } else { 3 })
+            (
+                k.is_free().then_some(k.col),
+                if k.rotational { 6 } else { 3 },
+            )
         };
         [f(bi), f(bj)]
     }
@@ -257,7 +345,14 @@ impl System {
 
     /// Pushes `scale * G` at `(row_off, col_off)` and, if `transpose_at` is given,
     /// `scale_t * G^T` at that `(row, col)` offset.
-    pub fn add_constraint_blocks(&self, lin: &mut LinearSolver, row_off: usize, col_off: usize, scale: f64, transpose_at: Option<(usize, usize, f64)>) {
+    pub fn add_constraint_blocks(
+        &self,
+        lin: &mut LinearSolver,
+        row_off: usize,
+        col_off: usize,
+        scale: f64,
+        transpose_at: Option<(usize, usize, f64)>,
+    ) {
         for (r, row) in self.rows.iter().enumerate() {
             for (side, (col, n)) in self.row_cols(r).into_iter().enumerate() {
                 if let Some(c) = col {
@@ -278,17 +373,30 @@ impl System {
         let mut mv = vec![0.0; v.len()];
         self.mass_mul(v, &mut mv);
         let kinetic = 0.5 * v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
-        let ctx = self.ctx(t);
-        let potential = self.model.forces.iter().map(|e| e.potential_energy(&ctx)).sum();
+        let potential = self
+            .model
+            .forces
+            .iter()
+            .enumerate()
+            .map(|(i, e)| e.potential_energy(&self.ctx(t, i)))
+            .sum();
         (kinetic, potential)
     }
 
     /// Dissipated power and input power [W] at `(q, v, t)`.
     pub fn powers(&mut self, t: f64, q: &[f64], v: &[f64]) -> (f64, f64) {
         self.update_kinematics(q, v);
-        let ctx = self.ctx(t);
-        let diss = self.model.forces.iter().map(|e| e.dissipated_power(&ctx)).sum();
-        let input = self.model.forces.iter().map(|e| e.input_power(&ctx)).sum();
+        let forces = &self.model.forces;
+        let diss = forces
+            .iter()
+            .enumerate()
+            .map(|(i, e)| e.dissipated_power(&self.ctx(t, i)))
+            .sum();
+        let input = forces
+            .iter()
+            .enumerate()
+            .map(|(i, e)| e.input_power(&self.ctx(t, i)))
+            .sum();
         (diss, input)
     }
 

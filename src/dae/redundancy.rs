@@ -18,7 +18,11 @@ fn find(parent: &mut [usize], mut x: usize) -> usize {
 }
 
 /// Returns the indices of the independent rows among `rows` (all rows of all joints, in order).
-pub fn independent_rows(model: &Model, row_bodies: &[[BodyId; 2]], rows: &[RowEval]) -> Result<Vec<usize>, String> {
+pub fn independent_rows(
+    model: &Model,
+    row_bodies: &[[BodyId; 2]],
+    rows: &[RowEval],
+) -> Result<Vec<usize>, String> {
     let nb = model.bodies.len();
     let node = |b: BodyId| b.index().unwrap_or(nb);
     let mut parent: Vec<usize> = (0..=nb).collect();
@@ -26,7 +30,10 @@ pub fn independent_rows(model: &Model, row_bodies: &[[BodyId; 2]], rows: &[RowEv
     let mut r0 = 0;
     for j in &model.joints {
         let n = j.kind.n_rows();
-        let (a, b) = (find(&mut parent, node(j.frame_i.body)), find(&mut parent, node(j.frame_j.body)));
+        let (a, b) = (
+            find(&mut parent, node(j.frame_i.body)),
+            find(&mut parent, node(j.frame_j.body)),
+        );
         if a == b {
             closes_loop[r0..r0 + n].fill(true);
         } else {
@@ -41,7 +48,9 @@ pub fn independent_rows(model: &Model, row_bodies: &[[BodyId; 2]], rows: &[RowEv
         .filter(|&r| closes_loop[r])
         .map(|r| find(&mut parent, node(row_bodies[r][0])))
         .collect();
-    let in_loop_component = |parent: &mut Vec<usize>, r: usize| loop_roots.contains(&find(parent, node(row_bodies[r][0])));
+    let in_loop_component = |parent: &mut Vec<usize>, r: usize| {
+        loop_roots.contains(&find(parent, node(row_bodies[r][0])))
+    };
     // tree rows first, loop-closing rows last, within the loop components
     let mut order: Vec<usize> = (0..rows.len()).filter(|&r| !closes_loop[r]).collect();
     order.extend((0..rows.len()).filter(|&r| closes_loop[r]));

@@ -20,7 +20,11 @@ pub fn angle_gradient(rot_i: &Mat3, ax_i: &Mat3, rot_j: &Mat3, ax_j: &Mat3) -> (
     // d s = dPhi_i . (y_i x x_j) + dPhi_j . (x_j x y_i); d c likewise (world-frame dPhi).
     let gi_w = (c * yi.cross(&xj) - s * xi.cross(&xj)) / rho2;
     let gj_w = (c * xj.cross(&yi) - s * xj.cross(&xi)) / rho2;
-    (s.atan2(c), rot_i.transpose() * gi_w, rot_j.transpose() * gj_w)
+    (
+        s.atan2(c),
+        rot_i.transpose() * gi_w,
+        rot_j.transpose() * gj_w,
+    )
 }
 
 /// Angle, rate and stacked gradient `[g_i; g_j]` (rotation increments of i then j) of two frames.
@@ -40,7 +44,11 @@ pub fn relative_angle(kins: &[BodyKin], fi: &Frame, fj: &Frame) -> RelativeAngle
     let kj = kin_of(kins, fj.body);
     let (theta, gi, gj) = angle_gradient(&ki.rot, &fi.axes, &kj.rot, &fj.axes);
     let theta_dot = gi.dot(&ki.omega) + gj.dot(&kj.omega);
-    RelativeAngle { theta, theta_dot, grad: [gi, gj] }
+    RelativeAngle {
+        theta,
+        theta_dot,
+        grad: [gi, gj],
+    }
 }
 
 /// Curvature `d^2 theta / dx^2` over `[dtheta_i; dtheta_j]` by central differences of the analytic

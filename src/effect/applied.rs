@@ -26,7 +26,8 @@ impl ForceEffect for AppliedLoads {
             let force = e.force_direction * e.force.eval(ctx.t, ctx.inputs).0;
             add_point_force(k, &e.at.origin, &force, f);
             if k.rotational {
-                let tau = k.rot.transpose() * (e.torque_direction * e.torque.eval(ctx.t, ctx.inputs).0);
+                let tau =
+                    k.rot.transpose() * (e.torque_direction * e.torque.eval(ctx.t, ctx.inputs).0);
                 for i in 0..3 {
                     f[k.col + 3 + i] += tau[i];
                 }
@@ -42,7 +43,8 @@ impl ForceEffect for AppliedLoads {
             let mut k6 = Matrix6::zeros();
             if k.rotational {
                 // f_rot = s x R^T F + R^T T; d(R^T w)/dtheta = (R^T w)~
-                let block = skew(&e.at.origin) * skew(&(k.rot.transpose() * force)) + skew(&(k.rot.transpose() * torque));
+                let block = skew(&e.at.origin) * skew(&(k.rot.transpose() * force))
+                    + skew(&(k.rot.transpose() * torque));
                 k6.fixed_view_mut::<3, 3>(3, 3).copy_from(&(-block));
             }
             sink.add(k, k, &k6, &Matrix6::zeros());

@@ -38,7 +38,12 @@ fn row(phi: f64, gamma: f64, gi_t: Vec3, gi_r: Vec3, gj_t: Vec3, gj_r: Vec3) -> 
         g[1][k] = gj_t[k];
         g[1][k + 3] = gj_r[k];
     }
-    RowEval { phi, phi_t: 0.0, gamma, g }
+    RowEval {
+        phi,
+        phi_t: 0.0,
+        gamma,
+        g,
+    }
 }
 
 /// Point coincidence `p_i - p_j = 0`: three rows appended to `out`.
@@ -61,9 +66,18 @@ fn dot1_row(ki: &BodyKin, a_i: Vec3, kj: &BodyKin, a_j: Vec3) -> RowEval {
     let uj = kj.rot * a_j;
     let ui_dot = ki.rot * ki.omega.cross(&a_i);
     let uj_dot = kj.rot * kj.omega.cross(&a_j);
-    let gdv = ki.point_centripetal(&a_i).dot(&uj) + 2.0 * ui_dot.dot(&uj_dot) + ui.dot(&kj.point_centripetal(&a_j));
+    let gdv = ki.point_centripetal(&a_i).dot(&uj)
+        + 2.0 * ui_dot.dot(&uj_dot)
+        + ui.dot(&kj.point_centripetal(&a_j));
     let z = Vec3::zeros();
-    row(ui.dot(&uj), -gdv, z, a_i.cross(&(ki.rot.transpose() * uj)), z, a_j.cross(&(kj.rot.transpose() * ui)))
+    row(
+        ui.dot(&uj),
+        -gdv,
+        z,
+        a_i.cross(&(ki.rot.transpose() * uj)),
+        z,
+        a_j.cross(&(kj.rot.transpose() * ui)),
+    )
 }
 
 /// `u_i . (p_j - p_i)` for body-frame axis `a_i` and the frame origins.
@@ -89,7 +103,11 @@ pub fn joint_rows(joint: &Joint, kins: &[BodyKin], t: f64, inputs: &[f64], out: 
     let (fi, fj) = (&joint.frame_i, &joint.frame_j);
     let ki = kin_of(kins, fi.body);
     let kj = kin_of(kins, fj.body);
-    let (xi, yi, zi) = (fi.axes.column(0).into(), fi.axes.column(1).into(), fi.axes.column(2).into());
+    let (xi, yi, zi) = (
+        fi.axes.column(0).into(),
+        fi.axes.column(1).into(),
+        fi.axes.column(2).into(),
+    );
     let (xj, yj) = (fj.axes.column(0).into(), fj.axes.column(1).into());
     match joint.kind {
         JointKind::Spherical => point_rows(ki, fi, kj, fj, out),
@@ -115,10 +133,19 @@ pub fn joint_rows(joint: &Joint, kins: &[BodyKin], t: f64, inputs: &[f64], out: 
             let (target, rate, acc) = profile.eval(t, inputs);
             let ra = relative_angle(kins, fi, fj);
             let h = angle_curvature(kins, fi, fj);
-            let om = nalgebra::Vector6::new(ki.omega.x, ki.omega.y, ki.omega.z, kj.omega.x, kj.omega.y, kj.omega.z);
+            let om = nalgebra::Vector6::new(
+                ki.omega.x, ki.omega.y, ki.omega.z, kj.omega.x, kj.omega.y, kj.omega.z,
+            );
             let quad = om.dot(&(h * om));
             let z = Vec3::zeros();
-            let mut r = row(wrap_angle(ra.theta - target), -quad + acc, z, ra.grad[0], z, ra.grad[1]);
+            let mut r = row(
+                wrap_angle(ra.theta - target),
+                -quad + acc,
+                z,
+                ra.grad[0],
+                z,
+                ra.grad[1],
+            );
             r.phi_t = -rate;
             out.push(r);
         }

@@ -28,6 +28,10 @@ impl ForceEffect for Gravity {
     fn add_jacobian(&self, _ctx: &EvalCtx, _sink: &mut dyn JacobianSink) {}
 
     fn potential_energy(&self, ctx: &EvalCtx) -> f64 {
-        ctx.kins.iter().zip(&self.masses).map(|(k, m)| -m * self.g.dot(&k.r)).sum()
+        ctx.kins
+            .iter()
+            .zip(&self.masses)
+            .map(|(k, m)| -m * self.g.dot(&k.r))
+            .sum()
     }
 }

@@ -25,6 +25,20 @@ pub struct EvalCtx<'a> {
     pub kins: &'a [BodyKin],
     /// Model inputs (controller signals).
     pub inputs: &'a [f64],
+    /// This effect's own discrete memory (see [`ForceEffect::n_memory`]).
+    pub memory: &'a [f64],
+}
+
+/// How an effect's memory changed after an accepted step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum MemoryChange {
+    /// Nothing changed.
+    None,
+    /// Changed without changing the forces at this instant (e.g. an approach speed recorded at
+    /// contact onset, where the force is still zero): integration continues.
+    Smooth,
+    /// Changed the forces discontinuously: integrators restart their history here.
+    Discontinuous,
 }
 
 /// Receives Jacobian blocks; an effect must emit the same sequence of blocks at every call for a
@@ -61,5 +75,19 @@ pub trait ForceEffect: Send + Sync + std::fmt::Debug {
     /// Power fed into the system by prescribed or input-driven loads [W].
     fn input_power(&self, _ctx: &EvalCtx) -> f64 {
         0.0
+    }
+
+    /// Number of discrete memory values the effect keeps in the state (contact onset speeds,
+    /// latch flags); they change only between steps, in [`ForceEffect::update_memory`].
+    fn n_memory(&self) -> usize {
+        0
+    }
+
+    /// Initial memory values.
+    fn init_memory(&self, _ctx: &EvalCtx, _memory: &mut [f64]) {}
+
+    /// Updates the memory after an accepted step (the context's `memory` holds the old values).
+    fn update_memory(&self, _ctx: &EvalCtx, _memory: &mut [f64]) -> MemoryChange {
+        MemoryChange::None
     }
 }

@@ -23,7 +23,8 @@ fn p_matrix(k: &BodyKin, s: &Vec3) -> Mat36 {
     let mut p = Mat36::zeros();
     p.fixed_view_mut::<3, 3>(0, 0).copy_from(&Mat3::identity());
     if k.rotational {
-        p.fixed_view_mut::<3, 3>(0, 3).copy_from(&k.point_rot_jacobian(s));
+        p.fixed_view_mut::<3, 3>(0, 3)
+            .copy_from(&k.point_rot_jacobian(s));
     }
     p
 }
@@ -32,7 +33,8 @@ fn p_matrix(k: &BodyKin, s: &Vec3) -> Mat36 {
 fn q_matrix(k: &BodyKin, s: &Vec3) -> Mat36 {
     let mut q = Mat36::zeros();
     if k.rotational {
-        q.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-k.rot * skew(&k.omega.cross(s))));
+        q.fixed_view_mut::<3, 3>(0, 3)
+            .copy_from(&(-k.rot * skew(&k.omega.cross(s))));
     }
     q
 }
@@ -86,7 +88,8 @@ impl TwoPointForce<'_> {
         let geo = |k: &BodyKin, s: &Vec3, force: &Vec3| {
             let mut g = Matrix6::zeros();
             if k.rotational {
-                g.fixed_view_mut::<3, 3>(3, 3).copy_from(&(skew(s) * skew(&(k.rot.transpose() * force))));
+                g.fixed_view_mut::<3, 3>(3, 3)
+                    .copy_from(&(skew(s) * skew(&(k.rot.transpose() * force))));
             }
             g
         };

@@ -28,7 +28,15 @@ fn evaluate<'a>(e: &SpringDamper, ctx: &'a EvalCtx) -> (f64, f64, TwoPointForce<
         + e.damping * n * (proj * d_dot / l).transpose();
     let cd = e.damping * n * n.transpose();
     let force: Vec3 = tension * n;
-    let tp = TwoPointForce { a: ka, s_a: e.a.origin, b: kb, s_b: e.b.origin, force, kd, cd };
+    let tp = TwoPointForce {
+        a: ka,
+        s_a: e.a.origin,
+        b: kb,
+        s_b: e.b.origin,
+        force,
+        kd,
+        cd,
+    };
     (l, l_dot, tp)
 }
 

@@ -23,14 +23,23 @@ fn add_torque(ctx: &EvalCtx, fi: &Frame, fj: &Frame, g: &[Vec3; 2], tau: f64, f:
 }
 
 /// Scatters a 6x6 matrix over `[dtheta_i; dtheta_j]` into the four body blocks.
-fn scatter(ctx: &EvalCtx, fi: &Frame, fj: &Frame, k6: &Matrix6<f64>, d6: &Matrix6<f64>, sink: &mut dyn JacobianSink) {
+fn scatter(
+    ctx: &EvalCtx,
+    fi: &Frame,
+    fj: &Frame,
+    k6: &Matrix6<f64>,
+    d6: &Matrix6<f64>,
+    sink: &mut dyn JacobianSink,
+) {
     let kins = [kin_of(ctx.kins, fi.body), kin_of(ctx.kins, fj.body)];
     for (a, ka) in kins.iter().enumerate() {
         for (b, kb) in kins.iter().enumerate() {
             let mut kb6 = Matrix6::zeros();
             let mut db6 = Matrix6::zeros();
-            kb6.fixed_view_mut::<3, 3>(3, 3).copy_from(&k6.fixed_view::<3, 3>(3 * a, 3 * b));
-            db6.fixed_view_mut::<3, 3>(3, 3).copy_from(&d6.fixed_view::<3, 3>(3 * a, 3 * b));
+            kb6.fixed_view_mut::<3, 3>(3, 3)
+                .copy_from(&k6.fixed_view::<3, 3>(3 * a, 3 * b));
+            db6.fixed_view_mut::<3, 3>(3, 3)
+                .copy_from(&d6.fixed_view::<3, 3>(3 * a, 3 * b));
             sink.add(ka, kb, &kb6, &db6);
         }
     }
@@ -78,8 +87,11 @@ impl ForceEffect for TorsionSprings {
             let h = angle_curvature(ctx.kins, &e.frame_i, &e.frame_j);
             let ki = kin_of(ctx.kins, e.frame_i.body);
             let kj = kin_of(ctx.kins, e.frame_j.body);
-            let omega = nalgebra::Vector6::new(ki.omega.x, ki.omega.y, ki.omega.z, kj.omega.x, kj.omega.y, kj.omega.z);
-            let k6 = e.stiffness * g * g.transpose() + e.damping * g * (h * omega).transpose() - tau * h;
+            let omega = nalgebra::Vector6::new(
+                ki.omega.x, ki.omega.y, ki.omega.z, kj.omega.x, kj.omega.y, kj.omega.z,
+            );
+            let k6 =
+                e.stiffness * g * g.transpose() + e.damping * g * (h * omega).transpose() - tau * h;
             let d6 = e.damping * g * g.transpose();
             scatter(ctx, &e.frame_i, &e.frame_j, &k6, &d6, sink);
         }
@@ -129,7 +141,14 @@ impl ForceEffect for JointTorques {
         for e in &self.elements {
             let tau = e.torque.eval(ctx.t, ctx.inputs).0;
             let h = angle_curvature(ctx.kins, &e.frame_i, &e.frame_j);
-            scatter(ctx, &e.frame_i, &e.frame_j, &(-tau * h), &Matrix6::zeros(), sink);
+            scatter(
+                ctx,
+                &e.frame_i,
+                &e.frame_j,
+                &(-tau * h),
+                &Matrix6::zeros(),
+                sink,
+            );
         }
     }
 

@@ -16,7 +16,10 @@
 //! The history is re-expressed in the chart of the newest point at every step.
 
 use super::dopri::Dopri5;
-use super::{Integrator, IntegratorKind, Settings, SolverError, Stats, time_eps, weights};
+use super::{
+    Integrator, IntegratorKind, MemoryHook, Settings, SolverError, Stats, StepAction, StepHook,
+    time_eps, weights,
+};
 use crate::dae::System;
 use crate::dae::linear::LinearSolver;
 use crate::math::wrms;
@@ -128,7 +131,15 @@ impl Bdf {
     }
 
     fn resize(&mut self, nq: usize, nv: usize, nc: usize) {
-        for v in [&mut self.x, &mut self.v, &mut self.f, &mut self.tmp, &mut self.wx, &mut self.wv, &mut self.vdot] {
+        for v in [
+            &mut self.x,
+            &mut self.v,
+            &mut self.f,
+            &mut self.tmp,
+            &mut self.wx,
+            &mut self.wv,
+            &mut self.vdot,
+        ] {
             v.resize(nv, 0.0);
         }
         self.lam.resize(nc, 0.0);
@@ -138,7 +149,12 @@ impl Bdf {
     }
 
     fn push_point(&mut self, st: &State) {
-        self.hist.push_front(Point { t: st.t, q: st.q.clone(), v: st.v.clone(), z: [st.energy_dissipated, st.work_input] });
+        self.hist.push_front(Point {
+            t: st.t,
+            q: st.q.clone(),
+            v: st.v.clone(),
+            z: [st.energy_dissipated, st.work_input],
+        });
         self.hist.truncate(7);
     }
 
@@ -221,10 +237,38 @@ impl Bdf {
                     self.lin.push(i, i, a0);
                     self.lin.push(i, nv + i, -1.0);
                 }
-                sys.add_constraint_blocks(&mut self.lin, 2 * nv, 0, a0, Some((0, 2 * nv + nc, 1.0)));
-                sys.add_dynamics_matrix_at(t1, &self.q1, &self.v, [a0, 1.0, 0.0], &mut self.lin, nv, nv);
-                sys.add_dynamics_matrix_at(t1, &self.q1, &self.v, [0.0, 0.0, 1.0], &mut self.lin, nv, 0);
-                sys.add_constraint_blocks(&mut self.lin, 2 * nv + nc, nv, 1.0, Some((nv, 2 * nv, 1.0)));
+                sys.add_constraint_blocks(
+                    &mut self.lin,
+                    2 * nv,
+                    0,
+                    a0,
+                    Some((0, 2 * nv + nc, 1.0)),
+                );
+                sys.add_dynamics_matrix_at(
+                    t1,
+                    &self.q1,
+                    &self.v,
+                    [a0, 1.0, 0.0],
+                    &mut self.lin,
+                    nv,
+                    nv,
+                );
+                sys.add_dynamics_matrix_at(
+                    t1,
+                    &self.q1,
+                    &self.v,
+                    [0.0, 0.0, 1.0],
+                    &mut self.lin,
+                    nv,
+                    0,
+                );
+                sys.add_constraint_blocks(
+                    &mut self.lin,
+                    2 * nv + nc,
+                    nv,
+                    1.0,
+                    Some((nv, 2 * nv, 1.0)),
+                );
                 self.stats.jacobians += 1;
                 self.stats.factorizations += 1;
                 if let Err(e) = self.lin.factor() {
@@ -249,10 +293,16 @@ impl Bdf {
             let norm = wrms(&self.rhs[..nv], &self.wx).max(wrms(&self.rhs[nv..2 * nv], &self.wv));
             let rate = norm / prev;
             if it >= 2 && rate > 0.9 {
-                return Outcome::Failed(format!("Newton iteration diverges at t = {t1:.9e} s (rate {rate:.2})"));
+                return Outcome::Failed(format!(
+                    "Newton iteration diverges at t = {t1:.9e} s (rate {rate:.2})"
+                ));
             }
             prev = norm;
-            let est = if it == 0 { norm } else { norm * rate / (1.0 - rate).max(1e-3) };
+            let est = if it == 0 {
+                norm
+            } else {
+                norm * rate / (1.0 - rate).max(1e-3)
+            };
             if (est <= 0.03 || norm <= 1e-12) && phi_max <= 10.0 * self.s.atol {
                 sys.model.retract(&q0, &self.x, &mut self.q1);
                 for i in 0..nv {
@@ -265,7 +315,9 @@ impl Bdf {
                 return Outcome::Converged;
             }
         }
-        Outcome::Failed(format!("Newton iteration did not converge in 10 iterations at t = {t1:.9e} s"))
+        Outcome::Failed(format!(
+            "Newton iteration did not converge in 10 iterations at t = {t1:.9e} s"
+        ))
     }
 
     /// Tries one step of size `h` at the current order. Returns the error estimates at orders
@@ -320,7 +372,11 @@ impl Bdf {
             ev[i] = c * (self.v[i] - vp[i]);
         }
         let combine = |a: f64, b: f64| ((a * a + b * b) * 0.5).sqrt();
-        let err_k = if np < k + 1 { combine(wrms(&ex, &self.wx), wrms(&ev, &self.wv)).max(1e-300) } else { combine(wrms(&ex, &self.wx), wrms(&ev, &self.wv)) };
+        let err_k = if np < k + 1 {
+            combine(wrms(&ex, &self.wx), wrms(&ev, &self.wv)).max(1e-300)
+        } else {
+            combine(wrms(&ex, &self.wx), wrms(&ev, &self.wv))
+        };
         // scaled divided differences of order j over (t1, t_n, ...)
         let dd = |j: usize, this: &Bdf| -> f64 {
             if j + 1 > navail + 1 {
@@ -354,15 +410,28 @@ impl Bdf {
             }
             combine(wrms(&cx, &this.wx), wrms(&cv, &this.wv))
         };
-        let err_lo = if k >= 2 { dd(k, self) / k as f64 } else { f64::NAN };
-        let err_hi = if k < self.s.max_order && navail >= k + 2 { dd(k + 2, self) / (k + 2) as f64 } else { f64::NAN };
+        let err_lo = if k >= 2 {
+            dd(k, self) / k as f64
+        } else {
+            f64::NAN
+        };
+        let err_hi = if k < self.s.max_order && navail >= k + 2 {
+            dd(k + 2, self) / (k + 2) as f64
+        } else {
+            f64::NAN
+        };
         Ok([err_lo, err_k, err_hi])
     }
 
     fn accept(&mut self, sys: &mut System, st: &mut State, h: f64, alpha0_k: usize) {
         let t1 = self.hist[0].t + h;
         // quadrature of powers with the same BDF formula (explicit in z)
-        let drive: f64 = sys.rows.iter().zip(&self.lam).map(|(r, l)| l * r.phi_t).sum();
+        let drive: f64 = sys
+            .rows
+            .iter()
+            .zip(&self.lam)
+            .map(|(r, l)| l * r.phi_t)
+            .sum();
         let (pd, pi) = sys.powers(t1, &self.q1, &self.v);
         let pi = pi + drive;
         let k = alpha0_k;
@@ -394,12 +463,18 @@ impl Bdf {
     /// Fixed-step start: fills the history with `order - 1` points from a tight DOPRI5 run.
     fn bootstrap(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
         let h = self.s.fixed_step;
-        let tight = Settings { rtol: 1e-13, atol: 1e-15, h_max: h, fixed_step: 0.0, ..self.s };
+        let tight = Settings {
+            rtol: 1e-13,
+            atol: 1e-15,
+            h_max: h,
+            fixed_step: 0.0,
+            ..self.s
+        };
         let mut rk = Dopri5::new(tight);
         rk.start(sys, st)?;
         while self.hist.len() < self.s.max_order {
             let t = st.t + h;
-            rk.advance_to(sys, st, t)?;
+            rk.advance_to(sys, st, t, &mut MemoryHook)?;
             self.push_point(st);
         }
         self.order = self.s.max_order;
@@ -420,13 +495,25 @@ impl Integrator for Bdf {
         self.order = 1;
         self.steps_at_order = 0;
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
-        let acc = wrms(&st.vdot, &self.wv).max(wrms(&st.v, &self.wx)).max(1e-12);
-        self.h = if self.s.h_init > 0.0 { self.s.h_init } else { (0.001 / acc).clamp(1e-8, self.s.h_max) };
+        let acc = wrms(&st.vdot, &self.wv)
+            .max(wrms(&st.v, &self.wx))
+            .max(1e-12);
+        self.h = if self.s.h_init > 0.0 {
+            self.s.h_init
+        } else {
+            (0.001 / acc).clamp(1e-8, self.s.h_max)
+        };
         self.jac_valid = false;
         Ok(())
     }
 
-    fn advance_to(&mut self, sys: &mut System, st: &mut State, t_end: f64) -> Result<(), SolverError> {
+    fn advance_to(
+        &mut self,
+        sys: &mut System,
+        st: &mut State,
+        t_end: f64,
+        hook: &mut dyn StepHook,
+    ) -> Result<(), SolverError> {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
         self.jac_valid = false;
         if self.hist.is_empty() {
@@ -442,11 +529,22 @@ impl Integrator for Bdf {
         while t_end - st.t > time_eps(t_end) {
             steps += 1;
             if steps > self.s.max_steps {
-                return Err(SolverError(format!("more than {} steps in one call at t = {:.9e} s: raise h_max or loosen rtol/atol", self.s.max_steps, st.t)));
+                return Err(SolverError(format!(
+                    "more than {} steps in one call at t = {:.9e} s: raise h_max or loosen rtol/atol",
+                    self.s.max_steps, st.t
+                )));
             }
-            let natural = if fixed { self.s.fixed_step } else { self.h.min(self.s.h_max) };
+            let natural = if fixed {
+                self.s.fixed_step
+            } else {
+                self.h.min(self.s.h_max)
+            };
             let remaining = t_end - st.t;
-            let h = if natural >= remaining - time_eps(t_end) { remaining } else { natural };
+            let h = if natural >= remaining - time_eps(t_end) {
+                remaining
+            } else {
+                natural
+            };
             let k = self.order.min(self.hist.len());
             match self.try_step(sys, h) {
                 Ok([lo, errk, hi]) => {
@@ -464,12 +562,28 @@ impl Integrator for Bdf {
                     fails = 0;
                     refreshed = false;
                     self.accept(sys, st, h, k);
+                    match hook.after_step(sys, st)? {
+                        StepAction::Continue => {}
+                        StepAction::Restart => {
+                            self.restart(sys, st)?;
+                            continue;
+                        }
+                        StepAction::Stop => return Ok(()),
+                    }
                     if fixed {
                         continue;
                     }
                     self.steps_at_order += 1;
                     // order and step selection
-                    let ratio = |e: f64, ord: usize| if e.is_finite() && e > 0.0 { 0.9 * e.powf(-1.0 / (ord as f64 + 1.0)) } else if e == 0.0 { 2.0 } else { 0.0 };
+                    let ratio = |e: f64, ord: usize| {
+                        if e.is_finite() && e > 0.0 {
+                            0.9 * e.powf(-1.0 / (ord as f64 + 1.0))
+                        } else if e == 0.0 {
+                            2.0
+                        } else {
+                            0.0
+                        }
+                    };
                     let mut best = (ratio(errk, k), k);
                     if self.steps_at_order > k {
                         let rl = ratio(lo, k - 1) / 1.3;
@@ -482,7 +596,11 @@ impl Integrator for Bdf {
                         }
                     }
                     // startup: raise the order as soon as enough points exist
-                    if self.stats.steps < 8 && k < self.s.max_order && self.hist.len() > k && best.1 == k {
+                    if self.stats.steps < 8
+                        && k < self.s.max_order
+                        && self.hist.len() > k
+                        && best.1 == k
+                    {
                         best.1 = k + 1;
                     }
                     if best.1 != self.order {
@@ -505,13 +623,18 @@ impl Integrator for Bdf {
                     }
                     refreshed = false;
                     if fixed {
-                        return Err(SolverError(format!("{reason}; the fixed step {h:.3e} s is too large: reduce it or use adaptive steps")));
+                        return Err(SolverError(format!(
+                            "{reason}; the fixed step {h:.3e} s is too large: reduce it or use adaptive steps"
+                        )));
                     }
                     self.h = 0.25 * h;
                     self.order = 1;
                     self.steps_at_order = 0;
                     if self.h < 1e-14 * st.t.abs().max(1.0) {
-                        return Err(SolverError(format!("step size fell below {:.1e} s at t = {:.9e} s: {reason} (check parameters, loosen rtol or raise damping)", self.h, st.t)));
+                        return Err(SolverError(format!(
+                            "step size fell below {:.1e} s at t = {:.9e} s: {reason} (check parameters, loosen rtol or raise damping)",
+                            self.h, st.t
+                        )));
                     }
                 }
             }
@@ -520,6 +643,15 @@ impl Integrator for Bdf {
         if let Some(p) = self.hist.front_mut() {
             p.t = t_end;
         }
+        Ok(())
+    }
+
+    fn restart(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
+        let mut lin = LinearSolver::new();
+        super::init::accelerations(sys, &mut lin, st)?;
+        let h = self.h;
+        self.start(sys, st)?;
+        self.h = h.min(self.s.h_max);
         Ok(())
     }
 
@@ -532,7 +664,12 @@ impl Integrator for Bdf {
     }
 
     fn memory(&self) -> Vec<f64> {
-        let mut m = vec![self.h, self.order as f64, self.steps_at_order as f64, self.hist.len() as f64];
+        let mut m = vec![
+            self.h,
+            self.order as f64,
+            self.steps_at_order as f64,
+            self.hist.len() as f64,
+        ];
         for p in &self.hist {
             m.push(p.t);
             m.push(p.q.len() as f64);

@@ -7,7 +7,10 @@
 //! bounds the step by the stiffest mode (contact, rope segments).
 
 use super::init::{accelerations, project_positions, project_velocities};
-use super::{Integrator, IntegratorKind, Settings, SolverError, Stats, kkt, time_eps, weights};
+use super::{
+    Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, kkt, time_eps,
+    weights,
+};
 use crate::dae::System;
 use crate::dae::linear::LinearSolver;
 use crate::math::wrms;
@@ -19,12 +22,49 @@ const A: [[f64; 6]; 7] = [
     [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
     [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
     [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
-    [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0, 0.0],
-    [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0],
-    [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
+    [
+        19372.0 / 6561.0,
+        -25360.0 / 2187.0,
+        64448.0 / 6561.0,
+        -212.0 / 729.0,
+        0.0,
+        0.0,
+    ],
+    [
+        9017.0 / 3168.0,
+        -355.0 / 33.0,
+        46732.0 / 5247.0,
+        49.0 / 176.0,
+        -5103.0 / 18656.0,
+        0.0,
+    ],
+    [
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+    ],
 ];
-const B: [f64; 7] = [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0];
-const E: [f64; 7] = [71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0];
+const B: [f64; 7] = [
+    35.0 / 384.0,
+    0.0,
+    500.0 / 1113.0,
+    125.0 / 192.0,
+    -2187.0 / 6784.0,
+    11.0 / 84.0,
+    0.0,
+];
+const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
 
 /// Dormand-Prince 5(4) integrator.
 #[derive(Debug, Clone)]
@@ -72,7 +112,14 @@ impl Dopri5 {
         for k in self.kx.iter_mut().chain(self.kv.iter_mut()) {
             k.resize(nv, 0.0);
         }
-        for v in [&mut self.x, &mut self.vs, &mut self.ex, &mut self.ev, &mut self.wx, &mut self.wv] {
+        for v in [
+            &mut self.x,
+            &mut self.vs,
+            &mut self.ex,
+            &mut self.ev,
+            &mut self.wx,
+            &mut self.wv,
+        ] {
             v.resize(nv, 0.0);
         }
         self.qs.resize(nq, 0.0);
@@ -93,7 +140,12 @@ impl Dopri5 {
         self.stats.rhs_evaluations += 1;
         self.stats.factorizations += 1;
         self.kv[i].copy_from_slice(&self.rhs[..nv]);
-        let drive: f64 = sys.rows.iter().zip(&self.rhs[nv..]).map(|(r, l)| l * r.phi_t).sum();
+        let drive: f64 = sys
+            .rows
+            .iter()
+            .zip(&self.rhs[nv..])
+            .map(|(r, l)| l * r.phi_t)
+            .sum();
         let (pd, pi) = sys.powers(t, &self.qs, &self.vs);
         self.pw[i] = (pd, pi + drive);
         let mut kx = std::mem::take(&mut self.kx[i]);
@@ -136,7 +188,9 @@ impl Dopri5 {
     }
 
     fn accept(&mut self, sys: &mut System, st: &mut State, h: f64) -> Result<(), SolverError> {
-        let (pd, pi): (f64, f64) = (0..7).fold((0.0, 0.0), |acc, i| (acc.0 + B[i] * self.pw[i].0, acc.1 + B[i] * self.pw[i].1));
+        let (pd, pi): (f64, f64) = (0..7).fold((0.0, 0.0), |acc, i| {
+            (acc.0 + B[i] * self.pw[i].0, acc.1 + B[i] * self.pw[i].1)
+        });
         st.energy_dissipated += h * pd;
         st.work_input += h * pi;
         st.t += h;
@@ -160,45 +214,91 @@ impl Integrator for Dopri5 {
     fn start(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
-        let acc = wrms(&st.vdot, &self.wv).max(wrms(&st.v, &self.wx)).max(1e-12);
-        self.h = if self.s.h_init > 0.0 { self.s.h_init } else { (0.01 / acc).clamp(1e-8, self.s.h_max) };
+        let acc = wrms(&st.vdot, &self.wv)
+            .max(wrms(&st.v, &self.wx))
+            .max(1e-12);
+        self.h = if self.s.h_init > 0.0 {
+            self.s.h_init
+        } else {
+            (0.01 / acc).clamp(1e-8, self.s.h_max)
+        };
         Ok(())
     }
 
-    fn advance_to(&mut self, sys: &mut System, st: &mut State, t_end: f64) -> Result<(), SolverError> {
+    fn advance_to(
+        &mut self,
+        sys: &mut System,
+        st: &mut State,
+        t_end: f64,
+        hook: &mut dyn StepHook,
+    ) -> Result<(), SolverError> {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
         let adaptive = self.s.fixed_step == 0.0;
         let mut steps = 0u64;
         while t_end - st.t > time_eps(t_end) {
             steps += 1;
             if steps > self.s.max_steps {
-                return Err(SolverError(format!("more than {} steps in one call at t = {:.9e} s: the scene is too stiff for dopri5, choose gen-alpha or bdf", self.s.max_steps, st.t)));
+                return Err(SolverError(format!(
+                    "more than {} steps in one call at t = {:.9e} s: the scene is too stiff for dopri5, choose gen-alpha or bdf",
+                    self.s.max_steps, st.t
+                )));
             }
-            let natural = if adaptive { self.h.min(self.s.h_max) } else { self.s.fixed_step };
+            let natural = if adaptive {
+                self.h.min(self.s.h_max)
+            } else {
+                self.s.fixed_step
+            };
             let remaining = t_end - st.t;
-            let h = if natural >= remaining - time_eps(t_end) { remaining } else { natural };
+            let h = if natural >= remaining - time_eps(t_end) {
+                remaining
+            } else {
+                natural
+            };
             let err = match self.try_step(sys, st, h) {
                 Ok(e) if e.is_finite() => e,
                 Ok(_) | Err(_) => f64::INFINITY,
             };
             if adaptive && err > 1.0 {
                 self.stats.rejected += 1;
-                self.h = h * if err.is_finite() { (0.9 * err.powf(-0.2)).clamp(0.1, 0.9) } else { 0.25 };
+                self.h = h * if err.is_finite() {
+                    (0.9 * err.powf(-0.2)).clamp(0.1, 0.9)
+                } else {
+                    0.25
+                };
                 if self.h < 1e-14 * st.t.abs().max(1.0) {
-                    return Err(SolverError(format!("step size fell below {:.1e} s at t = {:.9e} s (non-finite or singular accelerations?)", self.h, st.t)));
+                    return Err(SolverError(format!(
+                        "step size fell below {:.1e} s at t = {:.9e} s (non-finite or singular accelerations?)",
+                        self.h, st.t
+                    )));
                 }
                 continue;
             }
             if !err.is_finite() {
-                return Err(SolverError(format!("dopri5 step at t = {:.9e} s produced non-finite values with the fixed step {h:.3e} s", st.t)));
+                return Err(SolverError(format!(
+                    "dopri5 step at t = {:.9e} s produced non-finite values with the fixed step {h:.3e} s",
+                    st.t
+                )));
             }
             self.accept(sys, st, h)?;
             if adaptive && h == natural {
-                self.h = h * if err > 0.0 { (0.9 * err.powf(-0.2)).clamp(0.2, 5.0) } else { 5.0 };
+                self.h = h * if err > 0.0 {
+                    (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
+                } else {
+                    5.0
+                };
+            }
+            match hook.after_step(sys, st)? {
+                StepAction::Continue => {}
+                StepAction::Restart => self.restart(sys, st)?,
+                StepAction::Stop => return Ok(()),
             }
         }
         st.t = t_end;
         Ok(())
+    }
+
+    fn restart(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
+        accelerations(sys, &mut self.lin, st)
     }
 
     fn stats(&self) -> Stats {

@@ -12,7 +12,10 @@
 //! The Newton matrix is refreshed at the start of every `advance_to` call, so a run continued from
 //! a restored state repeats the original bit for bit.
 
-use super::{Integrator, IntegratorKind, Settings, SolverError, Stats, time_eps, weights};
+use super::{
+    Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
+    weights,
+};
 use crate::dae::System;
 use crate::dae::linear::LinearSolver;
 use crate::math::wrms;
@@ -93,7 +96,16 @@ impl GenAlpha {
     }
 
     fn resize(&mut self, nq: usize, nv: usize, nc: usize) {
-        for v in [&mut self.w, &mut self.a1, &mut self.v1, &mut self.dx, &mut self.f, &mut self.wx, &mut self.wv, &mut self.tmp] {
+        for v in [
+            &mut self.w,
+            &mut self.a1,
+            &mut self.v1,
+            &mut self.dx,
+            &mut self.f,
+            &mut self.wx,
+            &mut self.wv,
+            &mut self.tmp,
+        ] {
             v.resize(nv, 0.0);
         }
         self.lam.resize(nc, 0.0);
@@ -178,10 +190,16 @@ impl GenAlpha {
             let norm = wrms(&self.tmp, &self.wx);
             let rate = norm / prev_norm;
             if it >= 2 && rate > 0.9 {
-                return StepOutcome::Failed(format!("Newton iteration diverges at t = {t1:.9e} s (rate {rate:.2})"));
+                return StepOutcome::Failed(format!(
+                    "Newton iteration diverges at t = {t1:.9e} s (rate {rate:.2})"
+                ));
             }
             prev_norm = norm;
-            let est = if it == 0 { norm } else { norm * rate / (1.0 - rate).max(1e-3) };
+            let est = if it == 0 {
+                norm
+            } else {
+                norm * rate / (1.0 - rate).max(1e-3)
+            };
             if (est <= 0.02 || norm <= 1e-12) && phi_max <= 10.0 * self.s.atol {
                 self.kinematics(sys, st, h);
                 let mut err = 0.0;
@@ -195,7 +213,9 @@ impl GenAlpha {
                 return StepOutcome::Converged(err);
             }
         }
-        StepOutcome::Failed(format!("Newton iteration did not converge in 12 iterations at t = {t1:.9e} s"))
+        StepOutcome::Failed(format!(
+            "Newton iteration did not converge in 12 iterations at t = {t1:.9e} s"
+        ))
     }
 
     fn accept(&mut self, sys: &mut System, st: &mut State, h: f64) {
@@ -205,7 +225,12 @@ impl GenAlpha {
         st.vdot.copy_from_slice(&self.w);
         st.lambda.copy_from_slice(&self.lam);
         self.a.copy_from_slice(&self.a1);
-        let drive: f64 = sys.rows.iter().zip(&st.lambda).map(|(r, l)| l * r.phi_t).sum();
+        let drive: f64 = sys
+            .rows
+            .iter()
+            .zip(&st.lambda)
+            .map(|(r, l)| l * r.phi_t)
+            .sum();
         let (pd, pi) = sys.powers(st.t, &st.q, &st.v);
         let pi = pi + drive;
         st.energy_dissipated += 0.5 * h * (self.p_prev.0 + pd);
@@ -226,16 +251,31 @@ impl Integrator for GenAlpha {
         self.a.copy_from_slice(&st.vdot);
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
         let acc = wrms(&st.vdot, &self.wx).max(1e-12);
-        self.h = if self.s.h_init > 0.0 { self.s.h_init } else { (0.5 * (2.0 / acc).sqrt()).min(self.s.h_max) };
+        self.h = if self.s.h_init > 0.0 {
+            self.s.h_init
+        } else {
+            (0.5 * (2.0 / acc).sqrt()).min(self.s.h_max)
+        };
         sys.eval_constraints(st.t, &st.q, &st.v);
-        let drive: f64 = sys.rows.iter().zip(&st.lambda).map(|(r, l)| l * r.phi_t).sum();
+        let drive: f64 = sys
+            .rows
+            .iter()
+            .zip(&st.lambda)
+            .map(|(r, l)| l * r.phi_t)
+            .sum();
         let (pd, pi) = sys.powers(st.t, &st.q, &st.v);
         self.p_prev = (pd, pi + drive);
         self.jac_valid = false;
         Ok(())
     }
 
-    fn advance_to(&mut self, sys: &mut System, st: &mut State, t_end: f64) -> Result<(), SolverError> {
+    fn advance_to(
+        &mut self,
+        sys: &mut System,
+        st: &mut State,
+        t_end: f64,
+        hook: &mut dyn StepHook,
+    ) -> Result<(), SolverError> {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
         self.jac_valid = false;
         let adaptive = self.s.fixed_step == 0.0;
@@ -244,11 +284,24 @@ impl Integrator for GenAlpha {
         while t_end - st.t > time_eps(t_end) {
             steps += 1;
             if steps > self.s.max_steps {
-                return Err(SolverError(format!("more than {} steps in one call at t = {:.9e} s: raise h_max or loosen rtol/atol", self.s.max_steps, st.t)));
+                return Err(SolverError(format!(
+                    "more than {} steps in one call at t = {:.9e} s: raise h_max or loosen rtol/atol",
+                    self.s.max_steps, st.t
+                )));
             }
-            let natural = if adaptive { self.h.min(self.s.h_max) } else { self.s.fixed_step };
+            let natural = if adaptive {
+                self.h.min(self.s.h_max)
+            } else {
+                self.s.fixed_step
+            };
             let remaining = t_end - st.t;
-            let h = if natural >= remaining - time_eps(t_end) { remaining } else if adaptive && natural > 0.5 * remaining { 0.5 * remaining } else { natural };
+            let h = if natural >= remaining - time_eps(t_end) {
+                remaining
+            } else if adaptive && natural > 0.5 * remaining {
+                0.5 * remaining
+            } else {
+                natural
+            };
             match self.try_step(sys, st, h) {
                 StepOutcome::Converged(err) => {
                     if adaptive && err > 1.0 {
@@ -257,8 +310,17 @@ impl Integrator for GenAlpha {
                     } else {
                         self.accept(sys, st, h);
                         refreshed = false;
+                        match hook.after_step(sys, st)? {
+                            StepAction::Continue => {}
+                            StepAction::Restart => self.restart(sys, st)?,
+                            StepAction::Stop => return Ok(()),
+                        }
                         if adaptive {
-                            let fac = if err > 0.0 { (0.9 * err.powf(-1.0 / 3.0)).clamp(0.2, 3.0) } else { 3.0 };
+                            let fac = if err > 0.0 {
+                                (0.9 * err.powf(-1.0 / 3.0)).clamp(0.2, 3.0)
+                            } else {
+                                3.0
+                            };
                             if h == natural || fac < 1.0 {
                                 self.h = h * fac;
                             }
@@ -274,16 +336,30 @@ impl Integrator for GenAlpha {
                     }
                     refreshed = false;
                     if !adaptive {
-                        return Err(SolverError(format!("{reason}; the fixed step {h:.3e} s is too large for this problem: reduce it or use an adaptive integrator")));
+                        return Err(SolverError(format!(
+                            "{reason}; the fixed step {h:.3e} s is too large for this problem: reduce it or use an adaptive integrator"
+                        )));
                     }
                     self.h = 0.25 * h;
                     if self.h < 1e-14 * st.t.abs().max(1.0) {
-                        return Err(SolverError(format!("step size fell below {:.1e} s at t = {:.9e} s: {reason} (stiffer contact than the solver can resolve? check parameters, loosen rtol or raise damping)", self.h, st.t)));
+                        return Err(SolverError(format!(
+                            "step size fell below {:.1e} s at t = {:.9e} s: {reason} (stiffer contact than the solver can resolve? check parameters, loosen rtol or raise damping)",
+                            self.h, st.t
+                        )));
                     }
                 }
             }
         }
         st.t = t_end;
+        Ok(())
+    }
+
+    fn restart(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
+        let mut lin = LinearSolver::new();
+        super::init::accelerations(sys, &mut lin, st)?;
+        let h = self.h;
+        self.start(sys, st)?;
+        self.h = h;
         Ok(())
     }
 

@@ -8,11 +8,20 @@ use crate::state::State;
 
 /// Largest constraint residual and the name of the joint it belongs to.
 fn worst_row(sys: &System) -> (f64, usize) {
-    sys.rows.iter().enumerate().map(|(i, r)| (r.phi.abs(), i)).fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a })
+    sys.rows
+        .iter()
+        .enumerate()
+        .map(|(i, r)| (r.phi.abs(), i))
+        .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a })
 }
 
 /// Projects `state.q` onto `Phi = 0` (Gauss-Newton, at most 50 iterations, to `tol` [m, rad]).
-pub fn project_positions(sys: &mut System, lin: &mut LinearSolver, state: &mut State, tol: f64) -> Result<(), SolverError> {
+pub fn project_positions(
+    sys: &mut System,
+    lin: &mut LinearSolver,
+    state: &mut State,
+    tol: f64,
+) -> Result<(), SolverError> {
     let (nv, nc) = (sys.n_v(), sys.n_c());
     if nc == 0 {
         return Ok(());
@@ -25,7 +34,11 @@ pub fn project_positions(sys: &mut System, lin: &mut LinearSolver, state: &mut S
         if worst <= tol {
             return Ok(());
         }
-        kkt::factor(sys, lin, state.t, &state.q, &state.v).map_err(|e| SolverError(format!("projection onto the joints failed: {e} (redundant or conflicting joints?)")))?;
+        kkt::factor(sys, lin, state.t, &state.q, &state.v).map_err(|e| {
+            SolverError(format!(
+                "projection onto the joints failed: {e} (redundant or conflicting joints?)"
+            ))
+        })?;
         rhs[..nv].fill(0.0);
         for (r, row) in sys.rows.iter().enumerate() {
             rhs[nv + r] = -row.phi;
@@ -42,13 +55,18 @@ pub fn project_positions(sys: &mut System, lin: &mut LinearSolver, state: &mut S
 }
 
 /// Projects `state.v` onto `G v + Phi_t = 0` (one linear solve).
-pub fn project_velocities(sys: &mut System, lin: &mut LinearSolver, state: &mut State) -> Result<(), SolverError> {
+pub fn project_velocities(
+    sys: &mut System,
+    lin: &mut LinearSolver,
+    state: &mut State,
+) -> Result<(), SolverError> {
     let (nv, nc) = (sys.n_v(), sys.n_c());
     if nc == 0 {
         return Ok(());
     }
     sys.eval_constraints(state.t, &state.q, &state.v);
-    kkt::factor(sys, lin, state.t, &state.q, &state.v).map_err(|e| SolverError(format!("velocity projection failed: {e}")))?;
+    kkt::factor(sys, lin, state.t, &state.q, &state.v)
+        .map_err(|e| SolverError(format!("velocity projection failed: {e}")))?;
     let mut rhs = vec![0.0; nv + nc];
     let mut gv = vec![0.0; nc];
     sys.g_mul(&state.v, &mut gv);
@@ -63,7 +81,11 @@ pub fn project_velocities(sys: &mut System, lin: &mut LinearSolver, state: &mut 
 }
 
 /// Accelerations and multipliers from `[M G^T; G 0] [v_dot; lambda] = [f; gamma]`.
-pub fn accelerations(sys: &mut System, lin: &mut LinearSolver, state: &mut State) -> Result<(), SolverError> {
+pub fn accelerations(
+    sys: &mut System,
+    lin: &mut LinearSolver,
+    state: &mut State,
+) -> Result<(), SolverError> {
     let (nv, nc) = (sys.n_v(), sys.n_c());
     let mut rhs = vec![0.0; nv + nc];
     sys.forces(state.t, &state.q, &state.v, &mut rhs[..nv]);
@@ -71,7 +93,8 @@ pub fn accelerations(sys: &mut System, lin: &mut LinearSolver, state: &mut State
     for (r, row) in sys.rows.iter().enumerate() {
         rhs[nv + r] = row.gamma;
     }
-    kkt::factor(sys, lin, state.t, &state.q, &state.v).map_err(|e| SolverError(format!("initial accelerations: {e}")))?;
+    kkt::factor(sys, lin, state.t, &state.q, &state.v)
+        .map_err(|e| SolverError(format!("initial accelerations: {e}")))?;
     kkt::solve(lin, &mut rhs).map_err(SolverError)?;
     state.vdot.copy_from_slice(&rhs[..nv]);
     state.lambda.resize(nc, 0.0);
@@ -80,7 +103,11 @@ pub fn accelerations(sys: &mut System, lin: &mut LinearSolver, state: &mut State
 }
 
 /// Makes `state` consistent: positions, speeds, accelerations and multipliers.
-pub fn make_consistent(sys: &mut System, state: &mut State, position_tol: f64) -> Result<(), SolverError> {
+pub fn make_consistent(
+    sys: &mut System,
+    state: &mut State,
+    position_tol: f64,
+) -> Result<(), SolverError> {
     let mut lin = LinearSolver::new();
     project_positions(sys, &mut lin, state, position_tol)?;
     project_velocities(sys, &mut lin, state)?;
@@ -97,5 +124,6 @@ pub fn initial_state(sys: &System, t0: f64) -> State {
         lambda: vec![0.0; sys.n_c()],
         energy_dissipated: 0.0,
         work_input: 0.0,
+        memory: vec![0.0; sys.n_memory()],
     }
 }

@@ -5,7 +5,13 @@ use crate::dae::System;
 use crate::dae::linear::LinearSolver;
 
 /// Assembles and factorizes `[M G^T; G 0]` at `(q, t)`; the constraint rows must be evaluated.
-pub fn factor(sys: &mut System, lin: &mut LinearSolver, t: f64, q: &[f64], v: &[f64]) -> Result<(), String> {
+pub fn factor(
+    sys: &mut System,
+    lin: &mut LinearSolver,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+) -> Result<(), String> {
     let (nv, nc) = (sys.n_v(), sys.n_c());
     lin.begin(nv + nc);
     sys.add_dynamics_matrix(t, q, v, 1.0, 0.0, 0.0, lin, 0);

@@ -28,7 +28,11 @@ pub enum IntegratorKind {
 
 impl IntegratorKind {
     /// All kinds, in enumeration order.
-    pub const ALL: [IntegratorKind; 3] = [IntegratorKind::GenAlpha, IntegratorKind::Bdf, IntegratorKind::Dopri5];
+    pub const ALL: [IntegratorKind; 3] = [
+        IntegratorKind::GenAlpha,
+        IntegratorKind::Bdf,
+        IntegratorKind::Dopri5,
+    ];
 
     /// Short name.
     pub fn name(self) -> &'static str {
@@ -63,7 +67,16 @@ pub struct Settings {
 
 impl Default for Settings {
     fn default() -> Self {
-        Settings { rtol: 1e-6, atol: 1e-8, h_max: 0.1, h_init: 0.0, fixed_step: 0.0, rho_inf: 0.8, max_order: 5, max_steps: 5_000_000 }
+        Settings {
+            rtol: 1e-6,
+            atol: 1e-8,
+            h_max: 0.1,
+            h_init: 0.0,
+            fixed_step: 0.0,
+            rho_inf: 0.8,
+            max_order: 5,
+            max_steps: 5_000_000,
+        }
     }
 }
 
@@ -81,16 +94,25 @@ impl Settings {
             return Err(format!("h_max must be finite and > 0, got {}", self.h_max));
         }
         if !(self.h_init.is_finite() && self.h_init >= 0.0) {
-            return Err(format!("h_init must be finite and >= 0, got {}", self.h_init));
+            return Err(format!(
+                "h_init must be finite and >= 0, got {}",
+                self.h_init
+            ));
         }
         if !(self.fixed_step.is_finite() && self.fixed_step >= 0.0) {
-            return Err(format!("fixed_step must be finite and >= 0, got {}", self.fixed_step));
+            return Err(format!(
+                "fixed_step must be finite and >= 0, got {}",
+                self.fixed_step
+            ));
         }
         if !(0.0..=1.0).contains(&self.rho_inf) {
             return Err(format!("rho_inf must be in [0, 1], got {}", self.rho_inf));
         }
         if !(1..=5).contains(&self.max_order) {
-            return Err(format!("max_order must be in 1..=5, got {}", self.max_order));
+            return Err(format!(
+                "max_order must be in 1..=5, got {}",
+                self.max_order
+            ));
         }
         if self.rho_inf == 1.0 {
             warnings.push("rho_inf = 1 gives no numerical damping: on the index-3 form velocities and multipliers lose accuracy; use 0.8-0.9".into());
@@ -125,6 +147,45 @@ impl std::fmt::Display for SolverError {
 
 impl std::error::Error for SolverError {}
 
+/// What an integrator does after an accepted step, as a hook decides.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepAction {
+    /// Go on.
+    Continue,
+    /// The state or the forces changed discontinuously here: restart (recompute accelerations,
+    /// drop the history).
+    Restart,
+    /// Return now (the caller changes the system's structure and calls `start` again).
+    Stop,
+}
+
+/// Called after every accepted step (discrete memory of effects, structural events of scenes).
+pub trait StepHook {
+    /// Inspects (and may change) the state after an accepted step.
+    fn after_step(
+        &mut self,
+        sys: &mut System,
+        state: &mut State,
+    ) -> Result<StepAction, SolverError>;
+}
+
+/// The hook that only updates the effects' discrete memory.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct MemoryHook;
+
+impl StepHook for MemoryHook {
+    fn after_step(&mut self, sys: &mut System, st: &mut State) -> Result<StepAction, SolverError> {
+        let mut mem = std::mem::take(&mut st.memory);
+        let change = sys.update_memory(st.t, &st.q, &st.v, &mut mem);
+        st.memory = mem;
+        Ok(if change == crate::effect::MemoryChange::Discontinuous {
+            StepAction::Restart
+        } else {
+            StepAction::Continue
+        })
+    }
+}
+
 /// A time integrator for the multibody DAE.
 pub trait Integrator: Send + std::fmt::Debug {
     /// Which method this is.
@@ -134,8 +195,18 @@ pub trait Integrator: Send + std::fmt::Debug {
     /// [`init::make_consistent`]); forgets any history.
     fn start(&mut self, sys: &mut System, state: &State) -> Result<(), SolverError>;
 
-    /// Advances `state` exactly to `t_end` [s].
-    fn advance_to(&mut self, sys: &mut System, state: &mut State, t_end: f64) -> Result<(), SolverError>;
+    /// Advances `state` exactly to `t_end` [s], calling `hook` after every accepted step; returns
+    /// early (with `state.t < t_end`) when the hook says [`StepAction::Stop`].
+    fn advance_to(
+        &mut self,
+        sys: &mut System,
+        state: &mut State,
+        t_end: f64,
+        hook: &mut dyn StepHook,
+    ) -> Result<(), SolverError>;
+
+    /// Restarts after a discontinuity at the current state (keeps the step size).
+    fn restart(&mut self, sys: &mut System, state: &mut State) -> Result<(), SolverError>;
 
     /// Work counters since construction.
     fn stats(&self) -> Stats;
@@ -160,7 +231,14 @@ pub fn create(kind: IntegratorKind, settings: Settings) -> Box<dyn Integrator> {
 }
 
 /// Error weights `atol + rtol * scale` for positions and speeds.
-pub(crate) fn weights(sys: &System, q: &[f64], v: &[f64], s: &Settings, wx: &mut [f64], wv: &mut [f64]) {
+pub(crate) fn weights(
+    sys: &System,
+    q: &[f64],
+    v: &[f64],
+    s: &Settings,
+    wx: &mut [f64],
+    wv: &mut [f64],
+) {
     sys.model.position_scale(q, wx);
     for w in wx.iter_mut() {
         *w = s.atol + s.rtol * *w;

@@ -102,7 +102,12 @@ pub struct BodyInit {
 impl BodyInit {
     /// At rest at `position` with the identity orientation.
     pub fn at(position: Vec3) -> Self {
-        BodyInit { position, orientation: Quat::identity(), velocity: Vec3::zeros(), omega: Vec3::zeros() }
+        BodyInit {
+            position,
+            orientation: Quat::identity(),
+            velocity: Vec3::zeros(),
+            omega: Vec3::zeros(),
+        }
     }
 
     /// Sets the orientation.

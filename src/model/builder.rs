@@ -1,14 +1,16 @@
 //! Validating builder for [`Model`]: every bad input is an `Err` with a precise message.
 
 use super::body::{Body, BodyId, BodyInit, BodyKind};
-use super::element::{AppliedLoad, Frame, Joint, JointKind, JointTorque, SpringDamper, TorsionSpring};
+use super::element::{
+    AppliedLoad, Frame, Joint, JointKind, JointTorque, SpringDamper, TorsionSpring,
+};
 use super::kinematics::put_quat;
 use super::{Model, Profile};
+use crate::effect::ForceEffect;
 use crate::effect::applied::AppliedLoads;
 use crate::effect::gravity::Gravity;
 use crate::effect::spring_damper::SpringDampers;
 use crate::effect::torsion::{JointTorques, TorsionSprings};
-use crate::effect::ForceEffect;
 use crate::math::{Mat3, Vec3};
 use std::sync::Arc;
 
@@ -38,7 +40,9 @@ impl ModelBuilder {
 
     fn check_init(name: &str, init: &BodyInit) -> Result<(), String> {
         if !finite3(&init.position) || !finite3(&init.velocity) || !finite3(&init.omega) {
-            return Err(format!("body '{name}': initial position or velocity is not finite"));
+            return Err(format!(
+                "body '{name}': initial position or velocity is not finite"
+            ));
         }
         if !init.orientation.coords.iter().all(|x| x.is_finite()) {
             return Err(format!("body '{name}': initial orientation is not finite"));
@@ -47,12 +51,22 @@ impl ModelBuilder {
     }
 
     /// Adds a rigid body of `mass` [kg] with `inertia` [kg m^2] about its centre of mass (body frame).
-    pub fn add_rigid_body(&mut self, name: &str, mass: f64, inertia: Mat3, init: BodyInit) -> Result<BodyId, String> {
+    pub fn add_rigid_body(
+        &mut self,
+        name: &str,
+        mass: f64,
+        inertia: Mat3,
+        init: BodyInit,
+    ) -> Result<BodyId, String> {
         if !(mass.is_finite() && mass > 0.0) {
-            return Err(format!("body '{name}': mass must be finite and positive, got {mass}"));
+            return Err(format!(
+                "body '{name}': mass must be finite and positive, got {mass}"
+            ));
         }
         if !inertia.iter().all(|x| x.is_finite()) {
-            return Err(format!("body '{name}': inertia tensor has non-finite entries"));
+            return Err(format!(
+                "body '{name}': inertia tensor has non-finite entries"
+            ));
         }
         if (inertia - inertia.transpose()).norm() > 1e-9 * inertia.norm().max(1e-300) {
             return Err(format!("body '{name}': inertia tensor is not symmetric"));
@@ -73,18 +87,28 @@ impl ModelBuilder {
             ));
         }
         Self::check_init(name, &init)?;
-        self.bodies.push((name.to_string(), BodyKind::Rigid { mass, inertia }, init));
+        self.bodies
+            .push((name.to_string(), BodyKind::Rigid { mass, inertia }, init));
         Ok(BodyId(self.bodies.len() - 1))
     }
 
     /// Adds a point mass [kg] at `position` [m] moving with `velocity` [m/s] (world frame).
-    pub fn add_particle(&mut self, name: &str, mass: f64, position: Vec3, velocity: Vec3) -> Result<BodyId, String> {
+    pub fn add_particle(
+        &mut self,
+        name: &str,
+        mass: f64,
+        position: Vec3,
+        velocity: Vec3,
+    ) -> Result<BodyId, String> {
         if !(mass.is_finite() && mass > 0.0) {
-            return Err(format!("particle '{name}': mass must be finite and positive, got {mass}"));
+            return Err(format!(
+                "particle '{name}': mass must be finite and positive, got {mass}"
+            ));
         }
         let init = BodyInit::at(position).moving(velocity, Vec3::zeros());
         Self::check_init(name, &init)?;
-        self.bodies.push((name.to_string(), BodyKind::Particle { mass }, init));
+        self.bodies
+            .push((name.to_string(), BodyKind::Particle { mass }, init));
         Ok(BodyId(self.bodies.len() - 1))
     }
 
@@ -105,20 +129,37 @@ impl ModelBuilder {
         Ok(())
     }
 
-    fn check_frame(&self, owner: &str, which: &str, f: &Frame, needs_rotation: bool) -> Result<(), String> {
+    fn check_frame(
+        &self,
+        owner: &str,
+        which: &str,
+        f: &Frame,
+        needs_rotation: bool,
+    ) -> Result<(), String> {
         if let Some(i) = f.body.index() {
             let Some((bname, kind, _)) = self.bodies.get(i) else {
-                return Err(format!("{owner}: frame {which} references body #{i}, but the model has {} bodies", self.bodies.len()));
+                return Err(format!(
+                    "{owner}: frame {which} references body #{i}, but the model has {} bodies",
+                    self.bodies.len()
+                ));
             };
             if needs_rotation && !kind.has_rotation() {
-                return Err(format!("{owner}: frame {which} is on particle '{bname}', which has no rotation"));
+                return Err(format!(
+                    "{owner}: frame {which} is on particle '{bname}', which has no rotation"
+                ));
             }
         }
         if !finite3(&f.origin) || !f.axes.iter().all(|x| x.is_finite()) {
-            return Err(format!("{owner}: frame {which} has a non-finite origin or axis (zero-length axis?)"));
+            return Err(format!(
+                "{owner}: frame {which} has a non-finite origin or axis (zero-length axis?)"
+            ));
         }
-        if (f.axes.transpose() * f.axes - Mat3::identity()).norm() > 1e-9 || f.axes.determinant() < 0.0 {
-            return Err(format!("{owner}: frame {which} axes are not a right-handed orthonormal set"));
+        if (f.axes.transpose() * f.axes - Mat3::identity()).norm() > 1e-9
+            || f.axes.determinant() < 0.0
+        {
+            return Err(format!(
+                "{owner}: frame {which} axes are not a right-handed orthonormal set"
+            ));
         }
         Ok(())
     }
@@ -129,14 +170,23 @@ impl ModelBuilder {
         }
         if let Some(i) = p.input() {
             if i >= self.inputs.len() {
-                return Err(format!("{owner}: profile reads input #{i}, but the model declares {} inputs", self.inputs.len()));
+                return Err(format!(
+                    "{owner}: profile reads input #{i}, but the model declares {} inputs",
+                    self.inputs.len()
+                ));
             }
         }
         Ok(())
     }
 
     /// Adds a joint between `frame_i` and `frame_j`.
-    pub fn add_joint(&mut self, name: &str, kind: JointKind, frame_i: Frame, frame_j: Frame) -> Result<(), String> {
+    pub fn add_joint(
+        &mut self,
+        name: &str,
+        kind: JointKind,
+        frame_i: Frame,
+        frame_j: Frame,
+    ) -> Result<(), String> {
         let owner = format!("joint '{name}'");
         self.check_frame(&owner, "i", &frame_i, kind.needs_rotation())?;
         self.check_frame(&owner, "j", &frame_j, kind.needs_rotation())?;
@@ -146,7 +196,12 @@ impl ModelBuilder {
         if let JointKind::AngleDrive(p) | JointKind::TranslationDrive(p) = &kind {
             self.check_profile(&owner, p)?;
         }
-        self.joints.push(Joint { name: name.to_string(), kind, frame_i, frame_j });
+        self.joints.push(Joint {
+            name: name.to_string(),
+            kind,
+            frame_i,
+            frame_j,
+        });
         Ok(())
     }
 
@@ -155,8 +210,12 @@ impl ModelBuilder {
         let owner = format!("spring-damper '{}'", e.name);
         self.check_frame(&owner, "a", &e.a, false)?;
         self.check_frame(&owner, "b", &e.b, false)?;
-        if !(e.stiffness >= 0.0 && e.damping >= 0.0 && e.free_length >= 0.0) || !(e.stiffness + e.damping + e.free_length).is_finite() {
-            return Err(format!("{owner}: stiffness, damping and free length must be finite and >= 0"));
+        if !(e.stiffness >= 0.0 && e.damping >= 0.0 && e.free_length >= 0.0)
+            || !(e.stiffness + e.damping + e.free_length).is_finite()
+        {
+            return Err(format!(
+                "{owner}: stiffness, damping and free length must be finite and >= 0"
+            ));
         }
         self.springs.push(e);
         Ok(())
@@ -167,8 +226,12 @@ impl ModelBuilder {
         let owner = format!("torsion spring '{}'", e.name);
         self.check_frame(&owner, "i", &e.frame_i, true)?;
         self.check_frame(&owner, "j", &e.frame_j, true)?;
-        if !(e.stiffness >= 0.0 && e.damping >= 0.0) || !(e.stiffness + e.damping + e.free_angle + e.angle_offset).is_finite() {
-            return Err(format!("{owner}: stiffness and damping must be finite and >= 0, angles finite"));
+        if !(e.stiffness >= 0.0 && e.damping >= 0.0)
+            || !(e.stiffness + e.damping + e.free_angle + e.angle_offset).is_finite()
+        {
+            return Err(format!(
+                "{owner}: stiffness and damping must be finite and >= 0, angles finite"
+            ));
         }
         self.torsions.push(e);
         Ok(())
@@ -207,7 +270,12 @@ impl ModelBuilder {
         let mut bodies = Vec::with_capacity(self.bodies.len());
         let (mut n_q, mut n_v) = (0, 0);
         for (name, kind, _) in &self.bodies {
-            bodies.push(Body { name: name.clone(), kind: kind.clone(), q_offset: n_q, v_offset: n_v });
+            bodies.push(Body {
+                name: name.clone(),
+                kind: kind.clone(),
+                q_offset: n_q,
+                v_offset: n_v,
+            });
             n_q += kind.n_q();
             n_v += kind.n_v();
         }
@@ -223,21 +291,42 @@ impl ModelBuilder {
         }
         let mut forces: Vec<Arc<dyn ForceEffect>> = Vec::new();
         if let Some(g) = self.gravity {
-            forces.push(Arc::new(Gravity { g, masses: bodies.iter().map(|b| b.kind.mass()).collect() }));
+            forces.push(Arc::new(Gravity {
+                g,
+                masses: bodies.iter().map(|b| b.kind.mass()).collect(),
+            }));
         }
         if !self.springs.is_empty() {
-            forces.push(Arc::new(SpringDampers { elements: self.springs }));
+            forces.push(Arc::new(SpringDampers {
+                elements: self.springs,
+            }));
         }
         if !self.torsions.is_empty() {
-            forces.push(Arc::new(TorsionSprings { elements: self.torsions }));
+            forces.push(Arc::new(TorsionSprings {
+                elements: self.torsions,
+            }));
         }
         if !self.loads.is_empty() {
-            forces.push(Arc::new(AppliedLoads { elements: self.loads }));
+            forces.push(Arc::new(AppliedLoads {
+                elements: self.loads,
+            }));
         }
         if !self.joint_torques.is_empty() {
-            forces.push(Arc::new(JointTorques { elements: self.joint_torques }));
+            forces.push(Arc::new(JointTorques {
+                elements: self.joint_torques,
+            }));
         }
         forces.extend(self.extra);
-        Ok(Model { bodies, joints: self.joints, gravity: self.gravity, forces, input_names: self.inputs, n_q, n_v, q0, v0 })
+        Ok(Model {
+            bodies,
+            joints: self.joints,
+            gravity: self.gravity,
+            forces,
+            input_names: self.inputs,
+            n_q,
+            n_v,
+            q0,
+            v0,
+        })
     }
 }

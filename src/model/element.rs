@@ -18,17 +18,29 @@ pub struct Frame {
 impl Frame {
     /// A frame at `origin` with axes parallel to the body frame.
     pub fn new(body: BodyId, origin: Vec3) -> Self {
-        Frame { body, origin, axes: Mat3::identity() }
+        Frame {
+            body,
+            origin,
+            axes: Mat3::identity(),
+        }
     }
 
     /// A frame at `origin` whose z axis is `axis` (normalized here); x and y complete a
     /// right-handed set (x is the body-frame direction most perpendicular to `axis`).
     pub fn with_z(body: BodyId, origin: Vec3, axis: Vec3) -> Self {
         let z = axis.normalize();
-        let seed = if z.x.abs() < 0.9 { Vec3::x() } else { Vec3::y() };
+        let seed = if z.x.abs() < 0.9 {
+            Vec3::x()
+        } else {
+            Vec3::y()
+        };
         let x = (seed - z * z.dot(&seed)).normalize();
         let y = z.cross(&x);
-        Frame { body, origin, axes: Mat3::from_columns(&[x, y, z]) }
+        Frame {
+            body,
+            origin,
+            axes: Mat3::from_columns(&[x, y, z]),
+        }
     }
 
     /// Sets the axes explicitly (columns x, y, z in the body frame).

@@ -88,11 +88,22 @@ pub fn evaluate(model: &Model, q: &[f64], v: &[f64], out: &mut Vec<BodyKin>) {
         let vel = Vec3::new(v[vo], v[vo + 1], v[vo + 2]);
         let (rot, omega, rotational) = if b.kind.has_rotation() {
             let quat = quat_at(q, qo + 3);
-            (quat.to_rotation_matrix().into_inner(), Vec3::new(v[vo + 3], v[vo + 4], v[vo + 5]), true)
+            (
+                quat.to_rotation_matrix().into_inner(),
+                Vec3::new(v[vo + 3], v[vo + 4], v[vo + 5]),
+                true,
+            )
         } else {
             (Mat3::identity(), Vec3::zeros(), false)
         };
-        out.push(BodyKin { r, rot, v: vel, omega, col: vo, rotational });
+        out.push(BodyKin {
+            r,
+            rot,
+            v: vel,
+            omega,
+            col: vo,
+            rotational,
+        });
     }
 }
 

@@ -22,9 +22,17 @@ pub fn simple_pendulum(l: f64, angle0: f64) -> Model {
     b.set_gravity(Some(Vec3::new(0.0, -G, 0.0))).unwrap();
     let pos = Vec3::new(l * angle0.sin(), -l * angle0.cos(), 0.0);
     let tiny = Mat3::from_diagonal(&Vec3::new(1e-6, 1e-6, 1e-6));
-    let bob = b.add_rigid_body("bob", 1.0, tiny, BodyInit::at(pos)).unwrap();
+    let bob = b
+        .add_rigid_body("bob", 1.0, tiny, BodyInit::at(pos))
+        .unwrap();
     // joint frame on the bob at the pivot, expressed in the bob frame (identity orientation)
-    b.add_joint("pivot", JointKind::Revolute, Frame::new(BodyId::GROUND, Vec3::zeros()), Frame::new(bob, -pos)).unwrap();
+    b.add_joint(
+        "pivot",
+        JointKind::Revolute,
+        Frame::new(BodyId::GROUND, Vec3::zeros()),
+        Frame::new(bob, -pos),
+    )
+    .unwrap();
     b.build().unwrap()
 }
 
@@ -38,10 +46,36 @@ pub fn double_pendulum(a1: f64, a2: f64) -> Model {
     let rot = |a: f64| Quat::from_axis_angle(&Vec3::z_axis(), a - std::f64::consts::FRAC_PI_2);
     let c1 = dir(a1) * 0.5 * l;
     let c2 = dir(a1) * l + dir(a2) * 0.5 * l;
-    let r1 = b.add_rigid_body("rod1", 1.0, rod_inertia(1.0, l), BodyInit::at(c1).oriented(rot(a1))).unwrap();
-    let r2 = b.add_rigid_body("rod2", 1.0, rod_inertia(1.0, l), BodyInit::at(c2).oriented(rot(a2))).unwrap();
+    let r1 = b
+        .add_rigid_body(
+            "rod1",
+            1.0,
+            rod_inertia(1.0, l),
+            BodyInit::at(c1).oriented(rot(a1)),
+        )
+        .unwrap();
+    let r2 = b
+        .add_rigid_body(
+            "rod2",
+            1.0,
+            rod_inertia(1.0, l),
+            BodyInit::at(c2).oriented(rot(a2)),
+        )
+        .unwrap();
     let half = Vec3::new(0.5 * l, 0.0, 0.0);
-    b.add_joint("j1", JointKind::Revolute, Frame::new(BodyId::GROUND, Vec3::zeros()), Frame::new(r1, -half)).unwrap();
-    b.add_joint("j2", JointKind::Revolute, Frame::new(r1, half), Frame::new(r2, -half)).unwrap();
+    b.add_joint(
+        "j1",
+        JointKind::Revolute,
+        Frame::new(BodyId::GROUND, Vec3::zeros()),
+        Frame::new(r1, -half),
+    )
+    .unwrap();
+    b.add_joint(
+        "j2",
+        JointKind::Revolute,
+        Frame::new(r1, half),
+        Frame::new(r2, -half),
+    )
+    .unwrap();
     b.build().unwrap()
 }
