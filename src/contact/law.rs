@@ -10,7 +10,8 @@
 //! - **No adhesion.** During restitution (`delta_dot < 0`) the bracket can turn negative when
 //!   `|delta_dot| > v_minus / chi`; the force is then clamped to 0, and so are both derivatives (the
 //!   exact derivatives of the clamped function). At the switch itself the one-sided derivatives
-//!   differ; the clamped side (zero) is returned.
+//!   differ; the clamped side (zero) is returned. In an isolated impact the clamp never acts
+//!   (the bracket only tends to zero); it does when other forces pull the bodies apart.
 //! - **Approach-speed floor.** The law divides by `max(v_minus, v_floor)`, with `v_floor` the
 //!   law's [`ContactLaw::min_approach_speed`] (default [`DEFAULT_MIN_APPROACH_SPEED`]). An unknown
 //!   approach speed is passed as `0.0` (or NaN) and so uses the floor, which gives the largest

@@ -17,9 +17,11 @@
 //! - **No adhesion**: a contact never pulls. When the bracket turns negative during restitution
 //!   the force is clamped to 0 and both derivatives are 0, consistent with the clamp. The
 //!   effective-restitution reference table (mass 1 kg, 1 m/s, `n = 1.5`, nominal e 0.95 ... 0.2)
-//!   is reproduced with this clamp, and equally without it: for those cases the clamp never
-//!   becomes active (the nearest is Flores at e = 0.2, whose rebound speed 0.1555 v0 stays just
-//!   below the adhesion threshold v0 / chi = 0.15625 v0). It does matter for smaller e.
+//!   is reproduced with this clamp and equally without it, because in an isolated impact the
+//!   clamp can never act: as the rate approaches `-delta_dot_minus / chi` the bracket, and with it
+//!   the deceleration, tends to zero, so the rebound speed stays below that threshold (Flores at
+//!   e = 0.2 comes closest: 0.15554 v0 against 0.15625 v0). The clamp acts when other forces pull
+//!   the bodies apart faster than that during restitution (tested with a constant pull).
 //! - **Approach speed** `delta_dot_minus`: recorded by the caller at contact onset with
 //!   [`ApproachMemory`]; the law divides by `max(delta_dot_minus, v_floor)` with the floor
 //!   [`DEFAULT_MIN_APPROACH_SPEED`] = 1e-4 m/s (configurable). Unknown speed (0 or NaN) uses the
