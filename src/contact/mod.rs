@@ -42,8 +42,10 @@ pub mod flores;
 pub mod hertz;
 pub mod hunt_crossley;
 pub mod lankarani_nikravesh;
+pub mod latch;
 mod law;
 
 pub use approach::ApproachMemory;
 pub use error::ContactError;
+pub use latch::{LatchContact, LatchGeometry, LatchParams, Wall, WallContact};
 pub use law::{ContactForce, ContactLaw, DEFAULT_MIN_APPROACH_SPEED, LawKind};
