@@ -7,10 +7,19 @@
 //! ```
 //!
 //! - [`math`]: nalgebra aliases, SO(3) exponential/logarithm maps.
+//! - [`model`]: immutable description of bodies, joints and force elements (validating builder).
+//! - [`state`]: the mutable state, a plain `Clone`.
+//! - [`effect`]: force elements and joint constraints with analytic Jacobians.
+//! - [`contact`]: contact force laws (Hertz, Lankarani-Nikravesh, Hunt-Crossley, Flores) and the
+//!   latch pin/groove geometry.
+//! - [`dae`]: the system as integrators see it; sparse/dense Newton solves.
+//! - [`integrator`]: generalized-alpha, BDF, DOPRI5 behind one trait.
+//! - [`sim`]: a simulation (system + state + integrator) with snapshots.
 //! - [`scene`]: FMI-agnostic model interface ([`scene::CoSimModel`]) and variable tables.
 //!
 //! Units are SI throughout. Nothing outside `fmi` knows that FMI exists.
 
+pub mod contact;
 pub mod dae;
 pub mod effect;
 pub mod integrator;
