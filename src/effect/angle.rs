@@ -51,8 +51,10 @@ pub fn relative_angle(kins: &[BodyKin], fi: &Frame, fj: &Frame) -> RelativeAngle
     }
 }
 
-/// Curvature `d^2 theta / dx^2` over `[dtheta_i; dtheta_j]` by central differences of the analytic
-/// gradient (step 1e-6 rad: relative accuracy about 1e-10).
+/// Derivative of the gradient, `H[r][c] = d g_r / d x_c` over `[dtheta_i; dtheta_j]`, by central
+/// differences of the analytic gradient (step 1e-6 rad: relative accuracy about 1e-10). Increments
+/// on the rotation group do not commute, so `H` is not symmetric; its symmetric part is the
+/// second derivative along a motion (`theta_ddot = g . omega_dot + omega^T H omega`).
 pub fn angle_curvature(kins: &[BodyKin], fi: &Frame, fj: &Frame) -> Matrix6<f64> {
     let ki = kin_of(kins, fi.body);
     let kj = kin_of(kins, fj.body);
@@ -76,8 +78,7 @@ pub fn angle_curvature(kins: &[BodyKin], fi: &Frame, fj: &Frame) -> Matrix6<f64>
             h[(r + 3, col)] = (gjp[r] - gjm[r]) / (2.0 * eps);
         }
     }
-    // symmetrize (the exact curvature is symmetric up to the non-commuting increments' skew part)
-    (h + h.transpose()) * 0.5
+    h
 }
 
 /// Wraps an angle to (-pi, pi].

@@ -90,8 +90,9 @@ impl ForceEffect for TorsionSprings {
             let omega = nalgebra::Vector6::new(
                 ki.omega.x, ki.omega.y, ki.omega.z, kj.omega.x, kj.omega.y, kj.omega.z,
             );
-            let k6 =
-                e.stiffness * g * g.transpose() + e.damping * g * (h * omega).transpose() - tau * h;
+            let k6 = e.stiffness * g * g.transpose()
+                + e.damping * g * (h.transpose() * omega).transpose()
+                - tau * h;
             let d6 = e.damping * g * g.transpose();
             scatter(ctx, &e.frame_i, &e.frame_j, &k6, &d6, sink);
         }
