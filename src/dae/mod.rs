@@ -114,6 +114,34 @@ impl System {
         self.active.len()
     }
 
+    /// Checks that every constraint row dropped as redundant is satisfied at `(q, t)` to `tol`:
+    /// a dependent row with a residual is a contradiction between joints, not a redundancy.
+    pub fn check_dropped_rows(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        tol: f64,
+    ) -> Result<(), String> {
+        self.eval_constraints(t, q, v);
+        let mut r0 = 0;
+        for j in &self.model.joints {
+            let n = j.kind.n_rows();
+            for r in r0..r0 + n {
+                if !self.active.contains(&r) && self.rows_full[r].phi.abs() > tol {
+                    return Err(format!(
+                        "joint '{}' contradicts the other joints: its dependent constraint row {} keeps a residual of {:.3e} (the initial poses cannot satisfy all joints)",
+                        j.name,
+                        r - r0,
+                        self.rows_full[r].phi.abs()
+                    ));
+                }
+            }
+            r0 += n;
+        }
+        Ok(())
+    }
+
     /// Positions in `lambda` (active rows) of the rows of joint `joint` (index in
     /// `model.joints`); rows dropped as redundant are absent.
     pub fn joint_multiplier_rows(&self, joint: usize) -> Vec<usize> {

@@ -26,6 +26,8 @@ pub fn project_positions(
     if nc == 0 {
         return Ok(());
     }
+    // never ask for less than round-off allows on coordinates of order one
+    let tol = tol.max(1e-13);
     let mut rhs = vec![0.0; nv + nc];
     let mut qn = state.q.clone();
     for _ in 0..50 {
@@ -110,6 +112,8 @@ pub fn make_consistent(
 ) -> Result<(), SolverError> {
     let mut lin = LinearSolver::new();
     project_positions(sys, &mut lin, state, position_tol)?;
+    sys.check_dropped_rows(state.t, &state.q, &state.v, 1e3 * position_tol.max(1e-13))
+        .map_err(SolverError)?;
     project_velocities(sys, &mut lin, state)?;
     accelerations(sys, &mut lin, state)
 }
