@@ -184,6 +184,12 @@ impl System {
         }
     }
 
+    /// Range of the memory of the first force effect called `name` in the state's memory.
+    pub fn memory_range(&self, name: &str) -> Option<std::ops::Range<usize>> {
+        let i = self.model.forces.iter().position(|e| e.name() == name)?;
+        Some(self.memory_offsets[i]..self.memory_offsets[i + 1])
+    }
+
     /// Number of effect memory values.
     pub fn n_memory(&self) -> usize {
         self.memory.len()

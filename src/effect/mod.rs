@@ -6,9 +6,13 @@
 //! and `D = -df/dv`; the integrator decides the factors by which they enter its Newton matrix.
 
 pub mod angle;
+pub mod angle_force;
+pub mod angle_stop;
 pub mod applied;
+pub mod cable_loop;
 pub mod constraint;
 pub mod gravity;
+pub mod latch;
 pub mod point_force;
 pub mod spring_damper;
 pub mod torsion;

@@ -5,6 +5,7 @@
 //! then advanced in communication steps. Its whole state can be cloned (FMU state get/set) and
 //! serialized to a versioned, pointer-free byte format.
 
+pub mod panel_lock;
 pub mod port;
 
 use port::{ModelInfo, ValueRef};

@@ -1,0 +1,255 @@
+//! Assembles the PanelLock multibody model from [`PanelLockParams`].
+//!
+//! The array folds like an accordion in the world x-y plane; every hinge axis is parallel to the
+//! world z axis. Hinge `k` (0 = root) has deployment angle `theta_k`, from its stowed angle to its
+//! lock angle; its joint frames have `z = s_k e_z` with `s_k = +1, -1, +1, ...` alternating the
+//! fold direction, so `theta_k = lock_k + raw_k` with `raw_k` the relative angle of the frames
+//! (zero when deployed straight). Chain: satellite -> root hinge body -> yoke -> hinge body ->
+//! panel 1 -> ... Each hinge body turns on a revolute joint against its inboard neighbour (the
+//! hinge shaft: deployment spring, damping, latch and motor act across it) and is bolted to its
+//! outboard neighbour by a fixed joint (whose multipliers are the hinge-to-panel loads).
+
+use super::params::PanelLockParams;
+use crate::contact::ContactLaw;
+use crate::contact::latch::{LatchGeometry, LatchParams};
+use crate::effect::angle_stop::{AngleStop, AngleStops};
+use crate::effect::cable_loop::{CableLoop, CableLoops};
+use crate::effect::latch::{Latch, Latches};
+use crate::math::{Mat3, Quat, Vec3};
+use crate::model::*;
+use std::sync::Arc;
+
+/// Where things are in the assembled model.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    /// The satellite (ground when it is fixed).
+    pub satellite: BodyId,
+    /// Yoke then panels, inboard to outboard.
+    pub plates: Vec<BodyId>,
+    /// Plate lengths [m].
+    pub plate_lengths: Vec<f64>,
+    /// Hinge bodies, root first.
+    pub hinges: Vec<BodyId>,
+    /// Joint frames of each hinge shaft: (inboard side, hinge body side).
+    pub hinge_frames: Vec<(Frame, Frame)>,
+    /// Lock angle of each hinge [rad].
+    pub lock_angles: Vec<f64>,
+    /// Index of the root hinge's revolute joint in `model.joints`.
+    pub root_joint: usize,
+    /// Model input index of the root-hinge motor torque [N m].
+    pub motor_input: usize,
+    /// The latches (for evaluating wall forces in outputs), if enabled.
+    pub latches: Option<Arc<Latches>>,
+}
+
+fn plate_inertia(m: f64, length: f64, width: f64, thick: f64) -> Mat3 {
+    Mat3::from_diagonal(&Vec3::new(
+        m * (width * width + thick * thick) / 12.0,
+        m * (length * length + width * width) / 12.0,
+        m * (length * length + thick * thick) / 12.0,
+    ))
+}
+
+/// Builds the model and its layout; `Err` explains a bad parameter.
+pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
+    p.validate()?;
+    let mut b = ModelBuilder::new();
+    let motor_input = b.add_input("root_motor_torque");
+    if let Some(g) = p.gravity {
+        b.set_gravity(Some(Vec3::new(0.0, 0.0, -g)))?;
+    }
+    let ez = Vec3::z();
+    let rot = |phi: f64| Quat::from_axis_angle(&Vec3::z_axis(), phi);
+    // satellite and the root attach point (in the satellite frame)
+    let (satellite, attach_local) = if p.free_satellite {
+        let [a, bb, c] = p.satellite_inertia;
+        let id = b.add_rigid_body(
+            "satellite",
+            p.satellite_mass,
+            Mat3::from_diagonal(&Vec3::new(a, bb, c)),
+            BodyInit::at(Vec3::new(-1.0, 0.0, 0.0)),
+        )?;
+        (id, Vec3::new(1.0, 0.0, 0.0))
+    } else {
+        (BodyId::GROUND, Vec3::zeros())
+    };
+    let n = p.n_hinges();
+    let mut layout = Layout {
+        satellite,
+        plates: Vec::new(),
+        plate_lengths: Vec::new(),
+        hinges: Vec::new(),
+        hinge_frames: Vec::new(),
+        lock_angles: Vec::new(),
+        root_joint: 0,
+        motor_input,
+        latches: None,
+    };
+    let law = ContactLaw::new(
+        p.contact_law,
+        p.contact_stiffness,
+        p.contact_exponent,
+        p.restitution,
+    )
+    .map_err(|e| e.to_string())?;
+    let mut latches = Vec::new();
+    let mut stops = Vec::new();
+    let (mut phi, mut pos) = (0.0, Vec3::zeros());
+    let (mut inboard, mut inboard_tip) = (satellite, attach_local);
+    for k in 0..n {
+        let s = if k == 0 {
+            1.0
+        } else if k % 2 == 1 {
+            -1.0
+        } else {
+            1.0
+        };
+        let (lock, stow) = if k == 0 {
+            (p.root_lock_angle, p.root_stowed_angle)
+        } else {
+            (p.panel_lock_angle, p.panel_stowed_angle)
+        };
+        phi += s * (stow - lock);
+        let (len, mass, name) = if k == 0 {
+            (p.yoke_length, p.yoke_mass, "yoke".to_string())
+        } else {
+            (p.panel_length, p.panel_mass(), format!("panel{k}"))
+        };
+        let dir = rot(phi) * Vec3::x();
+        let hinge_inertia = Mat3::identity() * (p.hinge_mass * p.hinge_gyration_radius.powi(2));
+        let hinge = b.add_rigid_body(
+            &format!("hinge{k}"),
+            p.hinge_mass,
+            hinge_inertia,
+            BodyInit::at(pos).oriented(rot(phi)),
+        )?;
+        let plate = b.add_rigid_body(
+            &name,
+            mass,
+            plate_inertia(mass, len, p.panel_width, p.panel_thickness),
+            BodyInit::at(pos + 0.5 * len * dir).oriented(rot(phi)),
+        )?;
+        let fi = Frame::with_z(inboard, inboard_tip, s * ez);
+        let fj = Frame::with_z(hinge, Vec3::zeros(), s * ez);
+        if k == 0 {
+            layout.root_joint = 0;
+        }
+        b.add_joint(&format!("hinge{k} shaft"), JointKind::Revolute, fi, fj)?;
+        b.add_joint(
+            &format!("hinge{k} bolts"),
+            JointKind::Fixed,
+            Frame::new(hinge, Vec3::zeros()),
+            Frame::new(plate, Vec3::new(-0.5 * len, 0.0, 0.0)),
+        )?;
+        let (preload, stiffness) = if k == 0 {
+            (p.root_spring_preload, p.root_spring_stiffness)
+        } else {
+            (p.panel_spring_preload, p.panel_spring_stiffness)
+        };
+        if stiffness > 0.0 {
+            b.add_torsion_spring(TorsionSpring {
+                name: format!("hinge{k} spring"),
+                frame_i: fi,
+                frame_j: fj,
+                stiffness,
+                damping: p.hinge_damping,
+                free_angle: lock + preload / stiffness,
+                angle_offset: lock,
+            })?;
+        } else {
+            if preload > 0.0 {
+                b.add_joint_torque(JointTorque {
+                    name: format!("hinge{k} constant spring"),
+                    frame_i: fi,
+                    frame_j: fj,
+                    torque: Profile::constant(preload),
+                })?;
+            }
+            if p.hinge_damping > 0.0 {
+                b.add_torsion_spring(TorsionSpring {
+                    name: format!("hinge{k} damper"),
+                    frame_i: fi,
+                    frame_j: fj,
+                    stiffness: 0.0,
+                    damping: p.hinge_damping,
+                    free_angle: 0.0,
+                    angle_offset: lock,
+                })?;
+            }
+        }
+        if p.latches {
+            let geometry = LatchGeometry::new(LatchParams {
+                cam_radius: p.cam_radius,
+                groove_width: p.groove_width,
+                groove_depth: p.groove_depth,
+                pin_radius: p.pin_radius,
+                lock_angle: lock,
+            })
+            .map_err(|e| format!("latch of hinge {k}: {e}"))?;
+            latches.push(Latch {
+                name: format!("hinge{k} latch"),
+                frame_i: fi,
+                frame_j: fj,
+                angle_offset: lock,
+                geometry,
+                law,
+            });
+        }
+        stops.push(AngleStop {
+            name: format!("hinge{k} stow stop"),
+            frame_i: fi,
+            frame_j: fj,
+            angle_offset: lock,
+            min_angle: stow,
+            stiffness: p.stop_stiffness,
+            damping: p.stop_damping,
+        });
+        layout.plates.push(plate);
+        layout.plate_lengths.push(len);
+        layout.hinges.push(hinge);
+        layout.hinge_frames.push((fi, fj));
+        layout.lock_angles.push(lock);
+        pos += len * dir;
+        inboard = plate;
+        inboard_tip = Vec3::new(0.5 * len, 0.0, 0.0);
+    }
+    let (fi, fj) = layout.hinge_frames[0];
+    b.add_joint_torque(JointTorque {
+        name: "root motor".into(),
+        frame_i: fi,
+        frame_j: fj,
+        torque: Profile::Input {
+            index: motor_input,
+            gain: 1.0,
+        },
+    })?;
+    b.add_force_effect(Arc::new(AngleStops { elements: stops }));
+    if !latches.is_empty() {
+        let l = Arc::new(Latches { elements: latches });
+        layout.latches = Some(l.clone());
+        b.add_force_effect(l);
+    }
+    if p.cable_loop {
+        let span = |k: usize| {
+            if k == 0 {
+                p.root_lock_angle - p.root_stowed_angle
+            } else {
+                p.panel_lock_angle - p.panel_stowed_angle
+            }
+        };
+        let loops = (0..n - 1)
+            .map(|k| CableLoop {
+                name: format!("cable loop {k}-{}", k + 1),
+                a: [layout.hinge_frames[k].0, layout.hinge_frames[k].1],
+                b: [layout.hinge_frames[k + 1].0, layout.hinge_frames[k + 1].1],
+                c_a: 1.0,
+                c_b: -span(k) / span(k + 1),
+                s0: 0.0,
+                stiffness: p.cable_stiffness,
+                damping: p.cable_damping,
+            })
+            .collect();
+        b.add_force_effect(Arc::new(CableLoops { elements: loops }));
+    }
+    Ok((b.build()?, layout))
+}

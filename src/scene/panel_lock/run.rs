@@ -1,0 +1,151 @@
+//! A running PanelLock simulation and the quantities its users read.
+
+use super::build::{Layout, build};
+use super::params::PanelLockParams;
+use crate::effect::EvalCtx;
+use crate::effect::angle::relative_angle;
+use crate::effect::latch::MEMORY_PER_LATCH;
+use crate::integrator::SolverError;
+use crate::math::Vec3;
+use crate::sim::Simulation;
+
+/// Per-hinge outputs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HingeOutput {
+    /// Deployment angle [rad] and rate [rad/s].
+    pub angle: f64,
+    pub rate: f64,
+    /// Whether the latch pin has dropped into the groove.
+    pub engaged: bool,
+    /// Pin/groove wall force now [N] (front + rear wall).
+    pub contact_force: f64,
+    /// Largest wall force so far [N].
+    pub peak_force: f64,
+    /// Time of lock-up [s] (latch engagement), NaN before.
+    pub lock_time: f64,
+}
+
+/// Everything the scene reports at one instant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PanelLockOutputs {
+    pub t: f64,
+    pub hinges: Vec<HingeOutput>,
+    /// Constraint force [N] and torque [N m] of the root hinge shaft on the root hinge body,
+    /// world frame (the torque is about the hinge point; its axial part is carried by spring,
+    /// latch and motor, not the shaft).
+    pub root_force: Vec3,
+    pub root_torque: Vec3,
+    /// Velocity [m/s] of the outer panel's tip midpoint along the panel normal.
+    pub tip_normal_velocity: f64,
+    /// Kinetic, potential (springs, contact, gravity) energy, energy dissipated and input work [J].
+    pub kinetic: f64,
+    pub potential: f64,
+    pub dissipated: f64,
+    pub input_work: f64,
+}
+
+/// The PanelLock scene running natively.
+#[derive(Debug, Clone)]
+pub struct PanelLock {
+    pub params: PanelLockParams,
+    pub layout: Layout,
+    pub sim: Simulation,
+}
+
+impl PanelLock {
+    /// Builds and initializes the scene at t = 0.
+    pub fn new(params: PanelLockParams) -> Result<Self, String> {
+        let (model, layout) = build(&params)?;
+        let sim = Simulation::new(model, params.integrator, params.settings, 0.0)?;
+        Ok(PanelLock {
+            params,
+            layout,
+            sim,
+        })
+    }
+
+    /// Sets the root-hinge motor torque [N m] (positive deploys).
+    pub fn set_motor_torque(&mut self, tau: f64) -> Result<(), String> {
+        self.sim.set_input(self.layout.motor_input, tau)
+    }
+
+    /// Advances to `t` [s].
+    pub fn advance_to(&mut self, t: f64) -> Result<(), SolverError> {
+        self.sim.advance_to(t)
+    }
+
+    /// Deployment angle [rad] and rate [rad/s] of hinge `k`.
+    pub fn hinge_angle(&mut self, k: usize) -> (f64, f64) {
+        let s = &self.sim.state;
+        self.sim.system.update_kinematics(&s.q, &s.v);
+        let (fi, fj) = self.layout.hinge_frames[k];
+        let ra = relative_angle(self.sim.system.kins(), &fi, &fj);
+        (self.layout.lock_angles[k] + ra.theta, ra.theta_dot)
+    }
+
+    /// All outputs at the current state.
+    pub fn outputs(&mut self) -> PanelLockOutputs {
+        let n = self.layout.hinges.len();
+        let mut hinges = Vec::with_capacity(n);
+        for k in 0..n {
+            let (angle, rate) = self.hinge_angle(k);
+            hinges.push(HingeOutput {
+                angle,
+                rate,
+                engaged: false,
+                contact_force: 0.0,
+                peak_force: 0.0,
+                lock_time: f64::NAN,
+            });
+        }
+        let sim = &mut self.sim;
+        let st = &sim.state;
+        sim.system.update_kinematics(&st.q, &st.v);
+        if let (Some(latches), Some(range)) =
+            (&self.layout.latches, sim.system.memory_range("latch"))
+        {
+            let mem = &st.memory[range];
+            let ctx = EvalCtx {
+                t: st.t,
+                kins: sim.system.kins(),
+                inputs: &sim.system.inputs,
+                memory: mem,
+            };
+            for (k, l) in latches.elements.iter().enumerate() {
+                let m = &mem[k * MEMORY_PER_LATCH..(k + 1) * MEMORY_PER_LATCH];
+                let ev = l.evaluate(&ctx, m);
+                hinges[k].engaged = ev.engaged;
+                hinges[k].contact_force = ev.forces[0] + ev.forces[1];
+                hinges[k].lock_time = m[1];
+                hinges[k].peak_force = m[6];
+            }
+        }
+        // root shaft reaction on the root hinge body: -G_j^T lambda over the shaft's rows
+        sim.system.eval_constraints(st.t, &st.q, &st.v);
+        let (mut force, mut torque_body) = (Vec3::zeros(), Vec3::zeros());
+        for r in sim.system.joint_multiplier_rows(self.layout.root_joint) {
+            let (g, lam) = (sim.system.rows[r].g[1], st.lambda[r]);
+            force -= Vec3::new(g[0], g[1], g[2]) * lam;
+            torque_body -= Vec3::new(g[3], g[4], g[5]) * lam;
+        }
+        let hinge0 = *sim.system.kin(self.layout.hinges[0]);
+        let outer = *sim
+            .system
+            .kin(*self.layout.plates.last().expect("at least the yoke"));
+        let len = *self.layout.plate_lengths.last().expect("at least the yoke");
+        let tip_v = outer.point_velocity(&Vec3::new(0.5 * len, 0.0, 0.0));
+        let normal = outer.rot * Vec3::y();
+        let e = sim.energy();
+        PanelLockOutputs {
+            t: sim.state.t,
+            hinges,
+            root_force: force,
+            root_torque: hinge0.rot * torque_body,
+            tip_normal_velocity: tip_v.dot(&normal),
+            kinetic: e.kinetic,
+            potential: e.potential,
+            dissipated: e.dissipated,
+            input_work: e.input,
+        }
+    }
+}
