@@ -11,5 +11,6 @@
 //!
 //! Units are SI throughout. Nothing outside `fmi` knows that FMI exists.
 
+pub mod flex;
 pub mod math;
 pub mod scene;

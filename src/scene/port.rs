@@ -43,15 +43,27 @@ pub enum Variability {
 #[derive(Debug, Clone, PartialEq)]
 pub enum PortType {
     /// Floating point value; `start` is required for parameters and inputs.
-    Real { start: Option<f64>, min: Option<f64>, max: Option<f64> },
+    Real {
+        start: Option<f64>,
+        min: Option<f64>,
+        max: Option<f64>,
+    },
     /// Integer value.
-    Integer { start: Option<i32>, min: Option<i32>, max: Option<i32> },
+    Integer {
+        start: Option<i32>,
+        min: Option<i32>,
+        max: Option<i32>,
+    },
     /// Boolean value.
     Boolean { start: Option<bool> },
     /// String value.
     String { start: Option<&'static str> },
     /// Enumeration stored as an integer: `items` are the names of values 1, 2, 3, ...
-    Enumeration { type_name: &'static str, items: &'static [(&'static str, &'static str)], start: Option<i32> },
+    Enumeration {
+        type_name: &'static str,
+        items: &'static [(&'static str, &'static str)],
+        start: Option<i32>,
+    },
 }
 
 /// One row of a model's variable table.

@@ -1,0 +1,13 @@
+//! Flexible panels (placeholder doc, expanded below).
+
+pub mod beam;
+pub mod eigen;
+pub mod error;
+pub mod invariants;
+#[cfg(test)]
+mod invariants_tests;
+pub mod plate;
+pub mod plate_element;
+pub mod reduce;
+#[cfg(test)]
+mod validation;
