@@ -1,6 +1,7 @@
 //! Flexible panels (placeholder doc, expanded below).
 
 pub mod beam;
+pub mod body;
 pub mod eigen;
 pub mod error;
 pub mod invariants;
@@ -9,5 +10,7 @@ mod invariants_tests;
 pub mod plate;
 pub mod plate_element;
 pub mod reduce;
+#[cfg(test)]
+mod reduction_tests;
 #[cfg(test)]
 mod validation;
