@@ -430,17 +430,8 @@ fn consistent_invariants(plate: &PlateModel, t: &DMatrix<f64>, m_r: &DMatrix<f64
     let m_y = m * &y;
     let mass = one.dot(&m_one);
     let first_moment = Vec3::new(x.dot(&m_one), y.dot(&m_one), 0.0);
-    let r = Mat3::new(
-        x.dot(&m_x),
-        x.dot(&m_y),
-        0.0,
-        y.dot(&m_x),
-        y.dot(&m_y),
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    );
+    let rxy = 0.5 * (x.dot(&m_y) + y.dot(&m_x));
+    let r = Mat3::new(x.dot(&m_x), rxy, 0.0, rxy, y.dot(&m_y), 0.0, 0.0, 0.0, 0.0);
     let inertia = r.trace() * Mat3::identity() - r;
     let n = t.ncols();
     let ct_z = t.transpose() * &m_one;

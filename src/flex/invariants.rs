@@ -275,6 +275,8 @@ impl Invariants {
         for j in 0..q.len() {
             u += a[j] * (q[j].transpose() + e[j]);
         }
+        // Symmetric in exact arithmetic; make it so in floating point too.
+        let u = 0.5 * (u + u.transpose());
         u.trace() * Mat3::identity() - u
     }
 

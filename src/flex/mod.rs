@@ -2,6 +2,8 @@
 
 pub mod beam;
 pub mod body;
+#[cfg(test)]
+mod body_tests;
 pub mod eigen;
 pub mod error;
 pub mod invariants;
