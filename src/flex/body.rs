@@ -25,7 +25,9 @@
 //!
 //! Node motion (for joints and contacts at attachment nodes): body-frame position
 //! `rho_k + Phi_k a`, small rotation `Psi_k a` relative to the body frame, world velocity
-//! `B_k y` with `B_k = [I, -A u_k~, A Phi_k]`, body-frame angular velocity `omega + Psi_k a_dot`.
+//! `B_k y` with `B_k = [I, -A u_k~, A Phi_k]`, body-frame angular velocity `omega + Psi_k a_dot`,
+//! accelerations `B_k y_dot + w_k` and `A (G_k y_dot + omega~ Psi_k a_dot)` (see
+//! [`ModalBodyData::node_acceleration_bias`]).
 //! Elastic forces on the modal rows: `-(K a + D a_dot)`.
 
 use faer::Side;
@@ -71,7 +73,8 @@ pub struct ModalBodyParts {
     /// Indices of the attachment (hinge, latch) nodes.
     pub attachment_nodes: Vec<usize>,
     /// Exact invariants if known (their modal mass must equal `mass`); `None` computes them from
-    /// the node sums, with `M_ee` replaced by `mass`.
+    /// the node sums, and then `mass` must equal `sum m_k Phi_k^T Phi_k` (to 1e-6 relative) so
+    /// that the floating-frame mass matrix is a true point-mass sum.
     pub invariants: Option<Invariants>,
 }
 
@@ -144,9 +147,22 @@ impl ModalBodyData {
                 }
                 inv
             }
-            None => node_inv,
+            None => {
+                // Point-mass picture: M(a) = sum m_k B_k^T B_k is positive semi-definite only
+                // if the modal block is the node sum too, so M_aa must agree with it.
+                let scale = parts.mass.amax().max(f64::MIN_POSITIVE);
+                let diff = (&node_inv.modal_mass - &parts.mass).amax();
+                if diff > 1e-6 * scale {
+                    return invalid(format!(
+                        "reduced mass M_aa differs from the node sums sum m_k Phi_k^T Phi_k by \
+                         {diff:e} (max entry {scale:e}): give exact invariants (consistent \
+                         mass) or node masses consistent with the modes"
+                    ));
+                }
+                node_inv
+            }
         };
-        // The reduced (FE) mass is the modal-mass block used by the floating-frame equations.
+        // The given reduced mass is the modal-mass block of the floating-frame equations.
         inv.modal_mass = parts.mass.clone();
         inv.validate()?;
         let m0 = inv.mass_matrix(&Mat3::identity(), &DVector::zeros(n))?;
@@ -398,6 +414,38 @@ impl ModalBodyData {
         g.view_mut((0, 6), (3, n))
             .copy_from(&self.rotational_shapes[k]);
         Ok(g)
+    }
+
+    /// Velocity-dependent part `w_k = A (omega~ omega~ u_k + 2 omega~ Phi_k a_dot)` [m/s^2]
+    /// of node `k`'s world acceleration `B_k y_dot + w_k`, with `u_k = rho_k + Phi_k a`,
+    /// `omega` [rad/s] in the body frame (for the acceleration-level constraint terms).
+    pub fn node_acceleration_bias(
+        &self,
+        k: usize,
+        rot: &Mat3,
+        a: &DVector<f64>,
+        omega: &Vec3,
+        a_dot: &DVector<f64>,
+    ) -> Result<Vec3, FlexError> {
+        let u = self.node_position(k, a)?;
+        self.check_a(a_dot)?;
+        let v_el = &self.translational_shapes[k] * a_dot;
+        Ok(rot * (omega.cross(&omega.cross(&u)) + 2.0 * omega.cross(&v_el)))
+    }
+
+    /// Velocity-dependent part `A (omega~ Psi_k a_dot)` [rad/s^2] of the world angular
+    /// acceleration `A G_k y_dot + A (omega~ Psi_k a_dot)` of node `k`'s material frame, whose
+    /// world angular velocity is `A (omega + Psi_k a_dot)` (small elastic rotations).
+    pub fn node_angular_acceleration_bias(
+        &self,
+        k: usize,
+        rot: &Mat3,
+        omega: &Vec3,
+        a_dot: &DVector<f64>,
+    ) -> Result<Vec3, FlexError> {
+        self.check_node(k)?;
+        self.check_a(a_dot)?;
+        Ok(rot * omega.cross(&(&self.rotational_shapes[k] * a_dot)))
     }
 
     /// Elastic and damping force on the modal rows `-(K a + D a_dot)`.

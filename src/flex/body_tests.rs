@@ -5,9 +5,10 @@ use nalgebra::{DMatrix, DVector};
 
 use super::body::{ModalBodyData, ModalBodyParts};
 use super::eigen::generalized_eigenvalues;
+use super::invariants_tests::{Rng, point_at};
 use super::plate::{PanelSpec, PlateModel};
 use super::reduce::{RigidModes, free_interface};
-use crate::math::{Mat3, Vec3};
+use crate::math::{Mat3, Vec3, exp_so3};
 
 fn spec() -> PanelSpec {
     PanelSpec {
@@ -175,9 +176,14 @@ fn body_constructors_reject_bad_input() {
         stiffness: good.stiffness().clone(),
         damping: good.damping().clone(),
         attachment_nodes: vec![0],
-        invariants: None,
+        invariants: Some(good.invariants().clone()),
     };
-    assert!(ModalBodyData::new(parts()).is_ok());
+    assert_eq!(ModalBodyData::new(parts()).unwrap(), good);
+    // Node-sum invariants need a modal mass equal to the node sums (here it is consistent).
+    let mut bad = parts();
+    bad.invariants = None;
+    let e = ModalBodyData::new(bad).unwrap_err();
+    assert!(e.to_string().contains("node sums"), "{e}");
     let mut bad = parts();
     bad.attachment_nodes = vec![1, 1];
     let e = ModalBodyData::new(bad).unwrap_err();
@@ -194,4 +200,53 @@ fn body_constructors_reject_bad_input() {
     bad.mass[(1, 1)] = -1.0;
     let e = ModalBodyData::new(bad).unwrap_err();
     assert!(e.to_string().contains("not positive definite"), "{e}");
+}
+
+/// Node kinematics of a body against finite differences along y(t) = y0 + t y1.
+#[test]
+fn node_accelerations_match_finite_differences() {
+    let p = PlateModel::new(&spec(), 4, 2).unwrap();
+    let h0 = p.node_index(0, 0).unwrap();
+    let h1 = p.node_index(0, 2).unwrap();
+    let tip = p.node_index(4, 1).unwrap();
+    let body = ModalBodyData::from_craig_bampton(&p, h0, &[h0, h1, tip], 4, 0.0).unwrap();
+    let n = body.n_modes();
+    let mut rng = Rng(7);
+    let rot = exp_so3(&rng.vec3()).to_rotation_matrix().into_inner();
+    let a0 = 0.01 * rng.dvec(n);
+    let y0 = rng.dvec(6 + n);
+    let y1 = rng.dvec(6 + n);
+    let omega = Vec3::new(y0[3], y0[4], y0[5]);
+    let a_dot = y0.rows(6, n).into_owned();
+    let h = 1e-4;
+    for k in [h1, tip] {
+        let phi = &body.translational_shapes()[k];
+        let rho = body.positions()[k];
+        let pos = |t| point_at(t, &rot, &rho, phi, &y0, &y1, &a0);
+        let acc_fd = (pos(h) - 2.0 * pos(0.0) + pos(-h)) / (h * h);
+        let b = body.node_velocity_jacobian(k, &rot, &a0).unwrap();
+        let w = body
+            .node_acceleration_bias(k, &rot, &a0, &omega, &a_dot)
+            .unwrap();
+        let acc = &b * &y1;
+        let acc = Vec3::new(acc[0], acc[1], acc[2]) + w;
+        assert!((acc - acc_fd).norm() < 1e-5 * acc.norm(), "node {k}");
+        // World angular velocity A (omega + Psi a_dot) along the same path.
+        let psi = &body.rotational_shapes()[k];
+        let ang = |t: f64| {
+            let w_t = Vec3::new(y0[3] + t * y1[3], y0[4] + t * y1[4], y0[5] + t * y1[5]);
+            let ad_t = y0.rows(6, n) + t * y1.rows(6, n);
+            let th = omega * t + 0.5 * Vec3::new(y1[3], y1[4], y1[5]) * t * t;
+            let r_t = rot * exp_so3(&th).to_rotation_matrix().into_inner();
+            r_t * (w_t + psi * ad_t)
+        };
+        let alpha_fd = (ang(h) - ang(-h)) / (2.0 * h);
+        let g = body.node_angular_velocity_jacobian(k).unwrap();
+        let gy = &g * &y1;
+        let alpha = rot * Vec3::new(gy[0], gy[1], gy[2])
+            + body
+                .node_angular_acceleration_bias(k, &rot, &omega, &a_dot)
+                .unwrap();
+        assert!((alpha - alpha_fd).norm() < 1e-6 * alpha.norm(), "node {k}");
+    }
 }

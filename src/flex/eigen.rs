@@ -115,7 +115,7 @@ pub fn solve_generalized(
     clamped: &[usize],
     n_modes: usize,
 ) -> Result<EigenSolution, FlexError> {
-    let (free, kf, mf) = free_blocks(k, m, clamped, n_modes)?;
+    let FreeBlocks { free, kf, mf } = free_blocks(k, m, clamped, n_modes)?;
     let (omega2, y) = reduced_eigen(&kf, &mf)?;
     let mut modes = DMatrix::zeros(k.nrows(), n_modes);
     for c in 0..n_modes {
@@ -137,10 +137,17 @@ pub fn generalized_eigenvalues(
     clamped: &[usize],
     n_values: usize,
 ) -> Result<Vec<f64>, FlexError> {
-    let (_, kf, mf) = free_blocks(k, m, clamped, n_values)?;
-    let (_, _, c) = cholesky_transform(&kf, &mf)?;
-    let (omega2, _) = symmetric_eigen(&c, false)?;
+    let b = free_blocks(k, m, clamped, n_values)?;
+    let t = cholesky_transform(&b.kf, &b.mf)?;
+    let (omega2, _) = symmetric_eigen(&t.c, false)?;
     Ok(omega2[..n_values].to_vec())
+}
+
+/// Free DOFs (ascending) and the blocks of K and M on them.
+struct FreeBlocks {
+    free: Vec<usize>,
+    kf: Mat<f64>,
+    mf: Mat<f64>,
 }
 
 /// Validates the request and extracts the free-DOF blocks of K and M.
@@ -149,7 +156,7 @@ fn free_blocks(
     m: &DMatrix<f64>,
     clamped: &[usize],
     n_modes: usize,
-) -> Result<(Vec<usize>, Mat<f64>, Mat<f64>), FlexError> {
+) -> Result<FreeBlocks, FlexError> {
     check_pair(k, m)?;
     let free = free_dofs(k.nrows(), clamped)?;
     let nf = free.len();
@@ -160,14 +167,21 @@ fn free_blocks(
     }
     let kf = Mat::from_fn(nf, nf, |i, j| k[(free[i], free[j])]);
     let mf = Mat::from_fn(nf, nf, |i, j| m[(free[i], free[j])]);
-    Ok((free, kf, mf))
+    Ok(FreeBlocks { free, kf, mf })
 }
 
-/// Scaling `d`, Cholesky factor `L` of `D mf D` and `C = L^-1 (D kf D) L^-T` (module doc).
-fn cholesky_transform(
-    kf: &Mat<f64>,
-    mf: &Mat<f64>,
-) -> Result<(Vec<f64>, Mat<f64>, Mat<f64>), FlexError> {
+/// The scaled standard problem of the module doc.
+struct Transformed {
+    /// Scaling `d_i = 1 / sqrt(M_ii)`.
+    d: Vec<f64>,
+    /// Cholesky factor of `D mf D`.
+    l: Mat<f64>,
+    /// `C = L^-1 (D kf D) L^-T`, symmetric, same eigenvalues as the pencil.
+    c: Mat<f64>,
+}
+
+/// Scaling, Cholesky factor and transformed matrix of the pair (kf, mf) (module doc).
+fn cholesky_transform(kf: &Mat<f64>, mf: &Mat<f64>) -> Result<Transformed, FlexError> {
     let n = mf.nrows();
     let mut d = Vec::with_capacity(n);
     for i in 0..n {
@@ -193,7 +207,7 @@ fn cholesky_transform(
     let mut c = x.transpose().to_owned();
     l.solve_lower_triangular_in_place(c.as_mut());
     let c = Mat::from_fn(n, n, |i, j| 0.5 * (c[(i, j)] + c[(j, i)]));
-    Ok((d, l, c))
+    Ok(Transformed { d, l, c })
 }
 
 /// Eigenvalues (ascending) and, if `vectors`, orthonormal eigenvectors of the symmetric `c`,
@@ -234,11 +248,11 @@ pub(crate) fn reduced_eigen(
     kf: &Mat<f64>,
     mf: &Mat<f64>,
 ) -> Result<(Vec<f64>, Mat<f64>), FlexError> {
-    let (d, l, c) = cholesky_transform(kf, mf)?;
-    let n = c.nrows();
-    let (omega2, mut y) = symmetric_eigen(&c, true)?;
-    l.transpose().solve_upper_triangular_in_place(y.as_mut());
-    let y = Mat::from_fn(n, n, |i, j| d[i] * y[(i, j)]);
+    let t = cholesky_transform(kf, mf)?;
+    let n = t.c.nrows();
+    let (omega2, mut y) = symmetric_eigen(&t.c, true)?;
+    t.l.transpose().solve_upper_triangular_in_place(y.as_mut());
+    let y = Mat::from_fn(n, n, |i, j| t.d[i] * y[(i, j)]);
     Ok((omega2, y))
 }
 

@@ -237,15 +237,15 @@ pub fn modal_damping(
     let x = super::eigen::to_nalgebra(x.as_ref());
     let mx = m * &x;
     let mut scaled = mx.clone();
+    let lmax = omega2.last().copied().unwrap_or(0.0).abs();
     for (c, &l) in omega2.iter().enumerate() {
-        let lmax = omega2.last().copied().unwrap_or(0.0).abs();
         let w = if l <= RIGID_TOL * lmax { 0.0 } else { l.sqrt() };
         scaled.column_mut(c).scale_mut(2.0 * zeta * w);
     }
     Ok(symmetrize(scaled * mx.transpose()))
 }
 
-/// Natural frequencies [Hz] of the reduced pair (`k`, `m`), ascending (rigid modes give 0).
+/// Natural frequencies [Hz] of the reduced pair (`k`, `m`), ascending (rigid modes give ~0).
 pub fn frequencies_hz(k: &DMatrix<f64>, m: &DMatrix<f64>) -> Result<Vec<f64>, FlexError> {
     let sol = super::eigen::generalized_eigenvalues(k, m, &[], k.nrows())?;
     Ok(sol

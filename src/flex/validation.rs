@@ -6,6 +6,13 @@
 //! exact `lambda^2 = pi^2 (m^2 + n^2)`; square cantilever plate, nu = 0.3 (Leissa):
 //! `lambda^2 = 3.492, 8.525, 21.43, 27.33, 31.11, 54.44` with
 //! `lambda^2 = omega a^2 sqrt(rho t / D)`.
+//!
+//! Observed: the ACM cantilever-plate values settle 0.2-0.6 % *below* Leissa's (16 x 16:
+//! 3.4711, 8.507, 21.30, 27.19, 30.96, 54.09). Leissa's table comes from few-term Ritz series,
+//! which are upper bounds; later, more converged solutions in the literature sit near 3.471 and
+//! 8.508 for the first two modes, so the offset is in the reference, not a mesh error. Mesh
+//! convergence is therefore asserted on successive mesh differences for that case, and against
+//! the exact Navier solution for the simply supported plate.
 
 use std::f64::consts::PI;
 
@@ -145,10 +152,10 @@ fn simply_supported_plate_converges_to_navier_solution_at_second_order() {
     for (n, e) in meshes.iter().zip(&errs) {
         println!("SS plate {n:2}x{n:2}: rel. errors {}", sci(e));
     }
-    for mode in 0..6 {
-        assert!(errs[2][mode].abs() < errs[1][mode].abs());
-        assert!(errs[1][mode].abs() < errs[0][mode].abs());
-        let p = order(errs[1][mode], errs[2][mode]);
+    let rows = errs[0].iter().zip(&errs[1]).zip(&errs[2]);
+    for (mode, ((e4, e8), e16)) in rows.enumerate() {
+        assert!(e16.abs() < e8.abs() && e8.abs() < e4.abs(), "mode {mode}");
+        let p = order(*e8, *e16);
         println!("SS plate mode {}: observed order {p:.2}", mode + 1);
         assert!((1.7..2.3).contains(&p), "mode {mode}: order {p}");
     }
