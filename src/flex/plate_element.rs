@@ -79,9 +79,10 @@ fn deriv_1d(x: f64, p: i32, d: i32) -> f64 {
 /// Stiffness and consistent mass matrices of one ACM element.
 #[derive(Debug, Clone)]
 pub struct AcmElement {
-    /// Element stiffness [N m/rad^2 units mixed per DOF], DOF order of the module doc.
+    /// Element stiffness (SI; N/m, N/rad or N m/rad depending on the DOF pair), DOF order of
+    /// the module doc.
     pub stiffness: ElementMatrix,
-    /// Element consistent mass [kg, kg m, kg m^2 per DOF pair].
+    /// Element consistent mass (SI; kg, kg m or kg m^2 depending on the DOF pair).
     pub mass: ElementMatrix,
 }
 
