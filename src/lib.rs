@@ -12,6 +12,8 @@
 //! - [`effect`]: force elements and joint constraints with analytic Jacobians.
 //! - [`contact`]: contact force laws (Hertz, Lankarani-Nikravesh, Hunt-Crossley, Flores) and the
 //!   latch pin/groove geometry.
+//! - [`flex`]: plate/beam finite elements, modal reduction (Craig-Bampton, free-interface) and
+//!   the inertia invariants of floating-frame flexible bodies.
 //! - [`dae`]: the system as integrators see it; sparse/dense Newton solves.
 //! - [`integrator`]: generalized-alpha, BDF, DOPRI5 behind one trait.
 //! - [`sim`]: a simulation (system + state + integrator) with snapshots.
@@ -22,6 +24,7 @@
 pub mod contact;
 pub mod dae;
 pub mod effect;
+pub mod flex;
 pub mod integrator;
 pub mod math;
 pub mod model;
