@@ -13,6 +13,7 @@ pub mod cable_loop;
 pub mod constraint;
 pub mod gravity;
 pub mod latch;
+pub mod plane_contact;
 pub mod point_force;
 pub mod spring_damper;
 pub mod torsion;
