@@ -13,7 +13,11 @@
 //! contact; before it is recorded (the onset step) the current penetration rate stands in for it.
 //!
 //! Memory per latch: `[engaged, lock time, front in contact, front approach speed,
-//! rear in contact, rear approach speed, peak wall force]`.
+//! rear in contact, rear approach speed, peak wall force, previous theta, previous theta_dot,
+//! previous time, wall force two steps back, one step back, and their times]`. The lock time is
+//! located by cubic Hermite interpolation of `theta` between accepted steps (error O(h^4)); the
+//! peak force by a parabola through the three accepted samples around a maximum (O(h^3)), so
+//! both converge with the tolerance instead of being sampled at the step size.
 
 use super::angle::{RelativeAngle, relative_angle};
 use super::angle_force::{add_angle_force, add_angle_jacobian};
@@ -23,7 +27,7 @@ use crate::contact::latch::{LatchGeometry, WallContact};
 use crate::model::Frame;
 
 /// Number of memory values per latch.
-pub const MEMORY_PER_LATCH: usize = 7;
+pub const MEMORY_PER_LATCH: usize = 14;
 
 /// One hinge latch.
 #[derive(Debug, Clone)]
@@ -132,6 +136,52 @@ impl Latch {
     }
 }
 
+/// Time in `[t0, t1]` where the cubic Hermite interpolant of `theta` through `(t, theta,
+/// theta_dot)` at both ends reaches `target` (bisection; `t1` if it never does).
+fn crossing_time(a: (f64, f64, f64), b: (f64, f64, f64), target: f64) -> f64 {
+    let (t0, y0, d0) = a;
+    let (t1, y1, d1) = b;
+    let h = t1 - t0;
+    if !(h > 0.0) || y0 >= target {
+        return t1;
+    }
+    let eval = |s: f64| {
+        let (s2, s3) = (s * s, s * s * s);
+        (2.0 * s3 - 3.0 * s2 + 1.0) * y0
+            + (s3 - 2.0 * s2 + s) * h * d0
+            + (-2.0 * s3 + 3.0 * s2) * y1
+            + (s3 - s2) * h * d1
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if eval(mid) >= target {
+            hi = mid
+        } else {
+            lo = mid
+        }
+    }
+    t0 + hi * h
+}
+
+/// The vertex value of the parabola through three samples when the middle one is a local maximum
+/// (0 otherwise).
+fn parabola_peak(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> f64 {
+    let ((ta, fa), (tb, fb), (tc, fc)) = (a, b, c);
+    if !(fb > 0.0 && fb >= fa && fb >= fc && ta < tb && tb < tc) {
+        return 0.0;
+    }
+    // Newton form: f = fb + p (t - tb) + q (t - tb)^2 through the three points
+    let (da, dc) = (ta - tb, tc - tb);
+    let (sa, sc) = ((fa - fb) / da, (fc - fb) / dc);
+    let q = (sc - sa) / (dc - da);
+    let p = sa - q * da;
+    if q >= 0.0 {
+        return fb;
+    }
+    fb - p * p / (4.0 * q)
+}
+
 /// All latches of a scene.
 #[derive(Debug, Clone)]
 pub struct Latches {
@@ -204,6 +254,11 @@ impl ForceEffect for Latches {
                 m[0] = 1.0;
                 m[1] = ctx.t;
             }
+            m[7] = l.angle_offset + ra.theta;
+            m[8] = ra.theta_dot;
+            m[9] = ctx.t;
+            m[12] = ctx.t;
+            m[13] = ctx.t;
         }
     }
 
@@ -215,8 +270,15 @@ impl ForceEffect for Latches {
             let before = m.to_vec();
             if ev.engaged && m[0] < 0.5 {
                 m[0] = 1.0;
-                m[1] = ctx.t;
+                m[1] = crossing_time(
+                    (m[9], m[7], m[8]),
+                    (ctx.t, ev.theta, ev.theta_dot),
+                    l.geometry.engagement_angle(),
+                );
             }
+            m[7] = ev.theta;
+            m[8] = ev.theta_dot;
+            m[9] = ctx.t;
             for w in 0..2 {
                 if ev.delta[w] > 0.0 {
                     if m[2 + 2 * w] < 0.5 {
@@ -228,7 +290,16 @@ impl ForceEffect for Latches {
                     m[3 + 2 * w] = 0.0;
                 }
             }
-            m[6] = m[6].max(ev.forces[0].max(ev.forces[1]));
+            let force = ev.forces[0].max(ev.forces[1]);
+            m[6] = m[6].max(force).max(parabola_peak(
+                (m[12], m[10]),
+                (m[13], m[11]),
+                (ctx.t, force),
+            ));
+            m[10] = m[11];
+            m[12] = m[13];
+            m[11] = force;
+            m[13] = ctx.t;
             if m.iter()
                 .zip(&before)
                 .any(|(a, b)| a.to_bits() != b.to_bits())
