@@ -28,6 +28,7 @@ pub mod flex;
 pub mod integrator;
 pub mod math;
 pub mod model;
+pub mod report;
 pub mod scene;
 pub mod sim;
 pub mod state;

@@ -16,9 +16,11 @@
 //! - Gravity off (orbit), satellite fixed; BDF with rtol 1e-6, atol 1e-8, h_max 20 ms.
 
 mod build;
+mod demo;
 mod params;
 mod run;
 
 pub use build::{Layout, build};
+pub use demo::run_demo;
 pub use params::PanelLockParams;
 pub use run::{HingeOutput, PanelLock, PanelLockOutputs};
