@@ -75,10 +75,16 @@ fn chain_scaling() {
     println!(
         "## Chain of n rods: time per step (generalized-alpha, fixed step 1 ms, sparse LU for n > 8)\n"
     );
-    println!("| n bodies | unknowns | time per step [us] |");
-    println!("|---|---|---|");
+    println!(
+        "| n bodies | unknowns | time per step [us] | Newton iterations per step | factorizations |"
+    );
+    println!("|---|---|---|---|---|");
     let mut pts = Vec::new();
-    for n in [10, 100, 1000] {
+    let sizes: Vec<usize> = std::env::var("CHAIN_SIZES")
+        .ok()
+        .and_then(|v| v.split(',').map(|x| x.trim().parse().ok()).collect())
+        .unwrap_or(vec![10, 100, 1000]);
+    for &n in &sizes {
         let s = Settings {
             fixed_step: 1e-3,
             rtol: 1e-6,
@@ -86,21 +92,28 @@ fn chain_scaling() {
             ..Settings::default()
         };
         let sim0 = Simulation::new(chain(n), IntegratorKind::GenAlpha, s, 0.0).unwrap();
-        let steps = if n >= 1000 { 20 } else { 200 };
-        let (t, _) = best_of(3, || {
+        let steps = 200;
+        let (t, stats) = best_of(3, || {
             let mut sim = sim0.clone();
             sim.advance_to(steps as f64 * 1e-3).unwrap();
+            sim.stats()
         });
         let per = t / steps as f64;
+        let its = stats.newton_iterations as f64 / stats.steps as f64;
         println!(
-            "| {n} | {} | {:.1} |",
+            "| {n} | {} | {:.1} | {its:.2} | {} |",
             sim0.system.n_v() + sim0.system.n_c(),
-            per * 1e6
+            per * 1e6,
+            stats.factorizations
         );
         pts.push(((n as f64).ln(), per.ln()));
     }
-    let slope = (pts[2].1 - pts[0].1) / (pts[2].0 - pts[0].0);
-    println!("\nFitted exponent (10 -> 1000 bodies): {slope:.2}\n");
+    let last = pts.len() - 1;
+    let slope = (pts[last].1 - pts[0].1) / (pts[last].0 - pts[0].0);
+    println!(
+        "\nFitted exponent ({} -> {} bodies): {slope:.2}\n",
+        sizes[0], sizes[last]
+    );
 }
 
 /// Minimal-coordinate reference of the double pendulum of two rods (1 m, 1 kg): the tip position
