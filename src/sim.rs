@@ -210,6 +210,12 @@ impl Simulation {
         if state.q.len() != self.system.n_q() || state.v.len() != self.system.n_v() {
             return Err("state does not belong to this model (dimension mismatch)".into());
         }
+        if state.memory.len() != self.system.memory.len() {
+            return Err(
+                "state does not belong to this model (effect memory length mismatch)".into(),
+            );
+        }
+        self.system.memory.copy_from_slice(&state.memory);
         self.state = state;
         self.integrator.restore_memory(memory)
     }

@@ -16,14 +16,37 @@ use nalgebra::{DMatrix, LU};
 /// Systems up to this size use the dense LU.
 pub const DENSE_LIMIT: usize = 48;
 
+// One backend per solver, never stored in bulk: the size difference of the variants is harmless.
+#[allow(clippy::large_enum_variant)]
 enum Backend {
     None,
-    Dense(LU<f64, nalgebra::Dyn, nalgebra::Dyn>),
+    Dense(Box<LU<f64, nalgebra::Dyn, nalgebra::Dyn>>),
     Sparse {
         symbolic: SymbolicLu<usize>,
         numeric: NumericLu<usize, f64>,
         mem: MemBuffer,
+        req: StackReq,
     },
+}
+
+impl Clone for Backend {
+    fn clone(&self) -> Self {
+        match self {
+            Backend::None => Backend::None,
+            Backend::Dense(lu) => Backend::Dense(lu.clone()),
+            Backend::Sparse {
+                symbolic,
+                numeric,
+                req,
+                ..
+            } => Backend::Sparse {
+                symbolic: symbolic.clone(),
+                numeric: numeric.clone(),
+                mem: MemBuffer::new(*req),
+                req: *req,
+            },
+        }
+    }
 }
 
 /// Counters of the work done.
@@ -61,11 +84,25 @@ impl Default for LinearSolver {
 }
 
 impl Clone for LinearSolver {
-    /// A clone starts without a factorization (it is recomputed on the next `factor`).
+    /// A deep copy, factorization included, so a cloned integrator continues bit for bit.
     fn clone(&self) -> Self {
-        let mut s = LinearSolver::new();
-        s.stats = self.stats;
-        s
+        LinearSolver {
+            n: self.n,
+            rows: self.rows.clone(),
+            cols: self.cols.clone(),
+            vals: self.vals.clone(),
+            pattern_rows: self.pattern_rows.clone(),
+            pattern_cols: self.pattern_cols.clone(),
+            pattern_n: self.pattern_n,
+            map: self.map.clone(),
+            col_ptr: self.col_ptr.clone(),
+            row_idx: self.row_idx.clone(),
+            csc_vals: self.csc_vals.clone(),
+            dense: self.dense.clone(),
+            backend: self.backend.clone(),
+            factored: self.factored,
+            stats: self.stats,
+        }
     }
 }
 
@@ -161,6 +198,7 @@ impl LinearSolver {
                 symbolic,
                 numeric: NumericLu::new(),
                 mem: MemBuffer::new(req),
+                req,
             };
         }
         Ok(())
@@ -199,7 +237,7 @@ impl LinearSolver {
                     "Newton matrix is singular (pivot {i} of {n} vanishes)"
                 ));
             }
-            self.backend = Backend::Dense(lu);
+            self.backend = Backend::Dense(Box::new(lu));
             self.factored = true;
             return Ok(());
         }
@@ -211,6 +249,7 @@ impl LinearSolver {
             symbolic,
             numeric,
             mem,
+            ..
         } = &mut self.backend
         else {
             return Err("sparse backend missing".into());
@@ -242,6 +281,7 @@ impl LinearSolver {
                 symbolic,
                 numeric,
                 mem,
+                ..
             } => {
                 let n = self.n;
                 let lu = lu_ref(symbolic, numeric);

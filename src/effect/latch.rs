@@ -142,7 +142,7 @@ fn crossing_time(a: (f64, f64, f64), b: (f64, f64, f64), target: f64) -> f64 {
     let (t0, y0, d0) = a;
     let (t1, y1, d1) = b;
     let h = t1 - t0;
-    if !(h > 0.0) || y0 >= target {
+    if h.is_nan() || h <= 0.0 || y0 >= target {
         return t1;
     }
     let eval = |s: f64| {

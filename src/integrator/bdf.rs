@@ -15,6 +15,7 @@
 //! In fixed-step mode (order studies) the first `k - 1` points come from a tight DOPRI5 run.
 //! The history is re-expressed in the chart of the newest point at every step.
 
+use super::JacobianPoint;
 use super::dopri::Dopri5;
 use super::{
     Integrator, IntegratorKind, MemoryHook, Settings, SolverError, Stats, StepAction, StepHook,
@@ -44,9 +45,15 @@ pub struct Bdf {
     h: f64,
     order: usize,
     steps_at_order: usize,
+    /// Accepted steps since the last (re)start (drives the start-up order ramp).
+    since_start: usize,
     lin: LinearSolver,
     jac_alpha0: f64,
     jac_valid: bool,
+    /// Where the current Newton matrix was formed.
+    jac_point: Option<JacobianPoint>,
+    /// A restored matrix point: the matrix is formed there again when it would have been reused.
+    pending: Option<JacobianPoint>,
     stats: Stats,
     // scratch: chart coordinates of history points (newest first), unknowns, residuals
     xs: Vec<Vec<f64>>,
@@ -97,6 +104,21 @@ fn derivative_weights(ts: &[f64], w: &mut [f64]) {
     }
 }
 
+/// Assembles the GGL Newton matrix at `(t, q, v)` with leading coefficient `a0` (the constraint
+/// rows must be evaluated there): unknowns `[dx, dv, dlambda, dmu]`.
+fn assemble(sys: &mut System, lin: &mut LinearSolver, t: f64, q: &[f64], v: &[f64], a0: f64) {
+    let (nv, nc) = (sys.n_v(), sys.n_c());
+    lin.begin(2 * nv + 2 * nc);
+    for i in 0..nv {
+        lin.push(i, i, a0);
+        lin.push(i, nv + i, -1.0);
+    }
+    sys.add_constraint_blocks(lin, 2 * nv, 0, a0, Some((0, 2 * nv + nc, 1.0)));
+    sys.add_dynamics_matrix_at(t, q, v, [a0, 1.0, 0.0], lin, nv, nv);
+    sys.add_dynamics_matrix_at(t, q, v, [0.0, 0.0, 1.0], lin, nv, 0);
+    sys.add_constraint_blocks(lin, 2 * nv + nc, nv, 1.0, Some((nv, 2 * nv, 1.0)));
+}
+
 enum Outcome {
     Converged,
     Failed(String),
@@ -111,9 +133,12 @@ impl Bdf {
             h: 0.0,
             order: 1,
             steps_at_order: 0,
+            since_start: 0,
             lin: LinearSolver::new(),
             jac_alpha0: 0.0,
             jac_valid: false,
+            jac_point: None,
+            pending: None,
             stats: Stats::default(),
             xs: Vec::new(),
             x: Vec::new(),
@@ -199,8 +224,8 @@ impl Bdf {
             {
                 let mut gtmu = vec![0.0; nv];
                 sys.gt_mul_add(&self.mu, &mut gtmu);
-                for i in 0..nv {
-                    self.rhs[i] -= gtmu[i];
+                for (r, g) in self.rhs[..nv].iter_mut().zip(&gtmu) {
+                    *r -= g;
                 }
             }
             // v rows: -(M sum alpha v + G^T lambda - f)
@@ -230,45 +255,28 @@ impl Bdf {
             if self.rhs[..n].iter().any(|x| !x.is_finite()) {
                 return Outcome::Failed(format!("non-finite residual at t = {t1:.9e} s"));
             }
+            let restored = if self.jac_valid {
+                None
+            } else {
+                self.pending
+                    .take()
+                    .filter(|p| (a0 / p.coefficient - 1.0).abs() <= 0.3)
+            };
             let refresh = !self.jac_valid || (a0 / self.jac_alpha0 - 1.0).abs() > 0.3;
             if refresh {
-                self.lin.begin(n);
-                for i in 0..nv {
-                    self.lin.push(i, i, a0);
-                    self.lin.push(i, nv + i, -1.0);
+                let lin = &mut self.lin;
+                match &restored {
+                    Some(p) => p.with_recorded(sys, |sys| {
+                        sys.eval_constraints(p.t, &p.q, &p.v);
+                        assemble(sys, lin, p.t, &p.q, &p.v, p.coefficient);
+                        sys.eval_constraints(t1, &self.q1, &self.v);
+                    }),
+                    None => assemble(sys, lin, t1, &self.q1, &self.v, a0),
                 }
-                sys.add_constraint_blocks(
-                    &mut self.lin,
-                    2 * nv,
-                    0,
-                    a0,
-                    Some((0, 2 * nv + nc, 1.0)),
-                );
-                sys.add_dynamics_matrix_at(
-                    t1,
-                    &self.q1,
-                    &self.v,
-                    [a0, 1.0, 0.0],
-                    &mut self.lin,
-                    nv,
-                    nv,
-                );
-                sys.add_dynamics_matrix_at(
-                    t1,
-                    &self.q1,
-                    &self.v,
-                    [0.0, 0.0, 1.0],
-                    &mut self.lin,
-                    nv,
-                    0,
-                );
-                sys.add_constraint_blocks(
-                    &mut self.lin,
-                    2 * nv + nc,
-                    nv,
-                    1.0,
-                    Some((nv, 2 * nv, 1.0)),
-                );
+                let point = restored
+                    .unwrap_or_else(|| JacobianPoint::record(sys, t1, &self.q1, &self.v, a0));
+                self.jac_alpha0 = point.coefficient;
+                self.jac_point = Some(point);
                 self.stats.jacobians += 1;
                 self.stats.factorizations += 1;
                 if let Err(e) = self.lin.factor() {
@@ -276,7 +284,6 @@ impl Bdf {
                     return Outcome::Failed(e);
                 }
                 self.jac_valid = true;
-                self.jac_alpha0 = a0;
             }
             if let Err(e) = self.lin.solve(&mut self.rhs[..n]) {
                 self.jac_valid = false;
@@ -335,9 +342,9 @@ impl Bdf {
         interp_weights(&ts, t1, &mut wp);
         for i in 0..nv {
             let (mut sx, mut sv) = (0.0, 0.0);
-            for j in 0..np {
-                sx += wp[j] * self.xs[j][i];
-                sv += wp[j] * self.hist[j].v[i];
+            for (j, w) in wp.iter().enumerate() {
+                sx += w * self.xs[j][i];
+                sv += w * self.hist[j].v[i];
             }
             self.x[i] = sx;
             self.v[i] = sv;
@@ -456,6 +463,7 @@ impl Bdf {
         st.energy_dissipated = z[0];
         st.work_input = z[1];
         self.push_point(st);
+        self.since_start += 1;
         self.stats.steps += 1;
         self.stats.last_step = h;
     }
@@ -494,6 +502,7 @@ impl Integrator for Bdf {
         self.lam.copy_from_slice(&st.lambda);
         self.order = 1;
         self.steps_at_order = 0;
+        self.since_start = 0;
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
         let acc = wrms(&st.vdot, &self.wv)
             .max(wrms(&st.v, &self.wx))
@@ -504,6 +513,7 @@ impl Integrator for Bdf {
             (0.001 / acc).clamp(1e-8, self.s.h_max)
         };
         self.jac_valid = false;
+        self.pending = None;
         Ok(())
     }
 
@@ -515,7 +525,6 @@ impl Integrator for Bdf {
         hook: &mut dyn StepHook,
     ) -> Result<(), SolverError> {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
-        self.jac_valid = false;
         if self.hist.is_empty() {
             return Err(SolverError("bdf: advance_to before start".into()));
         }
@@ -596,7 +605,7 @@ impl Integrator for Bdf {
                         }
                     }
                     // startup: raise the order as soon as enough points exist
-                    if self.stats.steps < 8
+                    if self.since_start < 8
                         && k < self.s.max_order
                         && self.hist.len() > k
                         && best.1 == k
@@ -608,9 +617,8 @@ impl Integrator for Bdf {
                         self.steps_at_order = 0;
                     }
                     let fac = best.0.clamp(0.2, 2.0);
-                    if h == natural && (fac > 1.2 || fac < 1.0) {
-                        self.h = h * fac;
-                    } else if fac < 1.0 {
+                    // grow only from a full (not truncated) step and by more than 20 %; shrink always
+                    if fac < 1.0 || (h == natural && fac > 1.2) {
                         self.h = h * fac;
                     }
                 }
@@ -668,6 +676,7 @@ impl Integrator for Bdf {
             self.h,
             self.order as f64,
             self.steps_at_order as f64,
+            self.since_start as f64,
             self.hist.len() as f64,
         ];
         for p in &self.hist {
@@ -680,38 +689,71 @@ impl Integrator for Bdf {
         }
         m.push(self.lam.len() as f64);
         m.extend_from_slice(&self.lam);
+        match (&self.jac_point, self.jac_valid) {
+            (Some(p), true) => {
+                m.push(1.0);
+                p.write(&mut m);
+            }
+            _ => m.push(0.0),
+        }
         m
     }
 
     fn restore_memory(&mut self, m: &[f64]) -> Result<(), String> {
         let bad = || "bdf memory is truncated or corrupt".to_string();
-        let mut it = m.iter().copied();
-        let mut next = || it.next().ok_or_else(bad);
-        let h = next()?;
-        let order = next()? as usize;
-        let sao = next()? as usize;
-        let n = next()? as usize;
-        if !(1..=5).contains(&order) || n > 7 {
+        let mut pos = 0usize;
+        let next = |pos: &mut usize| -> Result<f64, String> {
+            let v = *m.get(*pos).ok_or_else(bad)?;
+            *pos += 1;
+            Ok(v)
+        };
+        let count = |x: f64| {
+            if x.is_finite() && x >= 0.0 && x <= m.len() as f64 {
+                Ok(x as usize)
+            } else {
+                Err(bad())
+            }
+        };
+        let h = next(&mut pos)?;
+        let order = count(next(&mut pos)?)?;
+        let sao = count(next(&mut pos)?)?;
+        let since = count(next(&mut pos)?)?;
+        let n = count(next(&mut pos)?)?;
+        if !(1..=5).contains(&order) || n > 7 || !(h.is_finite() && h > 0.0) {
             return Err(bad());
         }
         let mut hist = VecDeque::new();
         for _ in 0..n {
-            let t = next()?;
-            let nq = next()? as usize;
-            let q = (0..nq).map(|_| next()).collect::<Result<Vec<_>, _>>()?;
-            let nv = next()? as usize;
-            let v = (0..nv).map(|_| next()).collect::<Result<Vec<_>, _>>()?;
-            let z = [next()?, next()?];
+            let t = next(&mut pos)?;
+            let nq = count(next(&mut pos)?)?;
+            let q = (0..nq)
+                .map(|_| next(&mut pos))
+                .collect::<Result<Vec<_>, _>>()?;
+            let nv = count(next(&mut pos)?)?;
+            let v = (0..nv)
+                .map(|_| next(&mut pos))
+                .collect::<Result<Vec<_>, _>>()?;
+            let z = [next(&mut pos)?, next(&mut pos)?];
             hist.push_back(Point { t, q, v, z });
         }
-        let nl = next()? as usize;
-        let lam = (0..nl).map(|_| next()).collect::<Result<Vec<_>, _>>()?;
+        let nl = count(next(&mut pos)?)?;
+        let lam = (0..nl)
+            .map(|_| next(&mut pos))
+            .collect::<Result<Vec<_>, _>>()?;
+        let has_jac = next(&mut pos)? > 0.5;
+        self.pending = if has_jac {
+            Some(JacobianPoint::read(&m[pos..])?.0)
+        } else {
+            None
+        };
         self.h = h;
         self.order = order;
         self.steps_at_order = sao;
+        self.since_start = since;
         self.hist = hist;
         self.lam = lam;
         self.jac_valid = false;
+        self.jac_point = None;
         Ok(())
     }
 }

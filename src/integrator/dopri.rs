@@ -160,9 +160,9 @@ impl Dopri5 {
         for i in 0..7 {
             for k in 0..nv {
                 let (mut sx, mut sv) = (0.0, 0.0);
-                for j in 0..i {
-                    sx += A[i][j] * self.kx[j][k];
-                    sv += A[i][j] * self.kv[j][k];
+                for (j, a) in A[i][..i].iter().enumerate() {
+                    sx += a * self.kx[j][k];
+                    sv += a * self.kv[j][k];
                 }
                 self.x[k] = h * sx;
                 self.vs[k] = st.v[k] + h * sv;
@@ -175,9 +175,9 @@ impl Dopri5 {
         }
         for k in 0..nv {
             let (mut sx, mut sv) = (0.0, 0.0);
-            for i in 0..7 {
-                sx += E[i] * self.kx[i][k];
-                sv += E[i] * self.kv[i][k];
+            for (i, e) in E.iter().enumerate() {
+                sx += e * self.kx[i][k];
+                sv += e * self.kv[i][k];
             }
             self.ex[k] = h * sx;
             self.ev[k] = h * sv;

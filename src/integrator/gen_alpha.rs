@@ -12,6 +12,7 @@
 //! The Newton matrix is refreshed at the start of every `advance_to` call, so a run continued from
 //! a restored state repeats the original bit for bit.
 
+use super::JacobianPoint;
 use super::{
     Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
     weights,
@@ -38,6 +39,10 @@ pub struct GenAlpha {
     lin: LinearSolver,
     jac_h: f64,
     jac_valid: bool,
+    /// Where the current Newton matrix was formed.
+    jac_point: Option<JacobianPoint>,
+    /// A restored matrix point: the matrix is formed there again when it would have been reused.
+    pending: Option<JacobianPoint>,
     stats: Stats,
     // scratch
     w: Vec<f64>,
@@ -80,6 +85,8 @@ impl GenAlpha {
             lin: LinearSolver::new(),
             jac_h: 0.0,
             jac_valid: false,
+            jac_point: None,
+            pending: None,
             stats: Stats::default(),
             w: Vec::new(),
             lam: Vec::new(),
@@ -162,9 +169,29 @@ impl GenAlpha {
                 return StepOutcome::Failed(format!("non-finite residual at t = {t1:.9e} s"));
             }
             if !self.jac_valid || self.jac_h != h {
+                let restored = if self.jac_valid {
+                    None
+                } else {
+                    self.pending.take().filter(|p| p.coefficient == h)
+                };
                 self.lin.begin(nv + nc);
-                sys.add_dynamics_matrix(t1, &self.q1, &self.v1, 1.0, cv, cx, &mut self.lin, 0);
-                sys.add_constraint_blocks(&mut self.lin, nv, 0, 1.0, Some((0, nv, 1.0)));
+                let lin = &mut self.lin;
+                match &restored {
+                    Some(p) => p.with_recorded(sys, |sys| {
+                        sys.eval_constraints(p.t, &p.q, &p.v);
+                        sys.add_dynamics_matrix(p.t, &p.q, &p.v, 1.0, cv, cx, lin, 0);
+                        sys.add_constraint_blocks(lin, nv, 0, 1.0, Some((0, nv, 1.0)));
+                        sys.eval_constraints(t1, &self.q1, &self.v1);
+                    }),
+                    None => {
+                        sys.add_dynamics_matrix(t1, &self.q1, &self.v1, 1.0, cv, cx, lin, 0);
+                        sys.add_constraint_blocks(lin, nv, 0, 1.0, Some((0, nv, 1.0)));
+                    }
+                }
+                self.jac_point = Some(
+                    restored
+                        .unwrap_or_else(|| JacobianPoint::record(sys, t1, &self.q1, &self.v1, h)),
+                );
                 self.stats.jacobians += 1;
                 self.stats.factorizations += 1;
                 if let Err(e) = self.lin.factor() {
@@ -266,6 +293,7 @@ impl Integrator for GenAlpha {
         let (pd, pi) = sys.powers(st.t, &st.q, &st.v);
         self.p_prev = (pd, pi + drive);
         self.jac_valid = false;
+        self.pending = None;
         Ok(())
     }
 
@@ -277,7 +305,6 @@ impl Integrator for GenAlpha {
         hook: &mut dyn StepHook,
     ) -> Result<(), SolverError> {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
-        self.jac_valid = false;
         let adaptive = self.s.fixed_step == 0.0;
         let mut steps = 0u64;
         let mut refreshed = false;
@@ -372,19 +399,37 @@ impl Integrator for GenAlpha {
     }
 
     fn memory(&self) -> Vec<f64> {
-        let mut m = vec![self.h, self.p_prev.0, self.p_prev.1];
+        let mut m = vec![self.h, self.p_prev.0, self.p_prev.1, self.a.len() as f64];
         m.extend_from_slice(&self.a);
+        match (&self.jac_point, self.jac_valid) {
+            (Some(p), true) => {
+                m.push(1.0);
+                p.write(&mut m);
+            }
+            _ => m.push(0.0),
+        }
         m
     }
 
     fn restore_memory(&mut self, m: &[f64]) -> Result<(), String> {
-        if m.len() < 3 {
-            return Err("gen-alpha memory too short".into());
+        let bad = || "gen-alpha memory is truncated or corrupt".to_string();
+        if m.len() < 5 || !(m[3].is_finite() && m[3] >= 0.0) {
+            return Err(bad());
+        }
+        let na = m[3] as usize;
+        if m.len() < 5 + na {
+            return Err(bad());
         }
         self.h = m[0];
         self.p_prev = (m[1], m[2]);
-        self.a = m[3..].to_vec();
+        self.a = m[4..4 + na].to_vec();
+        self.pending = if m[4 + na] > 0.5 {
+            Some(JacobianPoint::read(&m[5 + na..])?.0)
+        } else {
+            None
+        };
         self.jac_valid = false;
+        self.jac_point = None;
         Ok(())
     }
 }

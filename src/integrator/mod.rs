@@ -248,6 +248,95 @@ pub(crate) fn weights(
     }
 }
 
+/// Where a Newton matrix was formed: enough to form the identical matrix again after a
+/// serialized state is restored (the factorization itself is not serialized).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct JacobianPoint {
+    pub t: f64,
+    pub q: Vec<f64>,
+    pub v: Vec<f64>,
+    pub inputs: Vec<f64>,
+    pub memory: Vec<f64>,
+    /// The integrator's coefficient the matrix depends on (step size or BDF leading coefficient).
+    pub coefficient: f64,
+}
+
+impl JacobianPoint {
+    /// Records the point from the system's current inputs and memory.
+    pub fn record(sys: &System, t: f64, q: &[f64], v: &[f64], coefficient: f64) -> Self {
+        JacobianPoint {
+            t,
+            q: q.to_vec(),
+            v: v.to_vec(),
+            inputs: sys.inputs.clone(),
+            memory: sys.memory.clone(),
+            coefficient,
+        }
+    }
+
+    /// Appends to a flat memory vector: lengths first, then the values.
+    pub fn write(&self, m: &mut Vec<f64>) {
+        m.extend([
+            self.q.len() as f64,
+            self.v.len() as f64,
+            self.inputs.len() as f64,
+            self.memory.len() as f64,
+            self.t,
+            self.coefficient,
+        ]);
+        for part in [&self.q, &self.v, &self.inputs, &self.memory] {
+            m.extend_from_slice(part);
+        }
+    }
+
+    /// Reads what [`JacobianPoint::write`] appended, starting at `m[0]`; returns it and the length used.
+    pub fn read(m: &[f64]) -> Result<(Self, usize), String> {
+        let bad = || "integrator memory: truncated Jacobian point".to_string();
+        if m.len() < 6 {
+            return Err(bad());
+        }
+        let n: Vec<usize> = m[..4].iter().map(|x| *x as usize).collect();
+        let total = 6 + n.iter().sum::<usize>();
+        if m.len() < total || m[..4].iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+            return Err(bad());
+        }
+        let mut at = 6;
+        let mut take = |k: usize| {
+            let v = m[at..at + k].to_vec();
+            at += k;
+            v
+        };
+        let (q, v, inputs, memory) = (take(n[0]), take(n[1]), take(n[2]), take(n[3]));
+        Ok((
+            JacobianPoint {
+                t: m[4],
+                q,
+                v,
+                inputs,
+                memory,
+                coefficient: m[5],
+            },
+            total,
+        ))
+    }
+
+    /// Runs `f` with the system's inputs and memory set to the recorded ones, then puts the
+    /// current ones back.
+    pub fn with_recorded<R>(&self, sys: &mut System, f: impl FnOnce(&mut System) -> R) -> R {
+        let (inputs, memory) = (sys.inputs.clone(), sys.memory.clone());
+        if self.inputs.len() == inputs.len() {
+            sys.inputs.copy_from_slice(&self.inputs);
+        }
+        if self.memory.len() == memory.len() {
+            sys.memory.copy_from_slice(&self.memory);
+        }
+        let r = f(sys);
+        sys.inputs = inputs;
+        sys.memory = memory;
+        r
+    }
+}
+
 /// Relative tolerance for comparing communication times.
 pub(crate) fn time_eps(t: f64) -> f64 {
     1e-12 * t.abs().max(1.0)

@@ -120,10 +120,8 @@ impl ModelBuilder {
 
     /// Switches gravity on with acceleration `g` [m/s^2] (world frame), or off with `None`.
     pub fn set_gravity(&mut self, g: Option<Vec3>) -> Result<(), String> {
-        if let Some(g) = g {
-            if !finite3(&g) {
-                return Err("gravity vector is not finite".into());
-            }
+        if g.is_some_and(|g| !finite3(&g)) {
+            return Err("gravity vector is not finite".into());
         }
         self.gravity = g;
         Ok(())
@@ -168,13 +166,11 @@ impl ModelBuilder {
         if !p.is_finite() {
             return Err(format!("{owner}: profile has non-finite coefficients"));
         }
-        if let Some(i) = p.input() {
-            if i >= self.inputs.len() {
-                return Err(format!(
-                    "{owner}: profile reads input #{i}, but the model declares {} inputs",
-                    self.inputs.len()
-                ));
-            }
+        if let Some(i) = p.input().filter(|&i| i >= self.inputs.len()) {
+            return Err(format!(
+                "{owner}: profile reads input #{i}, but the model declares {} inputs",
+                self.inputs.len()
+            ));
         }
         Ok(())
     }
@@ -210,9 +206,8 @@ impl ModelBuilder {
         let owner = format!("spring-damper '{}'", e.name);
         self.check_frame(&owner, "a", &e.a, false)?;
         self.check_frame(&owner, "b", &e.b, false)?;
-        if !(e.stiffness >= 0.0 && e.damping >= 0.0 && e.free_length >= 0.0)
-            || !(e.stiffness + e.damping + e.free_length).is_finite()
-        {
+        let all_finite = (e.stiffness + e.damping + e.free_length).is_finite();
+        if !all_finite || e.stiffness < 0.0 || e.damping < 0.0 || e.free_length < 0.0 {
             return Err(format!(
                 "{owner}: stiffness, damping and free length must be finite and >= 0"
             ));
@@ -226,9 +221,8 @@ impl ModelBuilder {
         let owner = format!("torsion spring '{}'", e.name);
         self.check_frame(&owner, "i", &e.frame_i, true)?;
         self.check_frame(&owner, "j", &e.frame_j, true)?;
-        if !(e.stiffness >= 0.0 && e.damping >= 0.0)
-            || !(e.stiffness + e.damping + e.free_angle + e.angle_offset).is_finite()
-        {
+        let all_finite = (e.stiffness + e.damping + e.free_angle + e.angle_offset).is_finite();
+        if !all_finite || e.stiffness < 0.0 || e.damping < 0.0 {
             return Err(format!(
                 "{owner}: stiffness and damping must be finite and >= 0, angles finite"
             ));

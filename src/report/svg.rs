@@ -47,10 +47,10 @@ pub fn line_plot(title: &str, x_label: &str, y_label: &str, series: &[Series]) -
         y0 = y0.min(p.1);
         y1 = y1.max(p.1);
     }
-    if !(x1 > x0) {
+    if x1.is_nan() || x1 <= x0 {
         x1 = x0 + 1.0;
     }
-    if !(y1 > y0) {
+    if y1.is_nan() || y1 <= y0 {
         y1 = y0 + 1.0;
     }
     let pad = 0.05 * (y1 - y0);

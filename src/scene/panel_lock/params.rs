@@ -204,10 +204,8 @@ impl PanelLockParams {
                 ));
             }
         }
-        if let Some(g) = self.gravity {
-            if !g.is_finite() {
-                return Err(format!("gravity must be finite, got {g}"));
-            }
+        if let Some(g) = self.gravity.filter(|g| !g.is_finite()) {
+            return Err(format!("gravity must be finite, got {g}"));
         }
         if self
             .satellite_inertia
