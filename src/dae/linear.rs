@@ -6,12 +6,12 @@
 //! structure; values may be zero. A change of the sequence (e.g. a contact node inserted) is
 //! detected by comparing with the recorded pattern and triggers a new symbolic analysis.
 
+use super::dense_lu::DenseLu;
 use faer::Par;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::mat::MatMut;
 use faer::sparse::linalg::lu::{NumericLu, SymbolicLu, factorize_symbolic_lu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use nalgebra::{DMatrix, LU};
 
 /// Systems up to this size use the dense LU.
 pub const DENSE_LIMIT: usize = 48;
@@ -20,7 +20,7 @@ pub const DENSE_LIMIT: usize = 48;
 #[allow(clippy::large_enum_variant)]
 enum Backend {
     None,
-    Dense(Box<LU<f64, nalgebra::Dyn, nalgebra::Dyn>>),
+    Dense,
     Sparse {
         symbolic: SymbolicLu<usize>,
         numeric: NumericLu<usize, f64>,
@@ -33,7 +33,7 @@ impl Clone for Backend {
     fn clone(&self) -> Self {
         match self {
             Backend::None => Backend::None,
-            Backend::Dense(lu) => Backend::Dense(lu.clone()),
+            Backend::Dense => Backend::Dense,
             Backend::Sparse {
                 symbolic,
                 numeric,
@@ -71,7 +71,7 @@ pub struct LinearSolver {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
     csc_vals: Vec<f64>,
-    dense: DMatrix<f64>,
+    dense: DenseLu,
     backend: Backend,
     factored: bool,
     pub stats: LinearStats,
@@ -127,7 +127,7 @@ impl LinearSolver {
             col_ptr: Vec::new(),
             row_idx: Vec::new(),
             csc_vals: Vec::new(),
-            dense: DMatrix::zeros(0, 0),
+            dense: DenseLu::default(),
             backend: Backend::None,
             factored: false,
             stats: LinearStats::default(),
@@ -183,8 +183,7 @@ impl LinearSolver {
         self.pattern_n = n;
         self.stats.symbolic_analyses += 1;
         if n <= DENSE_LIMIT {
-            self.dense = DMatrix::zeros(n, n);
-            self.backend = Backend::None;
+            self.backend = Backend::Dense;
         } else {
             let sym =
                 SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
@@ -219,25 +218,13 @@ impl LinearSolver {
         self.stats.factorizations += 1;
         let n = self.n;
         if n <= DENSE_LIMIT {
-            let mut m = std::mem::replace(&mut self.dense, DMatrix::zeros(0, 0));
-            if m.nrows() != n {
-                m = DMatrix::zeros(n, n);
-            }
-            m.fill(0.0);
+            self.dense.reset(n);
             for k in 0..self.rows.len() {
-                m[(self.rows[k], self.cols[k])] += self.vals[k];
+                self.dense.add(self.rows[k], self.cols[k], self.vals[k]);
             }
-            self.dense = m.clone();
-            let lu = LU::new(m);
             // Newton matrices of index-2/3 forms mix O(1/h) and O(1) blocks, so pivots are only
             // refused when exactly zero or non-finite; the solve checks its result.
-            let u = lu.u();
-            if let Some(i) = (0..n).find(|&i| !(u[(i, i)].abs() > 0.0 && u[(i, i)].is_finite())) {
-                return Err(format!(
-                    "Newton matrix is singular (pivot {i} of {n} vanishes)"
-                ));
-            }
-            self.backend = Backend::Dense(Box::new(lu));
+            self.dense.factor()?;
             self.factored = true;
             return Ok(());
         }
@@ -271,12 +258,7 @@ impl LinearSolver {
         self.stats.solves += 1;
         match &mut self.backend {
             Backend::None => return Err("solve called before factor".into()),
-            Backend::Dense(lu) => {
-                let mut b = nalgebra::DVectorViewMut::from_slice(rhs, self.n);
-                if !lu.solve_mut(&mut b) {
-                    return Err("dense LU solve failed (singular matrix)".into());
-                }
-            }
+            Backend::Dense => self.dense.solve(rhs),
             Backend::Sparse {
                 symbolic,
                 numeric,

@@ -6,6 +6,7 @@
 //! `f`, `M a`, `Phi`, `G x`, `G^T y`, `gamma`, and for Newton matrices built from
 //! `c_M M + c_D D + c_K K` and `G` blocks at offsets they choose.
 
+pub mod dense_lu;
 pub mod linear;
 mod redundancy;
 

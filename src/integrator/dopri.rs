@@ -6,7 +6,7 @@
 //! so the drift of the index-1 form never accumulates. For non-stiff scenes: its stability region
 //! bounds the step by the stiffest mode (contact, rope segments).
 
-use super::init::{accelerations, project_positions, project_velocities};
+use super::init::{accelerations, project_positions_reusing, project_velocities_reusing};
 use super::{
     Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, kkt, time_eps,
     weights,
@@ -84,6 +84,8 @@ pub struct Dopri5 {
     ev: Vec<f64>,
     wx: Vec<f64>,
     wv: Vec<f64>,
+    /// Stage 0 (derivative at the current state) is already in `kx[0]`, `kv[0]`, `pw[0]`.
+    k1_valid: bool,
 }
 
 impl Dopri5 {
@@ -105,6 +107,7 @@ impl Dopri5 {
             ev: Vec::new(),
             wx: Vec::new(),
             wv: Vec::new(),
+            k1_valid: false,
         }
     }
 
@@ -158,6 +161,9 @@ impl Dopri5 {
     fn try_step(&mut self, sys: &mut System, st: &State, h: f64) -> Result<f64, String> {
         let nv = sys.n_v();
         for i in 0..7 {
+            if i == 0 && self.k1_valid {
+                continue;
+            }
             for k in 0..nv {
                 let (mut sx, mut sv) = (0.0, 0.0);
                 for (j, a) in A[i][..i].iter().enumerate() {
@@ -196,10 +202,19 @@ impl Dopri5 {
         st.t += h;
         st.q.copy_from_slice(&self.qs);
         st.v.copy_from_slice(&self.vs);
+        // the last stage formed [M G^T; G 0] at exactly this point: the projections reuse it
         let tol = 1e-3 * self.s.atol;
-        project_positions(sys, &mut self.lin, st, tol)?;
-        project_velocities(sys, &mut self.lin, st)?;
-        accelerations(sys, &mut self.lin, st)?;
+        project_positions_reusing(sys, &mut self.lin, st, tol, true)?;
+        project_velocities_reusing(sys, &mut self.lin, st, true)?;
+        // the derivative at the projected state: output accelerations and the next first stage
+        self.x.fill(0.0);
+        self.vs.copy_from_slice(&st.v);
+        self.stage(sys, st, st.t, 0).map_err(SolverError)?;
+        st.vdot.copy_from_slice(&self.kv[0]);
+        let nv = sys.n_v();
+        st.lambda.clear();
+        st.lambda.extend_from_slice(&self.rhs[nv..]);
+        self.k1_valid = true;
         self.stats.steps += 1;
         self.stats.last_step = h;
         Ok(())
@@ -213,6 +228,7 @@ impl Integrator for Dopri5 {
 
     fn start(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
+        self.k1_valid = false;
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
         let acc = wrms(&st.vdot, &self.wv)
             .max(wrms(&st.v, &self.wx))
@@ -233,6 +249,8 @@ impl Integrator for Dopri5 {
         hook: &mut dyn StepHook,
     ) -> Result<(), SolverError> {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
+        // inputs may have changed at this communication point: recompute the first stage
+        self.k1_valid = false;
         let adaptive = self.s.fixed_step == 0.0;
         let mut steps = 0u64;
         while t_end - st.t > time_eps(t_end) {
@@ -298,6 +316,7 @@ impl Integrator for Dopri5 {
     }
 
     fn restart(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
+        self.k1_valid = false;
         accelerations(sys, &mut self.lin, st)
     }
 
@@ -314,6 +333,7 @@ impl Integrator for Dopri5 {
     }
 
     fn restore_memory(&mut self, m: &[f64]) -> Result<(), String> {
+        self.k1_valid = false;
         self.h = *m.first().ok_or("dopri5 memory is empty")?;
         Ok(())
     }

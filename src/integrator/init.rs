@@ -22,6 +22,18 @@ pub fn project_positions(
     state: &mut State,
     tol: f64,
 ) -> Result<(), SolverError> {
+    project_positions_reusing(sys, lin, state, tol, false)
+}
+
+/// As [`project_positions`]; with `reuse` the first iteration uses the factorization already in
+/// `lin` (the caller formed `[M G^T; G 0]` at `state.q`).
+pub fn project_positions_reusing(
+    sys: &mut System,
+    lin: &mut LinearSolver,
+    state: &mut State,
+    tol: f64,
+    reuse: bool,
+) -> Result<(), SolverError> {
     let (nv, nc) = (sys.n_v(), sys.n_c());
     if nc == 0 {
         return Ok(());
@@ -30,17 +42,21 @@ pub fn project_positions(
     let tol = tol.max(1e-13);
     let mut rhs = vec![0.0; nv + nc];
     let mut qn = state.q.clone();
-    for _ in 0..50 {
+    for it in 0..50 {
         sys.eval_constraints(state.t, &state.q, &state.v);
         let (worst, _) = worst_row(sys);
         if worst <= tol {
             return Ok(());
         }
-        kkt::factor(sys, lin, state.t, &state.q, &state.v).map_err(|e| {
-            SolverError(format!(
-                "projection onto the joints failed: {e} (redundant or conflicting joints?)"
-            ))
-        })?;
+        if reuse && it == 0 {
+            // the caller's factorization at this very point
+        } else {
+            kkt::factor(sys, lin, state.t, &state.q, &state.v).map_err(|e| {
+                SolverError(format!(
+                    "projection onto the joints failed: {e} (redundant or conflicting joints?)"
+                ))
+            })?;
+        }
         rhs[..nv].fill(0.0);
         for (r, row) in sys.rows.iter().enumerate() {
             rhs[nv + r] = -row.phi;
@@ -62,13 +78,27 @@ pub fn project_velocities(
     lin: &mut LinearSolver,
     state: &mut State,
 ) -> Result<(), SolverError> {
+    project_velocities_reusing(sys, lin, state, false)
+}
+
+/// As [`project_velocities`]; with `reuse` the factorization already in `lin` (formed at a point
+/// within the projection tolerance of `state.q`) is used: the result then satisfies the velocity
+/// constraints to the product of that distance and the correction, far below the tolerance.
+pub fn project_velocities_reusing(
+    sys: &mut System,
+    lin: &mut LinearSolver,
+    state: &mut State,
+    reuse: bool,
+) -> Result<(), SolverError> {
     let (nv, nc) = (sys.n_v(), sys.n_c());
     if nc == 0 {
         return Ok(());
     }
     sys.eval_constraints(state.t, &state.q, &state.v);
-    kkt::factor(sys, lin, state.t, &state.q, &state.v)
-        .map_err(|e| SolverError(format!("velocity projection failed: {e}")))?;
+    if !reuse {
+        kkt::factor(sys, lin, state.t, &state.q, &state.v)
+            .map_err(|e| SolverError(format!("velocity projection failed: {e}")))?;
+    }
     let mut rhs = vec![0.0; nv + nc];
     let mut gv = vec![0.0; nc];
     sys.g_mul(&state.v, &mut gv);
