@@ -273,10 +273,18 @@ impl Bdf {
                     }),
                     None => assemble(sys, lin, t1, &self.q1, &self.v, a0),
                 }
-                let point = restored
-                    .unwrap_or_else(|| JacobianPoint::record(sys, t1, &self.q1, &self.v, a0));
-                self.jac_alpha0 = point.coefficient;
-                self.jac_point = Some(point);
+                match restored {
+                    Some(p) => self.jac_point = Some(p),
+                    None => JacobianPoint::record_into(
+                        &mut self.jac_point,
+                        sys,
+                        t1,
+                        &self.q1,
+                        &self.v,
+                        a0,
+                    ),
+                }
+                self.jac_alpha0 = self.jac_point.as_ref().map_or(a0, |p| p.coefficient);
                 self.stats.jacobians += 1;
                 self.stats.factorizations += 1;
                 if let Err(e) = self.lin.factor() {

@@ -188,10 +188,17 @@ impl GenAlpha {
                         sys.add_constraint_blocks(lin, nv, 0, 1.0, Some((0, nv, 1.0)));
                     }
                 }
-                self.jac_point = Some(
-                    restored
-                        .unwrap_or_else(|| JacobianPoint::record(sys, t1, &self.q1, &self.v1, h)),
-                );
+                match restored {
+                    Some(p) => self.jac_point = Some(p),
+                    None => JacobianPoint::record_into(
+                        &mut self.jac_point,
+                        sys,
+                        t1,
+                        &self.q1,
+                        &self.v1,
+                        h,
+                    ),
+                }
                 self.stats.jacobians += 1;
                 self.stats.factorizations += 1;
                 if let Err(e) = self.lin.factor() {

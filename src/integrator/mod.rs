@@ -274,6 +274,28 @@ impl JacobianPoint {
         }
     }
 
+    /// Records into `slot`, reusing its storage (no allocation once sized).
+    pub fn record_into(
+        slot: &mut Option<Self>,
+        sys: &System,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        coefficient: f64,
+    ) {
+        match slot {
+            Some(p) => {
+                p.t = t;
+                p.coefficient = coefficient;
+                p.q.clone_from_slice_or_vec(q);
+                p.v.clone_from_slice_or_vec(v);
+                p.inputs.clone_from_slice_or_vec(&sys.inputs);
+                p.memory.clone_from_slice_or_vec(&sys.memory);
+            }
+            None => *slot = Some(Self::record(sys, t, q, v, coefficient)),
+        }
+    }
+
     /// Appends to a flat memory vector: lengths first, then the values.
     pub fn write(&self, m: &mut Vec<f64>) {
         m.extend([
@@ -334,6 +356,18 @@ impl JacobianPoint {
         sys.inputs = inputs;
         sys.memory = memory;
         r
+    }
+}
+
+/// Copies a slice into a vector, reusing its allocation when the lengths agree.
+trait CopyInto {
+    fn clone_from_slice_or_vec(&mut self, src: &[f64]);
+}
+
+impl CopyInto for Vec<f64> {
+    fn clone_from_slice_or_vec(&mut self, src: &[f64]) {
+        self.clear();
+        self.extend_from_slice(src);
     }
 }
 
