@@ -17,6 +17,7 @@
 //!    model-descriptions`) and pack (`... -- pack`).
 
 pub mod bytes;
+pub mod native;
 pub mod pid;
 pub mod port;
 pub mod store;
