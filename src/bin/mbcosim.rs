@@ -113,10 +113,11 @@ fn demo_pid() -> Result<(), String> {
         .ok_or("PidController not registered")?
         .create)();
     for (name, v) in [
-        ("kp", 1.5),
+        ("kp", 3.0),
         ("ki", 2.0),
         ("kd", 0.05),
         ("Tf", 0.02),
+        ("Tt", 0.1),
         ("u_min", -2.0),
         ("u_max", 2.0),
         ("setpoint", 1.0),
@@ -134,7 +135,7 @@ fn demo_pid() -> Result<(), String> {
     for k in 0..=n {
         let t = k as f64 * h;
         let out = native::outputs(pid.as_ref()).map_err(|e| e.to_string())?;
-        if k % 40 == 0 {
+        if (k <= 100 && k % 20 == 0) || k % 100 == 0 {
             println!("{t:>6.2} {y:>9.4} {:>9.4} {:>9}", out[0], out[2] != 0.0);
         }
         if k == n {

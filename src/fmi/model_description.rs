@@ -372,6 +372,141 @@ mod tests {
     }
 
     #[test]
+    fn every_variable_kind_is_written_and_parsed_back() {
+        use crate::scene::port::{PortSpec, PortType, Variability};
+        const ITEMS: &[(&str, &str)] = &[
+            ("bdf", "BDF order 1-5."),
+            ("gen_alpha", "Generalized alpha."),
+        ];
+        let info = ModelInfo {
+            identifier: "Kinds",
+            guid: "{kinds}",
+            description: "All kinds <&> of variables.",
+            ports: vec![
+                PortSpec {
+                    name: "integrator".into(),
+                    vr: 0,
+                    causality: Causality::Parameter,
+                    variability: Variability::Fixed,
+                    ty: PortType::Enumeration {
+                        type_name: "Integrator",
+                        items: ITEMS,
+                        start: Some(2),
+                    },
+                    unit: None,
+                    description: "Time integrator.".into(),
+                },
+                PortSpec {
+                    name: "n_nodes".into(),
+                    vr: 1,
+                    causality: Causality::Parameter,
+                    variability: Variability::Fixed,
+                    ty: PortType::Integer {
+                        start: Some(10),
+                        min: Some(2),
+                        max: Some(2000),
+                    },
+                    unit: None,
+                    description: "Rope nodes.".into(),
+                },
+                PortSpec {
+                    name: "label".into(),
+                    vr: 0,
+                    causality: Causality::Parameter,
+                    variability: Variability::Tunable,
+                    ty: PortType::String { start: Some("a&b") },
+                    unit: None,
+                    description: "Label.".into(),
+                },
+                PortSpec::real_parameter(
+                    "stiffness",
+                    0,
+                    Variability::Fixed,
+                    1e9,
+                    Some("N/m"),
+                    "Contact stiffness.",
+                )
+                .with_min(0.0),
+                PortSpec::real_input("torque", 1, 0.0, Some("N.m"), "Motor torque."),
+                PortSpec {
+                    name: "mass_total".into(),
+                    vr: 2,
+                    causality: Causality::CalculatedParameter,
+                    variability: Variability::Fixed,
+                    ty: PortType::Real {
+                        start: None,
+                        min: None,
+                        max: None,
+                    },
+                    unit: Some("kg"),
+                    description: "Total mass.".into(),
+                },
+                PortSpec::real_output("hinge[1].angle", 3, Some("rad"), "Hinge angle."),
+                PortSpec {
+                    name: "energy".into(),
+                    vr: 4,
+                    causality: Causality::Local,
+                    variability: Variability::Continuous,
+                    ty: PortType::Real {
+                        start: None,
+                        min: None,
+                        max: None,
+                    },
+                    unit: Some("J"),
+                    description: "Energy.".into(),
+                },
+                PortSpec {
+                    name: "n_steps".into(),
+                    vr: 2,
+                    causality: Causality::Output,
+                    variability: Variability::Discrete,
+                    ty: PortType::Integer {
+                        start: None,
+                        min: None,
+                        max: None,
+                    },
+                    unit: None,
+                    description: "Internal steps taken.".into(),
+                },
+            ],
+            default_stop_time: 2.0,
+            default_step: 1e-3,
+        };
+        let xml = write(&info).unwrap();
+        for needle in [
+            r#"<SimpleType name="Integrator">"#,
+            r#"<Item name="gen_alpha" value="2" description="Generalized alpha."/>"#,
+            r#"<Enumeration declaredType="Integrator" start="2"/>"#,
+            r#"<Integer min="2" max="2000" start="10"/>"#,
+            r#"<String start="a&amp;b"/>"#,
+            r#"description="All kinds &lt;&amp;&gt; of variables.""#,
+            r#"<Unit name="N.m">"#,
+            r#"<BaseUnit kg="1" m="2" s="-2"/>"#,
+            r#"<BaseUnit kg="1" s="-2"/>"#,
+            r#"<Unknown index="7" dependencies=""/>"#,
+            r#"<Unknown index="9" dependencies=""/>"#,
+            r#"<InitialUnknowns>"#,
+            r#"<Unknown index="6"/>"#,
+            r#"stepSize="0.001""#,
+        ] {
+            assert!(xml.contains(needle), "missing {needle}\n{xml}");
+        }
+        assert!(!xml.contains("initial="));
+        let md: fmi::schema::fmi2::Fmi2ModelDescription = fmi::schema::deserialize(&xml).unwrap();
+        assert_eq!(md.model_variables.variables.len(), 9);
+        let mut bad = info.clone();
+        bad.ports[4].unit = Some("furlong");
+        assert!(write(&bad).unwrap_err().contains("furlong"));
+        bad.ports[4].unit = None;
+        bad.ports[3].ty = PortType::Real {
+            start: None,
+            min: None,
+            max: None,
+        };
+        assert!(write(&bad).unwrap_err().contains("needs a start value"));
+    }
+
+    #[test]
     fn numbers_are_valid_xs_double() {
         assert_eq!(fmt_real(1.0), "1");
         assert_eq!(fmt_real(-1e9), "-1000000000");

@@ -88,13 +88,22 @@ pub trait CoSimModel: Send {
     /// The model's static description and variable table.
     fn info(&self) -> &'static ModelInfo;
 
+    /// Sets a real parameter or input (SI unit of the port); [`store::PortStore::set_real`]
+    /// implements the rules.
     fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError>;
+    /// Current value of any real port (SI unit of the port).
     fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError>;
+    /// Sets an integer or enumeration parameter or input.
     fn set_integer(&mut self, vr: ValueRef, value: i32) -> Result<(), ModelError>;
+    /// Current value of any integer or enumeration port.
     fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError>;
+    /// Sets a boolean parameter or input.
     fn set_boolean(&mut self, vr: ValueRef, value: bool) -> Result<(), ModelError>;
+    /// Current value of any boolean port.
     fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError>;
+    /// Sets a string parameter or input.
     fn set_string(&mut self, vr: ValueRef, value: &str) -> Result<(), ModelError>;
+    /// Current value of any string port.
     fn get_string(&self, vr: ValueRef) -> Result<String, ModelError>;
 
     /// Builds the system from the parameters and finds consistent initial conditions at `t_start` [s].

@@ -44,24 +44,39 @@ pub enum Variability {
 pub enum PortType {
     /// Floating point value; `start` is required for parameters and inputs.
     Real {
+        /// Start value (SI unit of the port).
         start: Option<f64>,
+        /// Inclusive lower bound.
         min: Option<f64>,
+        /// Inclusive upper bound.
         max: Option<f64>,
     },
     /// Integer value.
     Integer {
+        /// Start value.
         start: Option<i32>,
+        /// Inclusive lower bound.
         min: Option<i32>,
+        /// Inclusive upper bound.
         max: Option<i32>,
     },
     /// Boolean value.
-    Boolean { start: Option<bool> },
+    Boolean {
+        /// Start value.
+        start: Option<bool>,
+    },
     /// String value.
-    String { start: Option<&'static str> },
+    String {
+        /// Start value.
+        start: Option<&'static str>,
+    },
     /// Enumeration stored as an integer: `items` are the names of values 1, 2, 3, ...
     Enumeration {
+        /// Name of the enumeration type (one `SimpleType` per name).
         type_name: &'static str,
+        /// `(name, description)` of items 1, 2, 3, ...
         items: &'static [(&'static str, &'static str)],
+        /// Start item number (1-based).
         start: Option<i32>,
     },
 }

@@ -146,25 +146,65 @@ pub fn check_integer(port: &PortSpec, v: i32) -> Result<(), ModelError> {
 }
 
 /// Map from (storage type, value reference) to the row index in a [`ModelInfo`].
+///
+/// Value references below [`PortIndex::DENSE_LIMIT`] are looked up in a plain table per storage
+/// type (a few nanoseconds, models read their ports every step); larger ones in a hash map.
 #[derive(Debug)]
 pub struct PortIndex {
-    map: HashMap<(BaseType, ValueRef), usize>,
+    /// Per storage type: row index + 1 at position `vr` (0 = no such port).
+    dense: [Vec<u32>; 4],
+    sparse: HashMap<(BaseType, ValueRef), usize>,
 }
 
 impl PortIndex {
+    /// Value references from here on go to the hash map.
+    pub const DENSE_LIMIT: ValueRef = 1 << 16;
+
+    fn slot(base: BaseType) -> usize {
+        match base {
+            BaseType::Real => 0,
+            BaseType::Integer => 1,
+            BaseType::Boolean => 2,
+            BaseType::String => 3,
+        }
+    }
+
     /// Indexes every row of `info` (the first row wins on a duplicate, which
     /// [`ModelInfo::validate`] reports).
     pub fn new(info: &ModelInfo) -> Self {
-        let mut map = HashMap::with_capacity(info.ports.len());
+        let mut index = Self {
+            dense: Default::default(),
+            sparse: HashMap::new(),
+        };
         for (i, p) in info.ports.iter().enumerate() {
-            map.entry((p.ty.base(), p.vr)).or_insert(i);
+            let base = p.ty.base();
+            if index.get(base, p.vr).is_some() {
+                continue;
+            }
+            if p.vr < Self::DENSE_LIMIT {
+                let table = &mut index.dense[Self::slot(base)];
+                let at = p.vr as usize;
+                if table.len() <= at {
+                    table.resize(at + 1, 0);
+                }
+                table[at] = i as u32 + 1;
+            } else {
+                index.sparse.insert((base, p.vr), i);
+            }
         }
-        Self { map }
+        index
     }
 
     /// Row index of the port with this storage type and value reference.
     pub fn get(&self, base: BaseType, vr: ValueRef) -> Option<usize> {
-        self.map.get(&(base, vr)).copied()
+        if vr < Self::DENSE_LIMIT {
+            match self.dense[Self::slot(base)].get(vr as usize) {
+                Some(&k) if k > 0 => Some(k as usize - 1),
+                _ => None,
+            }
+        } else {
+            self.sparse.get(&(base, vr)).copied()
+        }
     }
 }
 
@@ -474,6 +514,19 @@ mod tests {
         s.reset();
         assert!(!s.is_initialized());
         assert_eq!(s.get_real(1).unwrap(), 2.0);
+    }
+
+    #[test]
+    fn index_finds_dense_and_sparse_references() {
+        let mut info = info().clone();
+        info.ports[2].vr = 4_000_000_000;
+        let index = PortIndex::new(&info);
+        assert_eq!(index.get(BaseType::Real, 4_000_000_000), Some(2));
+        assert_eq!(index.get(BaseType::Real, 3), Some(3));
+        assert_eq!(index.get(BaseType::Integer, 0), Some(4));
+        assert_eq!(index.get(BaseType::Real, 2), None);
+        assert_eq!(index.get(BaseType::Boolean, 1), None);
+        assert_eq!(index.get(BaseType::String, u32::MAX), None);
     }
 
     #[test]
