@@ -22,6 +22,8 @@ pub mod machine;
 pub mod model_description;
 pub mod package;
 pub mod snapshot;
+#[cfg(test)]
+mod test_probe;
 pub mod types;
 pub mod units;
 
