@@ -17,14 +17,19 @@
 //! - [`dae`]: the system as integrators see it; sparse/dense Newton solves.
 //! - [`integrator`]: generalized-alpha, BDF, DOPRI5 behind one trait.
 //! - [`sim`]: a simulation (system + state + integrator) with snapshots.
-//! - [`scene`]: FMI-agnostic model interface ([`scene::CoSimModel`]) and variable tables.
+//! - [`scene`]: FMI-agnostic model interface ([`scene::CoSimModel`]), variable tables, the port
+//!   value store, state serialization helpers and the models ([`scene::pid`]).
+//! - [`fmi`]: the FMI 2.0 Co-Simulation wrapper, `modelDescription.xml` writer and FMU packer;
+//!   the only module with `unsafe` code.
 //!
 //! Units are SI throughout. Nothing outside `fmi` knows that FMI exists.
+#![deny(unsafe_code)]
 
 pub mod contact;
 pub mod dae;
 pub mod effect;
 pub mod flex;
+pub mod fmi;
 pub mod integrator;
 pub mod math;
 pub mod model;

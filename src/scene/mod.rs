@@ -4,9 +4,24 @@
 //! itself. A model receives parameter and input values by value reference, is initialized, and
 //! then advanced in communication steps. Its whole state can be cloned (FMU state get/set) and
 //! serialized to a versioned, pointer-free byte format.
+//!
+//! Helpers every model reuses: [`store::PortStore`] (port values with the importer-facing
+//! rules), [`bytes::ByteWriter`] / [`bytes::ByteReader`] (state serialization) and
+//! [`check_step`] (communication-point checks).
+//!
+//! # Adding a model
+//! 1. Write `src/scene/<name>.rs` with `info()` (the variable table, a [`ModelInfo`] in a
+//!    `OnceLock`), `create()` and a type implementing [`CoSimModel`]; [`pid`] is a small example.
+//! 2. Add `ModelEntry::new(<name>::info, <name>::create)` to [`registry()`].
+//! 3. Regenerate the checked-in descriptions (`cargo run --release --bin mbcosim --
+//!    model-descriptions`) and pack (`... -- pack`).
 
+pub mod bytes;
+pub mod native;
 pub mod panel_lock;
+pub mod pid;
 pub mod port;
+pub mod store;
 
 use port::{ModelInfo, ValueRef};
 
@@ -26,7 +41,9 @@ pub enum LogLevel {
 /// A message a model emits for the importer's logger.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LogRecord {
+    /// How severe the message is (selects the log category).
     pub level: LogLevel,
+    /// The text, naming the cause and the value to change where it helps.
     pub message: String,
 }
 
@@ -64,17 +81,30 @@ impl std::error::Error for ModelError {}
 /// Call order: `set_*` (parameters, inputs) -> [`CoSimModel::initialize`] -> repeated
 /// (`set_*` inputs, [`CoSimModel::do_step`], `get_*`). Fixed parameters may only be set before
 /// `initialize`; the model refuses them afterwards.
+///
+/// Outputs are computed in `initialize` and `do_step` only: an input set at a communication
+/// point acts during the next step and does not change the outputs read at that point (no direct
+/// feedthrough; the model description declares outputs as depending on no input).
 pub trait CoSimModel: Send {
     /// The model's static description and variable table.
     fn info(&self) -> &'static ModelInfo;
 
+    /// Sets a real parameter or input (SI unit of the port); [`store::PortStore::set_real`]
+    /// implements the rules.
     fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError>;
+    /// Current value of any real port (SI unit of the port).
     fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError>;
+    /// Sets an integer or enumeration parameter or input.
     fn set_integer(&mut self, vr: ValueRef, value: i32) -> Result<(), ModelError>;
+    /// Current value of any integer or enumeration port.
     fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError>;
+    /// Sets a boolean parameter or input.
     fn set_boolean(&mut self, vr: ValueRef, value: bool) -> Result<(), ModelError>;
+    /// Current value of any boolean port.
     fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError>;
+    /// Sets a string parameter or input.
     fn set_string(&mut self, vr: ValueRef, value: &str) -> Result<(), ModelError>;
+    /// Current value of any string port.
     fn get_string(&self, vr: ValueRef) -> Result<String, ModelError>;
 
     /// Builds the system from the parameters and finds consistent initial conditions at `t_start` [s].
@@ -100,15 +130,132 @@ pub trait CoSimModel: Send {
 
     /// Takes the messages emitted since the last call.
     fn take_log(&mut self) -> Vec<LogRecord>;
+
+    /// Tells the model where its data files (see [`ModelEntry::resources`]) were unpacked.
+    /// Called once after creation when the importer provides the folder; the default ignores it.
+    fn set_resource_dir(&mut self, _dir: &std::path::Path) -> Result<(), ModelError> {
+        Ok(())
+    }
+}
+
+/// Relative tolerance for matching a communication point with the model time: importers send
+/// points with rounding jitter (e.g. `0.009999999999999998` for `0.01`).
+pub const TIME_RTOL: f64 = 1e-9;
+
+/// Checks a step request: `h` [s] positive and finite, `t` [s] finite and equal to `model_time`
+/// [s] within [`TIME_RTOL`] relative to `max(1 s, |t|, |model_time|)`.
+pub fn check_step(model_time: f64, t: f64, h: f64) -> Result<(), ModelError> {
+    if !(h.is_finite() && h > 0.0) {
+        return Err(ModelError::InvalidValue(format!(
+            "communication step size {h} s refused: it must be positive and finite"
+        )));
+    }
+    if !t.is_finite() {
+        return Err(ModelError::InvalidValue(format!(
+            "communication point {t} s must be finite"
+        )));
+    }
+    let tol = TIME_RTOL * 1f64.max(t.abs()).max(model_time.abs());
+    if (t - model_time).abs() > tol {
+        return Err(ModelError::NotAllowed(format!(
+            "communication point t = {t} s does not match the model time {model_time} s (tolerance {tol:e} s)"
+        )));
+    }
+    Ok(())
+}
+
+/// A data file shipped with a model (packed into the FMU's `resources/` folder).
+#[derive(Debug, Clone, Copy)]
+pub struct Resource {
+    /// Path relative to the resources folder, `/`-separated.
+    pub path: &'static str,
+    /// File contents.
+    pub bytes: &'static [u8],
 }
 
 /// One entry of the model registry: how the FMI layer finds and creates a model.
 pub struct ModelEntry {
+    /// The model's variable table.
     pub info: fn() -> &'static ModelInfo,
+    /// A new instance at default parameters, not initialized.
     pub create: fn() -> Box<dyn CoSimModel>,
+    /// Data files the model needs at run time (empty for most models).
+    pub resources: &'static [Resource],
+}
+
+impl ModelEntry {
+    /// An entry without data files.
+    pub const fn new(
+        info: fn() -> &'static ModelInfo,
+        create: fn() -> Box<dyn CoSimModel>,
+    ) -> Self {
+        Self {
+            info,
+            create,
+            resources: &[],
+        }
+    }
+
+    /// The same entry with data files.
+    pub const fn with_resources(self, resources: &'static [Resource]) -> Self {
+        Self { resources, ..self }
+    }
 }
 
 /// All models this library serves, looked up by GUID or identifier.
 pub fn registry() -> Vec<ModelEntry> {
-    Vec::new()
+    vec![ModelEntry::new(pid::info, pid::create)]
+}
+
+/// The registered model with this GUID.
+pub fn find_by_guid(guid: &str) -> Option<ModelEntry> {
+    registry().into_iter().find(|e| (e.info)().guid == guid)
+}
+
+/// The registered model with this identifier.
+pub fn find_by_identifier(identifier: &str) -> Option<ModelEntry> {
+    registry()
+        .into_iter()
+        .find(|e| (e.info)().identifier == identifier)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn registry_tables_are_valid_and_unique() {
+        let entries = registry();
+        assert!(!entries.is_empty());
+        let mut ids = std::collections::HashSet::new();
+        let mut guids = std::collections::HashSet::new();
+        for e in &entries {
+            let info = (e.info)();
+            if let Err(errs) = info.validate() {
+                panic!("{}: {}", info.identifier, errs.join("; "));
+            }
+            assert!(
+                ids.insert(info.identifier),
+                "duplicate identifier {}",
+                info.identifier
+            );
+            assert!(guids.insert(info.guid), "duplicate GUID {}", info.guid);
+            let m = (e.create)();
+            assert_eq!(m.info().identifier, info.identifier);
+            assert!(find_by_guid(info.guid).is_some());
+            assert!(find_by_identifier(info.identifier).is_some());
+        }
+        assert!(find_by_guid("{nope}").is_none());
+    }
+
+    #[test]
+    fn step_checks_tolerate_jitter_only() {
+        check_step(0.01, 0.009999999999999998, 0.01).unwrap();
+        check_step(1000.0, 1000.0 + 1e-7, 0.01).unwrap();
+        assert!(check_step(0.0, 1e-6, 0.01).is_err());
+        assert!(check_step(0.0, 0.0, 0.0).is_err());
+        assert!(check_step(0.0, 0.0, -1.0).is_err());
+        assert!(check_step(0.0, 0.0, f64::INFINITY).is_err());
+        assert!(check_step(0.0, f64::NAN, 0.1).is_err());
+    }
 }

@@ -44,24 +44,39 @@ pub enum Variability {
 pub enum PortType {
     /// Floating point value; `start` is required for parameters and inputs.
     Real {
+        /// Start value (SI unit of the port).
         start: Option<f64>,
+        /// Inclusive lower bound.
         min: Option<f64>,
+        /// Inclusive upper bound.
         max: Option<f64>,
     },
     /// Integer value.
     Integer {
+        /// Start value.
         start: Option<i32>,
+        /// Inclusive lower bound.
         min: Option<i32>,
+        /// Inclusive upper bound.
         max: Option<i32>,
     },
     /// Boolean value.
-    Boolean { start: Option<bool> },
+    Boolean {
+        /// Start value.
+        start: Option<bool>,
+    },
     /// String value.
-    String { start: Option<&'static str> },
+    String {
+        /// Start value.
+        start: Option<&'static str>,
+    },
     /// Enumeration stored as an integer: `items` are the names of values 1, 2, 3, ...
     Enumeration {
+        /// Name of the enumeration type (one `SimpleType` per name).
         type_name: &'static str,
+        /// `(name, description)` of items 1, 2, 3, ...
         items: &'static [(&'static str, &'static str)],
+        /// Start item number (1-based).
         start: Option<i32>,
     },
 }
@@ -73,8 +88,11 @@ pub struct PortSpec {
     pub name: String,
     /// Value reference, unique per base type within one model.
     pub vr: ValueRef,
+    /// Who sets or reads the port.
     pub causality: Causality,
+    /// When its value may change.
     pub variability: Variability,
+    /// Value type, start value and bounds.
     pub ty: PortType,
     /// SI unit symbol (`"N"`, `"rad/s"`), or `None` for dimensionless values.
     pub unit: Option<&'static str>,
@@ -93,7 +111,349 @@ pub struct ModelInfo {
     pub description: &'static str,
     /// The variable table, in the order it appears in `modelDescription.xml`.
     pub ports: Vec<PortSpec>,
-    /// Default communication/stop times offered to importers [s].
+    /// Default stop time offered to importers [s].
     pub default_stop_time: f64,
+    /// Default communication step offered to importers [s].
     pub default_step: f64,
+}
+
+/// The storage type behind a port, as an importer sees it (enumerations are integers).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BaseType {
+    /// 64-bit float.
+    Real,
+    /// 32-bit signed integer (also enumerations).
+    Integer,
+    /// Boolean.
+    Boolean,
+    /// UTF-8 string.
+    String,
+}
+
+impl BaseType {
+    /// Human-readable name used in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            BaseType::Real => "Real",
+            BaseType::Integer => "Integer",
+            BaseType::Boolean => "Boolean",
+            BaseType::String => "String",
+        }
+    }
+}
+
+impl PortType {
+    /// The storage type of this port type.
+    pub fn base(&self) -> BaseType {
+        match self {
+            PortType::Real { .. } => BaseType::Real,
+            PortType::Integer { .. } | PortType::Enumeration { .. } => BaseType::Integer,
+            PortType::Boolean { .. } => BaseType::Boolean,
+            PortType::String { .. } => BaseType::String,
+        }
+    }
+
+    /// True when a start value is given.
+    pub fn has_start(&self) -> bool {
+        match self {
+            PortType::Real { start, .. } => start.is_some(),
+            PortType::Integer { start, .. } | PortType::Enumeration { start, .. } => {
+                start.is_some()
+            }
+            PortType::Boolean { start } => start.is_some(),
+            PortType::String { start } => start.is_some(),
+        }
+    }
+}
+
+impl Causality {
+    /// Lower-case name (`parameter`, `calculatedParameter`, `input`, `output`, `local`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Causality::Parameter => "parameter",
+            Causality::CalculatedParameter => "calculatedParameter",
+            Causality::Input => "input",
+            Causality::Output => "output",
+            Causality::Local => "local",
+        }
+    }
+}
+
+impl Variability {
+    /// Lower-case name (`constant`, `fixed`, `tunable`, `discrete`, `continuous`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Variability::Constant => "constant",
+            Variability::Fixed => "fixed",
+            Variability::Tunable => "tunable",
+            Variability::Discrete => "discrete",
+            Variability::Continuous => "continuous",
+        }
+    }
+}
+
+impl PortSpec {
+    /// A real parameter with a start value; `variability` is `Fixed` or `Tunable`.
+    pub fn real_parameter(
+        name: &str,
+        vr: ValueRef,
+        variability: Variability,
+        start: f64,
+        unit: Option<&'static str>,
+        description: &str,
+    ) -> Self {
+        Self {
+            name: name.to_string(),
+            vr,
+            causality: Causality::Parameter,
+            variability,
+            ty: PortType::Real {
+                start: Some(start),
+                min: None,
+                max: None,
+            },
+            unit,
+            description: description.to_string(),
+        }
+    }
+
+    /// A boolean parameter with a start value; `variability` is `Fixed` or `Tunable`.
+    pub fn boolean_parameter(
+        name: &str,
+        vr: ValueRef,
+        variability: Variability,
+        start: bool,
+        description: &str,
+    ) -> Self {
+        Self {
+            name: name.to_string(),
+            vr,
+            causality: Causality::Parameter,
+            variability,
+            ty: PortType::Boolean { start: Some(start) },
+            unit: None,
+            description: description.to_string(),
+        }
+    }
+
+    /// A continuous real input with the value it holds until the importer sets it.
+    pub fn real_input(
+        name: &str,
+        vr: ValueRef,
+        start: f64,
+        unit: Option<&'static str>,
+        description: &str,
+    ) -> Self {
+        Self {
+            name: name.to_string(),
+            vr,
+            causality: Causality::Input,
+            variability: Variability::Continuous,
+            ty: PortType::Real {
+                start: Some(start),
+                min: None,
+                max: None,
+            },
+            unit,
+            description: description.to_string(),
+        }
+    }
+
+    /// A continuous real output (computed by the model, no start value).
+    pub fn real_output(
+        name: &str,
+        vr: ValueRef,
+        unit: Option<&'static str>,
+        description: &str,
+    ) -> Self {
+        Self {
+            name: name.to_string(),
+            vr,
+            causality: Causality::Output,
+            variability: Variability::Continuous,
+            ty: PortType::Real {
+                start: None,
+                min: None,
+                max: None,
+            },
+            unit,
+            description: description.to_string(),
+        }
+    }
+
+    /// A discrete boolean output (computed by the model, no start value).
+    pub fn boolean_output(name: &str, vr: ValueRef, description: &str) -> Self {
+        Self {
+            name: name.to_string(),
+            vr,
+            causality: Causality::Output,
+            variability: Variability::Discrete,
+            ty: PortType::Boolean { start: None },
+            unit: None,
+            description: description.to_string(),
+        }
+    }
+
+    /// Sets the inclusive lower bound of a real or integer port.
+    pub fn with_min(mut self, lo: f64) -> Self {
+        match &mut self.ty {
+            PortType::Real { min, .. } => *min = Some(lo),
+            PortType::Integer { min, .. } => *min = Some(lo as i32),
+            _ => {}
+        }
+        self
+    }
+
+    /// Sets the inclusive upper bound of a real or integer port.
+    pub fn with_max(mut self, hi: f64) -> Self {
+        match &mut self.ty {
+            PortType::Real { max, .. } => *max = Some(hi),
+            PortType::Integer { max, .. } => *max = Some(hi as i32),
+            _ => {}
+        }
+        self
+    }
+
+    /// True when an importer may write this port at all (parameters and inputs).
+    pub fn is_writable(&self) -> bool {
+        matches!(self.causality, Causality::Parameter | Causality::Input)
+            && self.variability != Variability::Constant
+    }
+}
+
+impl ModelInfo {
+    /// The position and row of the port with this storage type and value reference.
+    pub fn find(&self, base: BaseType, vr: ValueRef) -> Option<(usize, &PortSpec)> {
+        self.ports
+            .iter()
+            .enumerate()
+            .find(|(_, p)| p.vr == vr && p.ty.base() == base)
+    }
+
+    /// The row named `name`.
+    pub fn port_by_name(&self, name: &str) -> Option<&PortSpec> {
+        self.ports.iter().find(|p| p.name == name)
+    }
+
+    /// Checks the table for what every importer relies on; returns every problem found.
+    ///
+    /// Rules: unique names; value references unique per [`BaseType`]; parameters are `Fixed` or
+    /// `Tunable` and, like inputs and constants, have a start value; outputs, locals and
+    /// calculated parameters have none; only reals are `Continuous`; `min <= start <= max`;
+    /// enumeration starts lie in `1..=items`; default times are positive and finite.
+    pub fn validate(&self) -> Result<(), Vec<String>> {
+        let mut errs = Vec::new();
+        let mut seen_names = std::collections::HashSet::new();
+        let mut seen_vrs = std::collections::HashSet::new();
+        for p in &self.ports {
+            let n = &p.name;
+            if p.name.is_empty() {
+                errs.push("a port has an empty name".to_string());
+            }
+            if !seen_names.insert(p.name.as_str()) {
+                errs.push(format!("duplicate port name `{n}`"));
+            }
+            if !seen_vrs.insert((p.ty.base(), p.vr)) {
+                errs.push(format!(
+                    "`{n}`: value reference {} is used twice for {}",
+                    p.vr,
+                    p.ty.base().name()
+                ));
+            }
+            if p.description.trim().is_empty() {
+                errs.push(format!("`{n}` has no description"));
+            }
+            let needs_start = matches!(p.causality, Causality::Parameter | Causality::Input)
+                || p.variability == Variability::Constant;
+            if needs_start && !p.ty.has_start() {
+                errs.push(format!(
+                    "`{n}` ({}) needs a start value",
+                    p.causality.name()
+                ));
+            }
+            if !needs_start && p.ty.has_start() {
+                errs.push(format!(
+                    "`{n}` ({}) is computed by the model and must not have a start value",
+                    p.causality.name()
+                ));
+            }
+            let param_like = matches!(
+                p.causality,
+                Causality::Parameter | Causality::CalculatedParameter
+            );
+            if param_like && !matches!(p.variability, Variability::Fixed | Variability::Tunable) {
+                errs.push(format!("`{n}`: a parameter must be fixed or tunable"));
+            }
+            if !param_like
+                && matches!(p.variability, Variability::Fixed | Variability::Tunable)
+                && p.causality != Causality::Local
+            {
+                errs.push(format!(
+                    "`{n}`: only parameters and locals can be fixed or tunable"
+                ));
+            }
+            if p.variability == Variability::Continuous && p.ty.base() != BaseType::Real {
+                errs.push(format!("`{n}`: only Real ports can be continuous"));
+            }
+            if p.causality == Causality::Input && p.variability == Variability::Constant {
+                errs.push(format!("`{n}`: an input cannot be constant"));
+            }
+            match &p.ty {
+                PortType::Real { start, min, max } => {
+                    for (what, v) in [("start", start), ("min", min), ("max", max)] {
+                        if v.is_some_and(|v| !v.is_finite()) {
+                            errs.push(format!("`{n}`: {what} must be finite"));
+                        }
+                    }
+                    if let (Some(lo), Some(hi)) = (min, max)
+                        && lo > hi
+                    {
+                        errs.push(format!("`{n}`: min {lo} > max {hi}"));
+                    }
+                    if let Some(s) = start
+                        && (min.is_some_and(|lo| *s < lo) || max.is_some_and(|hi| *s > hi))
+                    {
+                        errs.push(format!("`{n}`: start {s} is outside [min, max]"));
+                    }
+                }
+                PortType::Integer { start, min, max } => {
+                    if let (Some(lo), Some(hi)) = (min, max)
+                        && lo > hi
+                    {
+                        errs.push(format!("`{n}`: min {lo} > max {hi}"));
+                    }
+                    if let Some(s) = start
+                        && (min.is_some_and(|lo| *s < lo) || max.is_some_and(|hi| *s > hi))
+                    {
+                        errs.push(format!("`{n}`: start {s} is outside [min, max]"));
+                    }
+                }
+                PortType::Enumeration {
+                    type_name,
+                    items,
+                    start,
+                } => {
+                    if type_name.is_empty() || items.is_empty() {
+                        errs.push(format!("`{n}`: an enumeration needs a type name and items"));
+                    }
+                    if let Some(s) = start
+                        && (*s < 1 || *s as usize > items.len())
+                    {
+                        errs.push(format!(
+                            "`{n}`: start {s} is not an item number 1..={}",
+                            items.len()
+                        ));
+                    }
+                }
+                PortType::Boolean { .. } | PortType::String { .. } => {}
+            }
+        }
+        if !(self.default_stop_time.is_finite() && self.default_stop_time > 0.0) {
+            errs.push("default_stop_time must be positive and finite".to_string());
+        }
+        if !(self.default_step.is_finite() && self.default_step > 0.0) {
+            errs.push("default_step must be positive and finite".to_string());
+        }
+        if errs.is_empty() { Ok(()) } else { Err(errs) }
+    }
 }

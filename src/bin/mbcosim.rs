@@ -1,0 +1,227 @@
+//! `mbcosim`: packs the FMUs, regenerates model descriptions, runs models natively.
+//!
+//! ```text
+//! mbcosim pack                 build dist/<Model>.fmu for every registered model
+//! mbcosim model-descriptions   rewrite modelDescription/<Model>.xml from the variable tables
+//!         [--check]            only report (exit 1) when a checked-in file is out of date
+//! mbcosim demo                 pack, then run the demos and print their tables
+//! mbcosim simulate <Model> [--stop T] [--step H] [--set name=value]... [--out file.csv]
+//!                              native run of one model; CSV of its outputs (stdout by default)
+//! ```
+//!
+//! Packing needs a fresh release cdylib. `cargo run --bin mbcosim` compiles the library for the
+//! binary but does not refresh `target/<profile>/libmbcosim.so`, so `pack` and `demo` first run
+//! `cargo build --lib` for the same profile and target directory as this executable (set
+//! `MBCOSIM_NO_BUILD=1` to skip that and use the library as it is).
+#![forbid(unsafe_code)]
+
+use std::path::PathBuf;
+use std::process::{Command, ExitCode};
+
+use mbcosim::fmi::{model_description, package};
+use mbcosim::scene::{self, native};
+
+/// Repository root: the folder with `Cargo.toml` and `modelDescription/`.
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn descriptions_dir() -> PathBuf {
+    root().join("modelDescription")
+}
+
+/// Builds the cdylib for this executable's profile and returns its path.
+fn fresh_cdylib() -> Result<PathBuf, String> {
+    let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
+    let profile_dir = exe
+        .parent()
+        .ok_or("executable has no parent folder")?
+        .to_path_buf();
+    let lib = profile_dir.join("libmbcosim.so");
+    if std::env::var_os("MBCOSIM_NO_BUILD").is_none() {
+        let profile = profile_dir
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or("debug")
+            .to_string();
+        let target_dir = profile_dir.parent().ok_or("no target folder")?;
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let mut cmd = Command::new(cargo);
+        cmd.args(["build", "--lib", "--quiet", "--profile", &profile])
+            .arg("--manifest-path")
+            .arg(root().join("Cargo.toml"))
+            .arg("--target-dir")
+            .arg(target_dir);
+        let status = cmd
+            .status()
+            .map_err(|e| format!("cannot run cargo to build the library: {e}"))?;
+        if !status.success() {
+            return Err(format!(
+                "`cargo build --lib --profile {profile}` failed ({status})"
+            ));
+        }
+    }
+    if !lib.is_file() {
+        return Err(format!(
+            "{} not found: run `cargo build --release --lib`",
+            lib.display()
+        ));
+    }
+    Ok(lib)
+}
+
+fn pack_all() -> Result<Vec<PathBuf>, String> {
+    let lib = fresh_cdylib()?;
+    let out = root().join("dist");
+    scene::registry()
+        .iter()
+        .map(|e| package::pack(e, &lib, &descriptions_dir(), &out))
+        .collect()
+}
+
+fn model_descriptions(check: bool) -> Result<(), String> {
+    let dir = descriptions_dir();
+    std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+    let mut stale = Vec::new();
+    for e in scene::registry() {
+        let info = (e.info)();
+        let path = package::description_path(&dir, info.identifier);
+        let xml = model_description::write(info)?;
+        if std::fs::read_to_string(&path).ok().as_deref() == Some(xml.as_str()) {
+            continue;
+        }
+        stale.push(path.display().to_string());
+        if !check {
+            std::fs::write(&path, xml).map_err(|e| format!("{}: {e}", path.display()))?;
+            println!("wrote {}", path.display());
+        }
+    }
+    match (check, stale.is_empty()) {
+        (true, false) => Err(format!(
+            "out of date: {}; run `{}`",
+            stale.join(", "),
+            package::REGENERATE
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// PID demo: a PI(D) controller closing the loop around `tau*dy/dt = -y + K*u`.
+fn demo_pid() -> Result<(), String> {
+    let (tau, gain, h, stop) = (0.5_f64, 2.0, 0.01, 4.0);
+    let mut pid = (scene::find_by_identifier("PidController")
+        .ok_or("PidController not registered")?
+        .create)();
+    for (name, v) in [
+        ("kp", 3.0),
+        ("ki", 2.0),
+        ("kd", 0.05),
+        ("Tf", 0.02),
+        ("Tt", 0.1),
+        ("u_min", -2.0),
+        ("u_max", 2.0),
+        ("setpoint", 1.0),
+    ] {
+        native::set_by_name(pid.as_mut(), name, v).map_err(|e| e.to_string())?;
+    }
+    pid.initialize(0.0).map_err(|e| e.to_string())?;
+    println!(
+        "\nPidController on a first-order plant (tau = {tau} s, gain {gain}), setpoint 1, step {h} s:"
+    );
+    println!("{:>6} {:>9} {:>9} {:>9}", "t [s]", "y", "u", "saturated");
+    let decay = (-h / tau).exp();
+    let mut y = 0.0;
+    let n = (stop / h).round() as usize;
+    for k in 0..=n {
+        let t = k as f64 * h;
+        let out = native::outputs(pid.as_ref()).map_err(|e| e.to_string())?;
+        if (k <= 100 && k % 20 == 0) || k % 100 == 0 {
+            println!("{t:>6.2} {y:>9.4} {:>9.4} {:>9}", out[0], out[2] != 0.0);
+        }
+        if k == n {
+            break;
+        }
+        native::set_by_name(pid.as_mut(), "measurement", y).map_err(|e| e.to_string())?;
+        pid.do_step(t, h).map_err(|e| e.to_string())?;
+        let u = native::outputs(pid.as_ref()).map_err(|e| e.to_string())?[0];
+        y = decay * y + gain * (1.0 - decay) * u;
+    }
+    Ok(())
+}
+
+/// Every demo, in order; add new ones here.
+const DEMOS: &[fn() -> Result<(), String>] = &[demo_pid];
+
+fn demo() -> Result<(), String> {
+    for fmu in pack_all()? {
+        println!("packed {}", fmu.display());
+    }
+    DEMOS.iter().try_for_each(|d| d())
+}
+
+fn simulate(args: &[String]) -> Result<(), String> {
+    let model = args.first().ok_or("simulate needs a model identifier")?;
+    let entry =
+        scene::find_by_identifier(model).ok_or_else(|| format!("unknown model `{model}`"))?;
+    let info = (entry.info)();
+    let (mut stop, mut step, mut values, mut out) =
+        (info.default_stop_time, info.default_step, Vec::new(), None);
+    let mut it = args[1..].iter();
+    while let Some(flag) = it.next() {
+        let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
+        let number = |s: &String| s.parse::<f64>().map_err(|e| format!("{s}: {e}"));
+        match flag.as_str() {
+            "--stop" => stop = number(value()?)?,
+            "--step" => step = number(value()?)?,
+            "--out" => out = Some(PathBuf::from(value()?)),
+            "--set" => {
+                let kv = value()?;
+                let (k, v) = kv
+                    .split_once('=')
+                    .ok_or_else(|| format!("--set {kv}: expected name=value"))?;
+                values.push((k.to_string(), number(&v.to_string())?));
+            }
+            other => return Err(format!("unknown option {other}")),
+        }
+    }
+    let mut m = (entry.create)();
+    let table = native::simulate(m.as_mut(), &values, stop, step).map_err(|e| e.to_string())?;
+    match out {
+        Some(p) => std::fs::write(&p, table.to_csv()).map_err(|e| format!("{}: {e}", p.display())),
+        None => {
+            print!("{}", table.to_csv());
+            Ok(())
+        }
+    }
+}
+
+const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | simulate <Model> [--stop T] [--step H] [--set name=value]... [--out file.csv]>";
+
+fn run(args: &[String]) -> Result<(), String> {
+    match args.first().map(String::as_str) {
+        Some("pack") => {
+            pack_all().map(|fmus| fmus.iter().for_each(|f| println!("packed {}", f.display())))
+        }
+        Some("model-descriptions") => {
+            model_descriptions(args.get(1).is_some_and(|a| a == "--check"))
+        }
+        Some("demo") => demo(),
+        Some("simulate") => simulate(&args[1..]),
+        Some("help" | "--help" | "-h") => {
+            println!("{USAGE}");
+            Ok(())
+        }
+        _ => Err(USAGE.to_string()),
+    }
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("mbcosim: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

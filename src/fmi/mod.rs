@@ -1,0 +1,30 @@
+//! FMI 2.0 Co-Simulation wrapper around any [`crate::scene::CoSimModel`].
+//!
+//! The only module with `unsafe` code and the C ABI. One generic wrapper serves every model in
+//! [`crate::scene::registry()`]: `fmi2Instantiate` picks the model by GUID, and the same shared
+//! library ships in every FMU as `binaries/linux64/<modelIdentifier>.so`.
+//!
+//! - [`types`]: hand-written `#[repr(C)]` FMI 2.0 types.
+//! - [`exports`](self#functions): the 34 `fmi2*` functions (re-exported here).
+//! - [`boundary`]: panic guard and pointer conversions; [`instance`]: the state machine and the
+//!   function bodies in safe Rust; [`machine`]: states and per-function masks; [`logger`]: log
+//!   categories and filters; [`snapshot`]: FMU states and their byte format.
+//! - [`model_description`] and [`units`]: `modelDescription.xml` from a variable table;
+//!   [`package`] and [`documentation`]: the `.fmu` archive.
+#![allow(unsafe_code, non_snake_case, non_upper_case_globals)]
+
+pub mod boundary;
+pub mod documentation;
+mod exports;
+pub mod instance;
+pub mod logger;
+pub mod machine;
+pub mod model_description;
+pub mod package;
+pub mod snapshot;
+#[cfg(test)]
+mod test_probe;
+pub mod types;
+pub mod units;
+
+pub use exports::*;

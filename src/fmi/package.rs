@@ -1,0 +1,158 @@
+//! Builds `.fmu` archives: one zip per registered model around the same shared library.
+//!
+//! Layout of `<Identifier>.fmu`:
+//!
+//! ```text
+//! modelDescription.xml              the checked-in modelDescription/<Identifier>.xml
+//! binaries/linux64/<Identifier>.so  the crate's cdylib, renamed (no `lib` prefix)
+//! documentation/index.html          generated from the variable table
+//! resources/...                     the model's data files, when it has any
+//! ```
+//!
+//! The archive is reproducible: entries in a fixed order with a fixed 1980-01-01 timestamp.
+//! Packing refuses a checked-in description that differs from the one the table produces, so a
+//! stale GUID or variable list can never ship.
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use zip::write::SimpleFileOptions;
+use zip::{CompressionMethod, DateTime, ZipWriter};
+
+use super::{documentation, model_description};
+use crate::scene::ModelEntry;
+
+/// Where the checked-in description of `identifier` lives under `dir` (`modelDescription/`).
+pub fn description_path(dir: &Path, identifier: &str) -> PathBuf {
+    dir.join(format!("{identifier}.xml"))
+}
+
+/// The command that rewrites the checked-in descriptions from the tables.
+pub const REGENERATE: &str = "cargo run --release --bin mbcosim -- model-descriptions";
+
+/// Reads the checked-in description of `entry` and checks that it matches the table.
+pub fn checked_description(entry: &ModelEntry, descriptions: &Path) -> Result<String, String> {
+    let info = (entry.info)();
+    let path = description_path(descriptions, info.identifier);
+    let on_disk =
+        fs::read_to_string(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let generated = model_description::write(info)?;
+    if on_disk != generated {
+        return Err(format!(
+            "{} differs from the variable table of {}; regenerate it with `{REGENERATE}` (and change the GUID if the variables changed)",
+            path.display(),
+            info.identifier
+        ));
+    }
+    Ok(on_disk)
+}
+
+/// Writes `<out_dir>/<Identifier>.fmu` for `entry` with `cdylib` as its binary; returns its path.
+pub fn pack(
+    entry: &ModelEntry,
+    cdylib: &Path,
+    descriptions: &Path,
+    out_dir: &Path,
+) -> Result<PathBuf, String> {
+    let info = (entry.info)();
+    let xml = checked_description(entry, descriptions)?;
+    let binary = fs::read(cdylib)
+        .map_err(|e| format!("cannot read the shared library {}: {e}", cdylib.display()))?;
+    fs::create_dir_all(out_dir).map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
+    let target = out_dir.join(format!("{}.fmu", info.identifier));
+    let partial = out_dir.join(format!(".{}.fmu.partial", info.identifier));
+    let io = |e: std::io::Error| format!("writing {}: {e}", partial.display());
+    let zerr = |e: zip::result::ZipError| format!("writing {}: {e}", partial.display());
+    let file = fs::File::create(&partial).map_err(io)?;
+    let mut zip = ZipWriter::new(file);
+    let opts = SimpleFileOptions::default()
+        .compression_method(CompressionMethod::Deflated)
+        .last_modified_time(DateTime::default())
+        .unix_permissions(0o644);
+    let mut entries: Vec<(String, Vec<u8>, u32)> = vec![
+        ("modelDescription.xml".into(), xml.into_bytes(), 0o644),
+        (
+            format!("binaries/linux64/{}.so", info.identifier),
+            binary,
+            0o755,
+        ),
+        (
+            "documentation/index.html".into(),
+            documentation::index_html(info).into_bytes(),
+            0o644,
+        ),
+    ];
+    for r in entry.resources {
+        if r.path
+            .split('/')
+            .any(|c| c.is_empty() || c == "." || c == "..")
+        {
+            return Err(format!(
+                "resource path `{}` of {} must be relative and plain",
+                r.path, info.identifier
+            ));
+        }
+        entries.push((format!("resources/{}", r.path), r.bytes.to_vec(), 0o644));
+    }
+    for (name, bytes, mode) in &entries {
+        zip.start_file(name.as_str(), opts.unix_permissions(*mode))
+            .map_err(zerr)?;
+        zip.write_all(bytes).map_err(io)?;
+    }
+    zip.finish().map_err(zerr)?.sync_all().map_err(io)?;
+    fs::rename(&partial, &target).map_err(|e| format!("renaming to {}: {e}", target.display()))?;
+    Ok(target)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Resource, pid};
+    use std::io::Read;
+
+    #[test]
+    fn fmu_layout_and_stale_description_refusal() {
+        let dir = std::env::temp_dir().join(format!("mbcosim-pack-{}", std::process::id()));
+        let descr = dir.join("md");
+        fs::create_dir_all(&descr).unwrap();
+        let lib = dir.join("libfake.so");
+        fs::write(&lib, b"\x7fELF fake").unwrap();
+        const RES: &[Resource] = &[Resource {
+            path: "data/table.csv",
+            bytes: b"a,b\n1,2\n",
+        }];
+        let entry = ModelEntry::new(pid::info, pid::create).with_resources(RES);
+
+        fs::write(description_path(&descr, "PidController"), "<stale/>").unwrap();
+        let e = pack(&entry, &lib, &descr, &dir).unwrap_err();
+        assert!(e.contains(REGENERATE), "{e}");
+
+        fs::write(
+            description_path(&descr, "PidController"),
+            model_description::write(pid::info()).unwrap(),
+        )
+        .unwrap();
+        let fmu = pack(&entry, &lib, &descr, &dir).unwrap();
+        let mut z = zip::ZipArchive::new(fs::File::open(&fmu).unwrap()).unwrap();
+        let names: Vec<String> = z.file_names().map(|n| n.unwrap().into_owned()).collect();
+        for n in [
+            "modelDescription.xml",
+            "binaries/linux64/PidController.so",
+            "documentation/index.html",
+            "resources/data/table.csv",
+        ] {
+            assert!(names.iter().any(|x| x == n), "{n} in {names:?}");
+        }
+        let mut so = Vec::new();
+        z.by_name("binaries/linux64/PidController.so")
+            .unwrap()
+            .read_to_end(&mut so)
+            .unwrap();
+        assert_eq!(so, b"\x7fELF fake");
+        let first = fs::read(&fmu).unwrap();
+        let again = pack(&entry, &lib, &descr, &dir).unwrap();
+        assert_eq!(fs::read(again).unwrap(), first, "reproducible archive");
+        fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,190 @@
+//! A test model for the wrapper tests: every variable type, a fixed parameter with a minimum,
+//! an enumeration, a model warning on negative force, a solver failure on a huge force and a
+//! panic on request.
+
+use std::sync::OnceLock;
+
+use crate::scene::bytes::{ByteReader, ByteWriter};
+use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, ValueRef, Variability};
+use crate::scene::store::PortStore;
+use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelEntry, ModelError};
+
+const MODES: &[(&str, &str)] = &[("slow", "Slow mode."), ("fast", "Fast mode.")];
+
+/// Real value reference: fixed parameter `mass` [kg], min 0.
+pub const MASS: u32 = 0;
+/// Real value reference: tunable parameter `gain`.
+pub const GAIN: u32 = 1;
+/// Real value reference: input `force` [N].
+pub const FORCE: u32 = 2;
+/// Real value reference: output `x` [m].
+pub const X: u32 = 3;
+/// Boolean value reference: tunable `panic_now` (panic in the next step).
+pub const PANIC_NOW: u32 = 0;
+
+fn test_info() -> &'static ModelInfo {
+    static INFO: OnceLock<ModelInfo> = OnceLock::new();
+    INFO.get_or_init(|| ModelInfo {
+        identifier: "Probe",
+        guid: "{probe}",
+        description: "Test model.",
+        ports: vec![
+            PortSpec::real_parameter("mass", MASS, Variability::Fixed, 1.0, Some("kg"), "Mass.")
+                .with_min(0.0),
+            PortSpec::real_parameter("gain", GAIN, Variability::Tunable, 1.0, None, "Gain."),
+            PortSpec::real_input("force", FORCE, 0.0, Some("N"), "Force."),
+            PortSpec::real_output("x", X, Some("m"), "Position."),
+            PortSpec {
+                name: "mode".into(),
+                vr: 0,
+                causality: Causality::Parameter,
+                variability: Variability::Fixed,
+                ty: PortType::Enumeration {
+                    type_name: "Mode",
+                    items: MODES,
+                    start: Some(1),
+                },
+                unit: None,
+                description: "Mode.".into(),
+            },
+            PortSpec {
+                name: "label".into(),
+                vr: 0,
+                causality: Causality::Parameter,
+                variability: Variability::Tunable,
+                ty: PortType::String { start: Some("a") },
+                unit: None,
+                description: "Label.".into(),
+            },
+            PortSpec::boolean_parameter(
+                "panic_now",
+                PANIC_NOW,
+                Variability::Tunable,
+                false,
+                "Panic in the next step.",
+            ),
+        ],
+        default_stop_time: 1.0,
+        default_step: 0.1,
+    })
+}
+
+#[derive(Clone)]
+struct Probe {
+    ports: PortStore,
+    time: f64,
+    log: Vec<LogRecord>,
+}
+
+impl Probe {
+    fn boxed() -> Box<dyn CoSimModel> {
+        Box::new(Probe {
+            ports: PortStore::new(test_info()),
+            time: 0.0,
+            log: Vec::new(),
+        })
+    }
+}
+
+impl CoSimModel for Probe {
+    fn info(&self) -> &'static ModelInfo {
+        test_info()
+    }
+    fn set_real(&mut self, vr: ValueRef, v: f64) -> Result<(), ModelError> {
+        self.ports.set_real(vr, v)
+    }
+    fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError> {
+        self.ports.get_real(vr)
+    }
+    fn set_integer(&mut self, vr: ValueRef, v: i32) -> Result<(), ModelError> {
+        self.ports.set_integer(vr, v)
+    }
+    fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError> {
+        self.ports.get_integer(vr)
+    }
+    fn set_boolean(&mut self, vr: ValueRef, v: bool) -> Result<(), ModelError> {
+        self.ports.set_boolean(vr, v)
+    }
+    fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError> {
+        self.ports.get_boolean(vr)
+    }
+    fn set_string(&mut self, vr: ValueRef, v: &str) -> Result<(), ModelError> {
+        self.ports.set_string(vr, v)
+    }
+    fn get_string(&self, vr: ValueRef) -> Result<String, ModelError> {
+        self.ports.get_string(vr)
+    }
+    fn initialize(&mut self, t: f64) -> Result<(), ModelError> {
+        self.time = t;
+        let x0 = self.ports.get_real(MASS)? * self.ports.get_real(FORCE)?;
+        self.ports.put_real(X, x0)?;
+        self.ports.mark_initialized();
+        Ok(())
+    }
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
+        crate::scene::check_step(self.time, t, h)?;
+        if self.ports.get_boolean(PANIC_NOW)? {
+            panic!("probe asked to panic");
+        }
+        let f = self.ports.get_real(FORCE)?;
+        if f > 1e6 {
+            return Err(ModelError::SolverFailure(
+                "force too large: the probe diverged".into(),
+            ));
+        }
+        let x = self.ports.get_real(X)? + self.ports.get_real(GAIN)? * f * h;
+        self.ports.put_real(X, x)?;
+        self.time = t + h;
+        self.log.push(LogRecord {
+            level: LogLevel::Event,
+            message: format!("stepped to {}", self.time),
+        });
+        if f < 0.0 {
+            self.log.push(LogRecord {
+                level: LogLevel::Warning,
+                message: "negative force".into(),
+            });
+        }
+        Ok(())
+    }
+    fn time(&self) -> f64 {
+        self.time
+    }
+    fn clone_box(&self) -> Box<dyn CoSimModel> {
+        Box::new(self.clone())
+    }
+    fn serialize(&self) -> Vec<u8> {
+        let mut w = ByteWriter::new();
+        w.header("Probe", 1);
+        self.ports.write(&mut w);
+        w.f64(self.time);
+        w.into_bytes()
+    }
+    fn deserialize(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
+        let mut r = ByteReader::new(bytes);
+        r.header("Probe", 1)?;
+        let ports = self.ports.read(&mut r)?;
+        let time = r.f64("time")?;
+        r.finish()?;
+        *self = Probe {
+            ports,
+            time,
+            log: Vec::new(),
+        };
+        Ok(())
+    }
+    fn reset(&mut self) {
+        *self = Probe {
+            ports: PortStore::new(test_info()),
+            time: 0.0,
+            log: Vec::new(),
+        };
+    }
+    fn take_log(&mut self) -> Vec<LogRecord> {
+        std::mem::take(&mut self.log)
+    }
+}
+
+pub fn probe_entry() -> ModelEntry {
+    ModelEntry::new(test_info, Probe::boxed)
+}

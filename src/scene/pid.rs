@@ -1,0 +1,333 @@
+//! `PidController`: a discrete-time PID controller with a filtered derivative and anti-windup.
+//!
+//! The controller is sampled once per communication step. At `do_step(t, h)` it reads the inputs
+//! set at `t` (held constant over the step, zero-order hold) and returns, at `t + h`, the control
+//! of the continuous-time law
+//!
+//! ```text
+//! u = sat( kp*e + I + D ),   dI/dt = ki*e + (u - v)/Tt,   Tf*dD/dt + D = kd*dx/dt
+//! ```
+//!
+//! with `e = setpoint - measurement`, `x = e` (or `x = -measurement` when
+//! `d_on_measurement`), `v` the unsaturated output and `sat` the clamp to `[u_min, u_max]`.
+//! Discretization over one step `h` [s] (Åström & Hägglund, *Advanced PID Control*, ch. 13):
+//!
+//! ```text
+//! D    <- (Tf*D + kd*(x_k - x_{k-1})) / (Tf + h)     backward Euler: stable for every Tf >= 0,
+//!                                                   a plain difference quotient when Tf = 0
+//! I'   =  I + ki*h*e_k                               exact integral of the held error
+//! v    =  kp*e_k + I' + D,   u = clamp(v, u_min, u_max)
+//! I    <- I' + (1 - exp(-h/Tt))*(u - v)               back-calculation, exact first-order
+//!                                                   tracking; Tt = 0 resets I at once
+//! ```
+//!
+//! For a constant error the output is exactly `kp*e + ki*e*(t - t0)` at every communication
+//! point, whatever the step sizes (no derivative kick at start: `x_{-1} = x_0`). Outputs change
+//! only in `do_step` (no direct feedthrough): an input set at `t` acts in the step from `t`.
+
+use std::sync::OnceLock;
+
+use super::bytes::{ByteReader, ByteWriter};
+use super::port::{ModelInfo, PortSpec, ValueRef, Variability};
+use super::store::PortStore;
+use super::{CoSimModel, LogLevel, LogRecord, ModelError, check_step};
+
+/// Model identifier (also the state tag).
+pub const IDENTIFIER: &str = "PidController";
+
+/// Real value references.
+mod vr {
+    use super::ValueRef;
+    pub const KP: ValueRef = 0;
+    pub const KI: ValueRef = 1;
+    pub const KD: ValueRef = 2;
+    pub const TF: ValueRef = 3;
+    pub const TT: ValueRef = 4;
+    pub const U_MIN: ValueRef = 5;
+    pub const U_MAX: ValueRef = 6;
+    pub const SETPOINT: ValueRef = 7;
+    pub const MEASUREMENT: ValueRef = 8;
+    pub const U: ValueRef = 9;
+    pub const ERROR: ValueRef = 10;
+    /// Boolean value references.
+    pub const D_ON_MEASUREMENT: ValueRef = 0;
+    pub const SATURATED: ValueRef = 1;
+}
+
+/// The PID variable table.
+pub fn info() -> &'static ModelInfo {
+    static INFO: OnceLock<ModelInfo> = OnceLock::new();
+    INFO.get_or_init(|| {
+        use Variability::{Fixed, Tunable};
+        ModelInfo {
+            identifier: IDENTIFIER,
+            guid: "{6f1c5a2e-93d4-4b7e-a8c1-3e2f9d0b7a51}",
+            description: "Discrete-time PID controller sampled at the communication step: filtered derivative (backward Euler), exact integral of the held error, output limits with back-calculation anti-windup.",
+            ports: vec![
+                PortSpec::real_parameter("kp", vr::KP, Tunable, 1.0, None, "Proportional gain (output units per error unit)."),
+                PortSpec::real_parameter("ki", vr::KI, Tunable, 0.5, Some("1/s"), "Integral gain (output units per error unit and second)."),
+                PortSpec::real_parameter("kd", vr::KD, Tunable, 0.0, Some("s"), "Derivative gain (output units per error unit per second of rate)."),
+                PortSpec::real_parameter("Tf", vr::TF, Tunable, 0.01, Some("s"), "Time constant of the first-order filter on the derivative; 0 gives a plain difference quotient.").with_min(0.0),
+                PortSpec::real_parameter("Tt", vr::TT, Tunable, 0.1, Some("s"), "Anti-windup tracking time constant: how fast the integral follows the saturated output; 0 resets it at once.").with_min(0.0),
+                PortSpec::real_parameter("u_min", vr::U_MIN, Tunable, -1.0e9, None, "Lower output limit (must not exceed u_max)."),
+                PortSpec::real_parameter("u_max", vr::U_MAX, Tunable, 1.0e9, None, "Upper output limit (must not be below u_min)."),
+                PortSpec::boolean_parameter("d_on_measurement", vr::D_ON_MEASUREMENT, Fixed, false, "Derivative acts on minus the measurement instead of the error (no kick on setpoint steps)."),
+                PortSpec::real_input("setpoint", vr::SETPOINT, 0.0, None, "Reference value the measurement should follow."),
+                PortSpec::real_input("measurement", vr::MEASUREMENT, 0.0, None, "Measured value of the controlled quantity."),
+                PortSpec::real_output("u", vr::U, None, "Control output, clamped to [u_min, u_max]."),
+                PortSpec::real_output("error", vr::ERROR, None, "Control error setpoint - measurement at the last sample."),
+                PortSpec::boolean_output("saturated", vr::SATURATED, "True while the output is clamped to one of its limits."),
+            ],
+            default_stop_time: 10.0,
+            default_step: 0.01,
+        }
+    })
+}
+
+/// A new PID controller at its default parameters.
+pub fn create() -> Box<dyn CoSimModel> {
+    Box::new(Pid::new())
+}
+
+/// Controller state between samples.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct PidState {
+    /// Integral term `I` (output units).
+    integral: f64,
+    /// Filtered derivative term `D` (output units).
+    derivative: f64,
+    /// Derivative source `x` at the previous sample.
+    x_prev: f64,
+    /// Simulation time [s].
+    time: f64,
+}
+
+/// The PID controller model.
+#[derive(Debug, Clone)]
+pub struct Pid {
+    ports: PortStore,
+    state: PidState,
+    log: Vec<LogRecord>,
+}
+
+impl Default for Pid {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Parameters read from the port store for one sample.
+struct Params {
+    kp: f64,
+    ki: f64,
+    kd: f64,
+    tf: f64,
+    tt: f64,
+    u_min: f64,
+    u_max: f64,
+}
+
+impl Pid {
+    /// A controller at its default parameters, not initialized.
+    pub fn new() -> Self {
+        Self {
+            ports: PortStore::new(info()),
+            state: PidState::default(),
+            log: Vec::new(),
+        }
+    }
+
+    fn params(&self) -> Result<Params, ModelError> {
+        let p = Params {
+            kp: self.ports.get_real(vr::KP)?,
+            ki: self.ports.get_real(vr::KI)?,
+            kd: self.ports.get_real(vr::KD)?,
+            tf: self.ports.get_real(vr::TF)?,
+            tt: self.ports.get_real(vr::TT)?,
+            u_min: self.ports.get_real(vr::U_MIN)?,
+            u_max: self.ports.get_real(vr::U_MAX)?,
+        };
+        if p.u_min > p.u_max {
+            return Err(ModelError::InvalidValue(format!(
+                "u_min = {} exceeds u_max = {}: set u_min <= u_max",
+                p.u_min, p.u_max
+            )));
+        }
+        Ok(p)
+    }
+
+    /// Error `e` and derivative source `x` from the current inputs.
+    fn sample(&self) -> Result<(f64, f64), ModelError> {
+        let sp = self.ports.get_real(vr::SETPOINT)?;
+        let y = self.ports.get_real(vr::MEASUREMENT)?;
+        let x = if self.ports.get_boolean(vr::D_ON_MEASUREMENT)? {
+            -y
+        } else {
+            sp - y
+        };
+        Ok((sp - y, x))
+    }
+
+    /// Clamps `v`, publishes the outputs and logs saturation changes; returns the clamped output.
+    fn publish(&mut self, p: &Params, v: f64, e: f64) -> Result<f64, ModelError> {
+        let u = v.clamp(p.u_min, p.u_max);
+        let saturated = u != v;
+        if saturated != self.ports.get_boolean(vr::SATURATED)? {
+            let message = if saturated {
+                format!(
+                    "t = {} s: output saturated at {u} (unsaturated {v})",
+                    self.state.time
+                )
+            } else {
+                format!("t = {} s: output left saturation ({u})", self.state.time)
+            };
+            self.log.push(LogRecord {
+                level: LogLevel::Event,
+                message,
+            });
+        }
+        self.ports.put_real(vr::U, u)?;
+        self.ports.put_real(vr::ERROR, e)?;
+        self.ports.put_boolean(vr::SATURATED, saturated)?;
+        Ok(u)
+    }
+
+    fn read_state(&self, bytes: &[u8]) -> Result<Pid, ModelError> {
+        let mut r = ByteReader::new(bytes);
+        r.header(IDENTIFIER, 1)?;
+        let ports = self.ports.read(&mut r)?;
+        let state = PidState {
+            integral: r.f64("integral term")?,
+            derivative: r.f64("derivative term")?,
+            x_prev: r.f64("previous derivative source")?,
+            time: r.f64("time")?,
+        };
+        r.finish()?;
+        Ok(Pid {
+            ports,
+            state,
+            log: Vec::new(),
+        })
+    }
+}
+
+impl CoSimModel for Pid {
+    fn info(&self) -> &'static ModelInfo {
+        info()
+    }
+
+    fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError> {
+        self.ports.set_real(vr, value)
+    }
+    fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError> {
+        self.ports.get_real(vr)
+    }
+    fn set_integer(&mut self, vr: ValueRef, value: i32) -> Result<(), ModelError> {
+        self.ports.set_integer(vr, value)
+    }
+    fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError> {
+        self.ports.get_integer(vr)
+    }
+    fn set_boolean(&mut self, vr: ValueRef, value: bool) -> Result<(), ModelError> {
+        self.ports.set_boolean(vr, value)
+    }
+    fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError> {
+        self.ports.get_boolean(vr)
+    }
+    fn set_string(&mut self, vr: ValueRef, value: &str) -> Result<(), ModelError> {
+        self.ports.set_string(vr, value)
+    }
+    fn get_string(&self, vr: ValueRef) -> Result<String, ModelError> {
+        self.ports.get_string(vr)
+    }
+
+    fn initialize(&mut self, t_start: f64) -> Result<(), ModelError> {
+        if self.ports.is_initialized() {
+            return Err(ModelError::NotAllowed(
+                "the controller is already initialized".into(),
+            ));
+        }
+        if !t_start.is_finite() {
+            return Err(ModelError::InvalidValue(format!(
+                "start time {t_start} must be finite"
+            )));
+        }
+        let p = self.params()?;
+        let (e, x) = self.sample()?;
+        self.state = PidState {
+            integral: 0.0,
+            derivative: 0.0,
+            x_prev: x,
+            time: t_start,
+        };
+        self.publish(&p, p.kp * e, e)?;
+        self.ports.mark_initialized();
+        Ok(())
+    }
+
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
+        if !self.ports.is_initialized() {
+            return Err(ModelError::NotAllowed("do_step before initialize".into()));
+        }
+        check_step(self.state.time, t, h)?;
+        let p = self.params()?;
+        let (e, x) = self.sample()?;
+        let s = &mut self.state;
+        s.derivative = (p.tf * s.derivative + p.kd * (x - s.x_prev)) / (p.tf + h);
+        s.x_prev = x;
+        let integral = s.integral + p.ki * h * e;
+        let v = p.kp * e + integral + s.derivative;
+        s.time = t + h;
+        let u = self.publish(&p, v, e)?;
+        let tracking = if p.tt > 0.0 {
+            -(-h / p.tt).exp_m1()
+        } else {
+            1.0
+        };
+        self.state.integral = integral + tracking * (u - v);
+        if !(u.is_finite() && self.state.integral.is_finite() && self.state.derivative.is_finite())
+        {
+            return Err(ModelError::SolverFailure(format!(
+                "t = {} s: the controller state overflowed (u = {u}); reduce the gains",
+                self.state.time
+            )));
+        }
+        Ok(())
+    }
+
+    fn time(&self) -> f64 {
+        self.state.time
+    }
+
+    fn clone_box(&self) -> Box<dyn CoSimModel> {
+        Box::new(self.clone())
+    }
+
+    fn serialize(&self) -> Vec<u8> {
+        let mut w = ByteWriter::new();
+        w.header(IDENTIFIER, 1);
+        self.ports.write(&mut w);
+        let s = &self.state;
+        for v in [s.integral, s.derivative, s.x_prev, s.time] {
+            w.f64(v);
+        }
+        w.into_bytes()
+    }
+
+    fn deserialize(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
+        *self = self.read_state(bytes)?;
+        Ok(())
+    }
+
+    fn reset(&mut self) {
+        *self = Pid::new();
+    }
+
+    fn take_log(&mut self) -> Vec<LogRecord> {
+        std::mem::take(&mut self.log)
+    }
+}
+
+#[cfg(test)]
+#[path = "pid_tests.rs"]
+mod tests;

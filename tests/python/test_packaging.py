@@ -1,0 +1,69 @@
+"""The archives: every registered model is packed, validators accept them, the layout is right."""
+
+import ctypes
+import pathlib
+import shutil
+import subprocess
+import sys
+import zipfile
+
+from conftest import DIST, ROOT, fmu_paths
+from fmpy.validation import validate_fmu
+
+FMI2_FUNCTIONS = """fmi2GetTypesPlatform fmi2GetVersion fmi2SetDebugLogging fmi2Instantiate fmi2FreeInstance
+fmi2SetupExperiment fmi2EnterInitializationMode fmi2ExitInitializationMode fmi2Terminate fmi2Reset
+fmi2GetReal fmi2GetInteger fmi2GetBoolean fmi2GetString fmi2SetReal fmi2SetInteger fmi2SetBoolean
+fmi2SetString fmi2GetFMUstate fmi2SetFMUstate fmi2FreeFMUstate fmi2SerializedFMUstateSize
+fmi2SerializeFMUstate fmi2DeSerializeFMUstate fmi2GetDirectionalDerivative fmi2SetRealInputDerivatives
+fmi2GetRealOutputDerivatives fmi2DoStep fmi2CancelStep fmi2GetStatus fmi2GetRealStatus
+fmi2GetIntegerStatus fmi2GetBooleanStatus fmi2GetStringStatus""".split()
+
+
+def test_every_registered_model_is_packed():
+    registered = {p.stem for p in (ROOT / "modelDescription").glob("*.xml")}
+    assert registered, "no checked-in model descriptions"
+    assert registered <= {p.stem for p in fmu_paths()}, f"missing in {DIST}"
+
+
+def test_validate_fmu_reports_nothing(fmu):
+    assert validate_fmu(str(fmu.path)) == []
+
+
+def test_fmutool_check_passes(fmu):
+    venv_tool = pathlib.Path(sys.executable).parent / "fmutool"
+    fmutool = str(venv_tool) if venv_tool.exists() else shutil.which("fmutool")
+    assert fmutool, "fmutool (fmu-manipulation-toolbox) is not installed"
+    r = subprocess.run([fmutool, "-input", str(fmu.path), "-check"], capture_output=True, text=True, timeout=120)
+    out = r.stdout + r.stderr
+    assert r.returncode == 0, out
+    assert "No semantic error" in out and "compliant with FMI-2.0" in out, out
+    assert "ERROR" not in out and "WARNING" not in out, out
+
+
+def test_archive_layout_and_exports(fmu):
+    with zipfile.ZipFile(fmu.path) as z:
+        names = set(z.namelist())
+        assert {"modelDescription.xml", f"binaries/linux64/{fmu.id}.so", "documentation/index.html"} <= names
+        assert z.read("modelDescription.xml") == (ROOT / "modelDescription" / f"{fmu.id}.xml").read_bytes()
+        html = z.read("documentation/index.html").decode()
+        for v in fmu.md.modelVariables:
+            assert f"<code>{v.name}</code>" in html
+    lib = ctypes.CDLL(f"{fmu.unzip}/binaries/linux64/{fmu.id}.so")
+    for name in FMI2_FUNCTIONS:
+        assert hasattr(lib, name), name
+    assert len(FMI2_FUNCTIONS) == 34
+    nm = shutil.which("nm")
+    if nm:
+        out = subprocess.run([nm, "-D", "--defined-only", f"{fmu.unzip}/binaries/linux64/{fmu.id}.so"],
+                             capture_output=True, text=True).stdout
+        exported = {line.split()[-1] for line in out.splitlines() if " T " in line}
+        assert exported == set(FMI2_FUNCTIONS), exported ^ set(FMI2_FUNCTIONS)
+
+
+def test_capabilities_are_declared(fmu):
+    cs = fmu.md.coSimulation
+    assert cs.canHandleVariableCommunicationStepSize and cs.canGetAndSetFMUstate and cs.canSerializeFMUstate
+    assert cs.canNotUseMemoryManagementFunctions and not cs.needsExecutionTool
+    assert {c.name for c in fmu.md.logCategories} >= {"logStatusWarning", "logStatusError", "logStatusFatal",
+                                                  "logEvents", "logSolver"}
+    assert sys.platform.startswith("linux")
