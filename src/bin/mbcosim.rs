@@ -149,8 +149,17 @@ fn demo_pid() -> Result<(), String> {
     Ok(())
 }
 
+/// PanelLock demo: a full deployment of the default rigid array, written to `out/` as CSV and SVG
+/// plots of the latch contact forces and the outer panel's tip velocity.
+fn demo_panel_lock() -> Result<(), String> {
+    println!("== PanelLock: deployment and lock-up of a 3-panel array (60 s)");
+    let summary = mbcosim::scene::panel_lock::run_demo(std::path::Path::new("out"), 60.0, 0.01)?;
+    print!("{summary}");
+    Ok(())
+}
+
 /// Every demo, in order; add new ones here.
-const DEMOS: &[fn() -> Result<(), String>] = &[demo_pid];
+const DEMOS: &[fn() -> Result<(), String>] = &[demo_panel_lock, demo_pid];
 
 fn demo() -> Result<(), String> {
     for fmu in pack_all()? {
