@@ -204,7 +204,10 @@ impl ModelEntry {
 
 /// All models this library serves, looked up by GUID or identifier.
 pub fn registry() -> Vec<ModelEntry> {
-    vec![ModelEntry::new(pid::info, pid::create)]
+    vec![
+        ModelEntry::new(panel_lock::info, panel_lock::create),
+        ModelEntry::new(pid::info, pid::create),
+    ]
 }
 
 /// The registered model with this GUID.

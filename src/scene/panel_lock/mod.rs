@@ -16,11 +16,15 @@
 //! - Gravity off (orbit), satellite fixed; BDF with rtol 1e-6, atol 1e-8, h_max 20 ms.
 
 mod build;
+mod cosim;
 mod demo;
 mod params;
+pub mod ports;
 mod run;
 
 pub use build::{Layout, build};
+pub use cosim::{PanelLockModel, create};
 pub use demo::run_demo;
 pub use params::PanelLockParams;
+pub use ports::info;
 pub use run::{HingeOutput, PanelLock, PanelLockOutputs};

@@ -1,0 +1,304 @@
+//! PanelLock as a co-simulation model: ports in, the native scene inside, outputs after each step.
+
+use super::ports::*;
+use super::{PanelLock, PanelLockParams};
+use crate::scene::bytes::{ByteReader, ByteWriter};
+use crate::scene::port::{ModelInfo, ValueRef};
+use crate::scene::store::PortStore;
+use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, check_step};
+use crate::state::State;
+
+/// A new PanelLock instance at default parameters.
+pub fn create() -> Box<dyn CoSimModel> {
+    Box::new(PanelLockModel::new())
+}
+
+/// The co-simulation model.
+#[derive(Debug, Clone)]
+pub struct PanelLockModel {
+    ports: PortStore,
+    scene: Option<PanelLock>,
+    time: f64,
+    log: Vec<LogRecord>,
+}
+
+impl Default for PanelLockModel {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl PanelLockModel {
+    /// Default parameters, not initialized.
+    pub fn new() -> Self {
+        PanelLockModel {
+            ports: PortStore::new(info()),
+            scene: None,
+            time: 0.0,
+            log: Vec::new(),
+        }
+    }
+
+    /// The scene parameters from the current port values.
+    pub fn params(&self) -> Result<PanelLockParams, ModelError> {
+        let mut p = PanelLockParams::default();
+        p.n_panels = self.ports.get_integer(ivr::N_PANELS)? as usize;
+        p.integrator = integrator_of(self.ports.get_integer(ivr::INTEGRATOR)?);
+        p.contact_law = law_of(self.ports.get_integer(ivr::CONTACT_LAW)?);
+        p.latches = self.ports.get_boolean(bvr::LATCHES)?;
+        p.cable_loop = self.ports.get_boolean(bvr::CABLE_LOOP)?;
+        p.free_satellite = self.ports.get_boolean(bvr::FREE_SATELLITE)?;
+        p.gravity = if self.ports.get_boolean(bvr::GRAVITY_ON)? {
+            Some(9.81)
+        } else {
+            None
+        };
+        for (i, rp) in REAL_PARAMS.iter().enumerate() {
+            (rp.set)(&mut p, self.ports.get_real(i as ValueRef)?);
+        }
+        p.validate().map_err(ModelError::InvalidValue)?;
+        Ok(p)
+    }
+
+    fn scene(&mut self) -> Result<&mut PanelLock, ModelError> {
+        self.scene
+            .as_mut()
+            .ok_or_else(|| ModelError::NotAllowed("the model is not initialized".into()))
+    }
+
+    /// Writes every output port from the scene.
+    fn publish(&mut self) -> Result<(), ModelError> {
+        let scene = self.scene()?;
+        let o = scene.outputs();
+        let stats = scene.sim.stats();
+        for k in 0..MAX_HINGES {
+            let h = o.hinges.get(k);
+            let vals = match h {
+                Some(h) => [
+                    h.angle,
+                    h.rate,
+                    h.contact_force,
+                    h.peak_force,
+                    if h.lock_time.is_finite() {
+                        h.lock_time
+                    } else {
+                        -1.0
+                    },
+                ],
+                None => [0.0, 0.0, 0.0, 0.0, -1.0],
+            };
+            for (j, v) in vals.iter().enumerate() {
+                self.ports.put_real(vr_hinge(k, j), *v)?;
+            }
+            self.ports
+                .put_boolean(bvr::LATCHED0 + k as ValueRef, h.is_some_and(|h| h.engaged))?;
+        }
+        let g = [
+            o.root_force.x,
+            o.root_force.y,
+            o.root_force.z,
+            o.root_torque.x,
+            o.root_torque.y,
+            o.root_torque.z,
+            o.tip_normal_velocity,
+            o.kinetic,
+            o.potential,
+            o.dissipated,
+            o.input_work,
+        ];
+        for (j, v) in g.iter().enumerate() {
+            self.ports.put_real(vr_global(j), *v)?;
+        }
+        let clamp = |x: u64| x.min(i32::MAX as u64) as i32;
+        self.ports.put_integer(ivr::STEPS, clamp(stats.steps))?;
+        self.ports
+            .put_integer(ivr::REJECTED, clamp(stats.rejected))?;
+        self.ports
+            .put_integer(ivr::NEWTON, clamp(stats.newton_iterations))?;
+        self.ports
+            .put_integer(ivr::FACTORIZATIONS, clamp(stats.factorizations))?;
+        Ok(())
+    }
+
+    /// Lock times before a step, to log the lock-ups it contains.
+    fn lock_times(&mut self) -> Vec<f64> {
+        self.scene
+            .as_mut()
+            .map(|s| s.outputs().hinges.iter().map(|h| h.lock_time).collect())
+            .unwrap_or_default()
+    }
+}
+
+impl CoSimModel for PanelLockModel {
+    fn info(&self) -> &'static ModelInfo {
+        info()
+    }
+
+    fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError> {
+        self.ports.set_real(vr, value)?;
+        if vr == vr_motor() {
+            if let Some(s) = self.scene.as_mut() {
+                s.set_motor_torque(value)
+                    .map_err(ModelError::InvalidValue)?;
+            }
+        }
+        Ok(())
+    }
+    fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError> {
+        self.ports.get_real(vr)
+    }
+    fn set_integer(&mut self, vr: ValueRef, value: i32) -> Result<(), ModelError> {
+        self.ports.set_integer(vr, value)
+    }
+    fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError> {
+        self.ports.get_integer(vr)
+    }
+    fn set_boolean(&mut self, vr: ValueRef, value: bool) -> Result<(), ModelError> {
+        self.ports.set_boolean(vr, value)
+    }
+    fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError> {
+        self.ports.get_boolean(vr)
+    }
+    fn set_string(&mut self, vr: ValueRef, value: &str) -> Result<(), ModelError> {
+        self.ports.set_string(vr, value)
+    }
+    fn get_string(&self, vr: ValueRef) -> Result<String, ModelError> {
+        self.ports.get_string(vr)
+    }
+
+    fn initialize(&mut self, t_start: f64) -> Result<(), ModelError> {
+        if self.ports.is_initialized() {
+            return Err(ModelError::NotAllowed(
+                "PanelLock is already initialized".into(),
+            ));
+        }
+        if t_start != 0.0 {
+            return Err(ModelError::InvalidValue(format!(
+                "PanelLock starts stowed at t = 0 s; start time {t_start} s is not supported"
+            )));
+        }
+        let p = self.params()?;
+        let mut scene = PanelLock::new(p).map_err(ModelError::InvalidValue)?;
+        for w in &scene.sim.warnings {
+            self.log.push(LogRecord {
+                level: LogLevel::Warning,
+                message: w.clone(),
+            });
+        }
+        scene
+            .set_motor_torque(self.ports.get_real(vr_motor())?)
+            .map_err(ModelError::InvalidValue)?;
+        self.scene = Some(scene);
+        self.time = t_start;
+        self.publish()?;
+        self.ports.mark_initialized();
+        Ok(())
+    }
+
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
+        if !self.ports.is_initialized() {
+            return Err(ModelError::NotAllowed("do_step before initialize".into()));
+        }
+        check_step(self.time, t, h)?;
+        let before = self.lock_times();
+        let t_end = self.time + h;
+        let scene = self.scene()?;
+        scene
+            .advance_to(t_end)
+            .map_err(|e| ModelError::SolverFailure(format!("PanelLock solver failed: {e}")))?;
+        self.time = t_end;
+        let after = self.lock_times();
+        for (k, (a, b)) in after.iter().zip(&before).enumerate() {
+            if a.is_finite() && !b.is_finite() {
+                self.log.push(LogRecord {
+                    level: LogLevel::Event,
+                    message: format!("hinge {k} locked at t = {a:.6} s"),
+                });
+            }
+        }
+        self.publish()
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn clone_box(&self) -> Box<dyn CoSimModel> {
+        Box::new(self.clone())
+    }
+
+    fn serialize(&self) -> Vec<u8> {
+        let mut w = ByteWriter::new();
+        w.header(IDENTIFIER, 1);
+        self.ports.write(&mut w);
+        w.f64(self.time);
+        match &self.scene {
+            None => w.bool(false),
+            Some(s) => {
+                w.bool(true);
+                let st = &s.sim.state;
+                w.f64(st.t);
+                w.f64s(&st.q);
+                w.f64s(&st.v);
+                w.f64s(&st.vdot);
+                w.f64s(&st.lambda);
+                w.f64(st.energy_dissipated);
+                w.f64(st.work_input);
+                w.f64s(&st.memory);
+                w.f64s(&s.sim.system.inputs);
+                w.f64s(&s.sim.integrator_memory());
+            }
+        }
+        w.into_bytes()
+    }
+
+    fn deserialize(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
+        let mut r = ByteReader::new(bytes);
+        r.header(IDENTIFIER, 1)?;
+        let ports = self.ports.read(&mut r)?;
+        let time = r.finite_f64("time")?;
+        let mut restored = PanelLockModel {
+            ports,
+            scene: None,
+            time,
+            log: Vec::new(),
+        };
+        if r.bool("initialized scene")? {
+            let state = State {
+                t: r.finite_f64("state time")?,
+                q: r.f64s("positions")?,
+                v: r.f64s("speeds")?,
+                vdot: r.f64s("accelerations")?,
+                lambda: r.f64s("multipliers")?,
+                energy_dissipated: r.f64("dissipated energy")?,
+                work_input: r.f64("input work")?,
+                memory: r.f64s("effect memory")?,
+            };
+            let inputs = r.f64s("inputs")?;
+            let memory = r.f64s("integrator memory")?;
+            let mut scene = PanelLock::new(restored.params()?).map_err(ModelError::BadState)?;
+            if inputs.len() != scene.sim.system.inputs.len() {
+                return Err(ModelError::BadState(
+                    "serialized PanelLock state has the wrong number of inputs".into(),
+                ));
+            }
+            scene.sim.system.inputs = inputs;
+            scene
+                .sim
+                .restore(state, &memory)
+                .map_err(ModelError::BadState)?;
+            restored.scene = Some(scene);
+        }
+        r.finish()?;
+        *self = restored;
+        Ok(())
+    }
+
+    fn reset(&mut self) {
+        *self = PanelLockModel::new();
+    }
+
+    fn take_log(&mut self) -> Vec<LogRecord> {
+        std::mem::take(&mut self.log)
+    }
+}
