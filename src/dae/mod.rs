@@ -7,6 +7,7 @@
 //! `c_M M + c_D D + c_K K` and `G` blocks at offsets they choose.
 
 pub mod linear;
+mod modal;
 mod redundancy;
 
 use crate::effect::constraint::{RowEval, joint_rows};
@@ -15,6 +16,7 @@ use crate::math::{Mat3, Matrix6, Vec3, skew};
 use crate::model::kinematics::{self, BodyKin, kin_of};
 use crate::model::{BodyId, BodyKind, Model};
 use linear::LinearSolver;
+use modal::{ModalTerms, modal_terms};
 use std::sync::Arc;
 
 /// The assembled system with its evaluation scratch (no allocation per evaluation).
@@ -37,6 +39,8 @@ pub struct System {
     memory_offsets: Vec<usize>,
     /// Current effect memory (copied from the state before each evaluation).
     pub memory: Vec<f64>,
+    /// Floating-frame terms of the modal bodies, at the last kinematics update.
+    modal: Vec<ModalTerms>,
 }
 
 /// Adds `c_K K + c_D D` blocks into a linear solver at an offset.
@@ -91,6 +95,7 @@ impl System {
             rows_full: Vec::with_capacity(n_full),
             rows: Vec::with_capacity(n_full),
             n_evals: 0,
+            modal: modal_terms(&model),
             model,
         };
         let (q0, v0) = (sys.model.q0.clone(), sys.model.v0.clone());
@@ -171,6 +176,9 @@ impl System {
     /// Evaluates body kinematics at `(q, v)`.
     pub fn update_kinematics(&mut self, q: &[f64], v: &[f64]) {
         kinematics::evaluate(&self.model, q, v, &mut self.kins);
+        for m in &mut self.modal {
+            m.update(q, v, &self.kins[m.body]);
+        }
     }
 
     /// Evaluation context of force effect `i`.
@@ -235,7 +243,8 @@ impl System {
         change
     }
 
-    /// `out = M a` (block diagonal mass matrix).
+    /// `out = M a` (block diagonal mass matrix; the blocks of modal bodies `M(a)` are those of
+    /// the last kinematics update, i.e. of the last `forces`/`eval_constraints` call).
     pub fn mass_mul(&self, a: &[f64], out: &mut [f64]) {
         for b in &self.model.bodies {
             let o = b.v_offset;
@@ -252,7 +261,11 @@ impl System {
                         out[o + i] = mass * a[o + i];
                     }
                 }
+                BodyKind::Modal { .. } => {}
             }
+        }
+        for m in &self.modal {
+            m.mass_mul(a, out);
         }
     }
 
@@ -271,6 +284,9 @@ impl System {
         }
         for (i, e) in self.model.forces.iter().enumerate() {
             e.add_forces(&self.ctx(t, i), f);
+        }
+        for m in &self.modal {
+            m.add_forces(self.model.gravity.as_ref(), f);
         }
     }
 
@@ -325,7 +341,12 @@ impl System {
                         lin.push(o + i, oc + i, cm * mass);
                     }
                 }
+                BodyKind::Modal { .. } => {}
             }
+        }
+        for m in &self.modal {
+            let g = self.model.gravity.as_ref();
+            m.add_newton_block(g, cm, cd, ck, lin, row_off, col_off);
         }
         let mut sink = TripletSink {
             lin,
@@ -429,7 +450,12 @@ impl System {
             .iter()
             .enumerate()
             .map(|(i, e)| e.potential_energy(&self.ctx(t, i)))
-            .sum();
+            .sum::<f64>()
+            + self
+                .modal
+                .iter()
+                .map(|m| m.potential_energy(self.model.gravity.as_ref()))
+                .sum::<f64>();
         (kinetic, potential)
     }
 
@@ -441,7 +467,8 @@ impl System {
             .iter()
             .enumerate()
             .map(|(i, e)| e.dissipated_power(&self.ctx(t, i)))
-            .sum();
+            .sum::<f64>()
+            + self.modal.iter().map(|m| m.dissipated_power()).sum::<f64>();
         let input = forces
             .iter()
             .enumerate()

@@ -65,7 +65,7 @@ pub fn independent_rows(
         for (side, b) in row_bodies[r].iter().enumerate() {
             if let Some(bi) = b.index() {
                 let body = &model.bodies[bi];
-                for k in 0..body.kind.n_v() {
+                for k in 0..body.kind.n_v().min(6) {
                     dense[body.v_offset + k] += rows[r].g[side][k];
                 }
             }

@@ -11,6 +11,7 @@ use crate::effect::applied::AppliedLoads;
 use crate::effect::gravity::Gravity;
 use crate::effect::spring_damper::SpringDampers;
 use crate::effect::torsion::{JointTorques, TorsionSprings};
+use crate::flex::ModalBodyData;
 use crate::math::{Mat3, Vec3};
 use std::sync::Arc;
 
@@ -18,6 +19,8 @@ use std::sync::Arc;
 #[derive(Debug, Default)]
 pub struct ModelBuilder {
     bodies: Vec<(String, BodyKind, BodyInit)>,
+    /// Initial modal coordinates and speeds of modal bodies (index = body index; empty otherwise).
+    modal_init: Vec<(Vec<f64>, Vec<f64>)>,
     joints: Vec<Joint>,
     springs: Vec<SpringDamper>,
     torsions: Vec<TorsionSpring>,
@@ -89,6 +92,7 @@ impl ModelBuilder {
         Self::check_init(name, &init)?;
         self.bodies
             .push((name.to_string(), BodyKind::Rigid { mass, inertia }, init));
+        self.modal_init.push((Vec::new(), Vec::new()));
         Ok(BodyId(self.bodies.len() - 1))
     }
 
@@ -109,6 +113,39 @@ impl ModelBuilder {
         Self::check_init(name, &init)?;
         self.bodies
             .push((name.to_string(), BodyKind::Particle { mass }, init));
+        self.modal_init.push((Vec::new(), Vec::new()));
+        Ok(BodyId(self.bodies.len() - 1))
+    }
+
+    /// Adds a modally reduced flexible body (floating frame of reference, see
+    /// [`crate::model::body`]): `init` places its reference frame (origin and orientation, speeds
+    /// of the origin [m/s, world] and of the frame [rad/s, body]); `a0` and `a_dot0` are the
+    /// initial modal coordinates and speeds (each of length `data.n_modes()`).
+    pub fn add_modal_body(
+        &mut self,
+        name: &str,
+        data: Arc<ModalBodyData>,
+        init: BodyInit,
+        a0: &[f64],
+        a_dot0: &[f64],
+    ) -> Result<BodyId, String> {
+        let n = data.n_modes();
+        if a0.len() != n || a_dot0.len() != n {
+            return Err(format!(
+                "modal body '{name}': initial modal coordinates have length {} and speeds {}, the body has {n} modes",
+                a0.len(),
+                a_dot0.len()
+            ));
+        }
+        if !a0.iter().chain(a_dot0).all(|x| x.is_finite()) {
+            return Err(format!(
+                "modal body '{name}': initial modal coordinates or speeds are not finite"
+            ));
+        }
+        Self::check_init(name, &init)?;
+        self.bodies
+            .push((name.to_string(), BodyKind::Modal { data }, init));
+        self.modal_init.push((a0.to_vec(), a_dot0.to_vec()));
         Ok(BodyId(self.bodies.len() - 1))
     }
 
@@ -120,10 +157,10 @@ impl ModelBuilder {
 
     /// Switches gravity on with acceleration `g` [m/s^2] (world frame), or off with `None`.
     pub fn set_gravity(&mut self, g: Option<Vec3>) -> Result<(), String> {
-        if let Some(g) = g {
-            if !finite3(&g) {
-                return Err("gravity vector is not finite".into());
-            }
+        if let Some(g) = g
+            && !finite3(&g)
+        {
+            return Err("gravity vector is not finite".into());
         }
         self.gravity = g;
         Ok(())
@@ -148,6 +185,24 @@ impl ModelBuilder {
                     "{owner}: frame {which} is on particle '{bname}', which has no rotation"
                 ));
             }
+            if let Some(node) = f.node {
+                let Some(data) = kind.modal() else {
+                    return Err(format!(
+                        "{owner}: frame {which} refers to node {node} of '{bname}', which is not a modal (flexible) body"
+                    ));
+                };
+                if node >= data.n_nodes() {
+                    return Err(format!(
+                        "{owner}: frame {which} refers to node {node} of modal body '{bname}', which has {} nodes (0..{})",
+                        data.n_nodes(),
+                        data.n_nodes()
+                    ));
+                }
+            }
+        } else if f.node.is_some() {
+            return Err(format!(
+                "{owner}: frame {which} is on the ground and cannot refer to a node"
+            ));
         }
         if !finite3(&f.origin) || !f.axes.iter().all(|x| x.is_finite()) {
             return Err(format!(
@@ -164,17 +219,34 @@ impl ModelBuilder {
         Ok(())
     }
 
+    /// Force elements act at reference-frame points of a modal body only (not at nodes, yet).
+    fn check_force_frame(
+        &self,
+        owner: &str,
+        which: &str,
+        f: &Frame,
+        needs_rotation: bool,
+    ) -> Result<(), String> {
+        self.check_frame(owner, which, f, needs_rotation)?;
+        if let Some(node) = f.node {
+            return Err(format!(
+                "{owner}: frame {which} refers to flexible-body node {node}; force elements act only at points of a body's reference frame (joints may use nodes)"
+            ));
+        }
+        Ok(())
+    }
+
     fn check_profile(&self, owner: &str, p: &Profile) -> Result<(), String> {
         if !p.is_finite() {
             return Err(format!("{owner}: profile has non-finite coefficients"));
         }
-        if let Some(i) = p.input() {
-            if i >= self.inputs.len() {
-                return Err(format!(
-                    "{owner}: profile reads input #{i}, but the model declares {} inputs",
-                    self.inputs.len()
-                ));
-            }
+        if let Some(i) = p.input()
+            && i >= self.inputs.len()
+        {
+            return Err(format!(
+                "{owner}: profile reads input #{i}, but the model declares {} inputs",
+                self.inputs.len()
+            ));
         }
         Ok(())
     }
@@ -196,6 +268,13 @@ impl ModelBuilder {
         if let JointKind::AngleDrive(p) | JointKind::TranslationDrive(p) = &kind {
             self.check_profile(&owner, p)?;
         }
+        if matches!(kind, JointKind::AngleDrive(_))
+            && (frame_i.node.is_some() || frame_j.node.is_some())
+        {
+            return Err(format!(
+                "{owner}: an angle drive on a flexible-body node frame is not supported (put it on the body's reference frame)"
+            ));
+        }
         self.joints.push(Joint {
             name: name.to_string(),
             kind,
@@ -208,10 +287,12 @@ impl ModelBuilder {
     /// Adds a translational spring-damper.
     pub fn add_spring_damper(&mut self, e: SpringDamper) -> Result<(), String> {
         let owner = format!("spring-damper '{}'", e.name);
-        self.check_frame(&owner, "a", &e.a, false)?;
-        self.check_frame(&owner, "b", &e.b, false)?;
-        if !(e.stiffness >= 0.0 && e.damping >= 0.0 && e.free_length >= 0.0)
-            || !(e.stiffness + e.damping + e.free_length).is_finite()
+        self.check_force_frame(&owner, "a", &e.a, false)?;
+        self.check_force_frame(&owner, "b", &e.b, false)?;
+        if !(e.stiffness >= 0.0
+            && e.damping >= 0.0
+            && e.free_length >= 0.0
+            && (e.stiffness + e.damping + e.free_length).is_finite())
         {
             return Err(format!(
                 "{owner}: stiffness, damping and free length must be finite and >= 0"
@@ -224,10 +305,11 @@ impl ModelBuilder {
     /// Adds a rotational spring-damper about the z axes of its frames.
     pub fn add_torsion_spring(&mut self, e: TorsionSpring) -> Result<(), String> {
         let owner = format!("torsion spring '{}'", e.name);
-        self.check_frame(&owner, "i", &e.frame_i, true)?;
-        self.check_frame(&owner, "j", &e.frame_j, true)?;
-        if !(e.stiffness >= 0.0 && e.damping >= 0.0)
-            || !(e.stiffness + e.damping + e.free_angle + e.angle_offset).is_finite()
+        self.check_force_frame(&owner, "i", &e.frame_i, true)?;
+        self.check_force_frame(&owner, "j", &e.frame_j, true)?;
+        if !(e.stiffness >= 0.0
+            && e.damping >= 0.0
+            && (e.stiffness + e.damping + e.free_angle + e.angle_offset).is_finite())
         {
             return Err(format!(
                 "{owner}: stiffness and damping must be finite and >= 0, angles finite"
@@ -240,7 +322,7 @@ impl ModelBuilder {
     /// Adds an applied force/torque.
     pub fn add_applied_load(&mut self, e: AppliedLoad) -> Result<(), String> {
         let owner = format!("load '{}'", e.name);
-        self.check_frame(&owner, "at", &e.at, false)?;
+        self.check_force_frame(&owner, "at", &e.at, false)?;
         self.check_profile(&owner, &e.force)?;
         self.check_profile(&owner, &e.torque)?;
         if !finite3(&e.force_direction) || !finite3(&e.torque_direction) {
@@ -253,8 +335,8 @@ impl ModelBuilder {
     /// Adds a torque between two bodies about a joint axis.
     pub fn add_joint_torque(&mut self, e: JointTorque) -> Result<(), String> {
         let owner = format!("joint torque '{}'", e.name);
-        self.check_frame(&owner, "i", &e.frame_i, true)?;
-        self.check_frame(&owner, "j", &e.frame_j, true)?;
+        self.check_force_frame(&owner, "i", &e.frame_i, true)?;
+        self.check_force_frame(&owner, "j", &e.frame_j, true)?;
         self.check_profile(&owner, &e.torque)?;
         self.joint_torques.push(e);
         Ok(())
@@ -289,11 +371,22 @@ impl ModelBuilder {
                 v0[b.v_offset + 3..b.v_offset + 6].copy_from_slice(init.omega.as_slice());
             }
         }
+        for (b, (a0, a_dot0)) in bodies.iter().zip(&self.modal_init) {
+            q0[b.q_offset + 7..b.q_offset + 7 + a0.len()].copy_from_slice(a0);
+            v0[b.v_offset + 6..b.v_offset + 6 + a_dot0.len()].copy_from_slice(a_dot0);
+        }
         let mut forces: Vec<Arc<dyn ForceEffect>> = Vec::new();
         if let Some(g) = self.gravity {
             forces.push(Arc::new(Gravity {
                 g,
-                masses: bodies.iter().map(|b| b.kind.mass()).collect(),
+                // modal bodies get their (configuration-dependent) gravity from the System
+                masses: bodies
+                    .iter()
+                    .map(|b| match b.kind {
+                        BodyKind::Modal { .. } => 0.0,
+                        _ => b.kind.mass(),
+                    })
+                    .collect(),
             }));
         }
         if !self.springs.is_empty() {

@@ -66,6 +66,9 @@ impl Model {
                 let rn = r * exp_so3(&th);
                 kinematics::put_quat(out, qo + 3, &rn);
             }
+            for i in 0..b.kind.n_modes() {
+                out[qo + 7 + i] = q[qo + 7 + i] + dx[vo + 6 + i];
+            }
         }
     }
 
@@ -83,6 +86,9 @@ impl Model {
                 let th = log_so3(&(r0.inverse() * r1));
                 dx[vo + 3..vo + 6].copy_from_slice(th.as_slice());
             }
+            for i in 0..b.kind.n_modes() {
+                dx[vo + 6 + i] = q[qo + 7 + i] - q_ref[qo + 7 + i];
+            }
         }
     }
 
@@ -97,11 +103,14 @@ impl Model {
                 let om = Vec3::new(v[vo + 3], v[vo + 4], v[vo + 5]);
                 out[vo + 3..vo + 6].copy_from_slice(dexp_inv(&th, &om).as_slice());
             }
+            let m = b.kind.n_modes();
+            out[vo + 6..vo + 6 + m].copy_from_slice(&v[vo + 6..vo + 6 + m]);
         }
     }
 
     /// Per-coordinate magnitude used for relative error weights: |r| for translations [m],
-    /// 1 rad for rotations, |v| for speeds.
+    /// 1 rad for rotations, |a_i| for modal coordinates (like translations: their units are
+    /// those of the body data), |v| for speeds.
     pub fn position_scale(&self, q: &[f64], out: &mut [f64]) {
         for b in &self.bodies {
             let (qo, vo) = (b.q_offset, b.v_offset);
@@ -110,6 +119,9 @@ impl Model {
             }
             if b.kind.has_rotation() {
                 out[vo + 3..vo + 6].fill(1.0);
+            }
+            for i in 0..b.kind.n_modes() {
+                out[vo + 6 + i] = q[qo + 7 + i].abs();
             }
         }
     }

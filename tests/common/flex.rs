@@ -1,0 +1,61 @@
+//! Shared builders for the flexible-body tests: a small honeycomb-like panel and its modal data.
+
+use mbcosim::flex::{ModalBodyData, PanelSpec, PlateModel};
+use mbcosim::math::{Mat3, Vec3};
+use mbcosim::model::kinematics::quat_at;
+use nalgebra::DVector;
+
+/// A 2 m x 1 m panel, 1.2 GPa equivalent modulus, 2.7 kg/m^2 (5.4 kg).
+pub fn panel_spec() -> PanelSpec {
+    PanelSpec {
+        a: 2.0,
+        b: 1.0,
+        thickness: 0.025,
+        youngs_modulus: 1.2e9,
+        poisson: 0.3,
+        density: 60.0,
+        non_structural_mass: 1.2,
+    }
+}
+
+/// Plate model of [`panel_spec`] on an `nx` x `ny` element mesh.
+pub fn panel(nx: usize, ny: usize) -> PlateModel {
+    PlateModel::new(&panel_spec(), nx, ny).unwrap()
+}
+
+/// Pose, modal coordinates and speeds of the modal body whose coordinates start at `qo`, `vo`.
+pub struct ModalState {
+    pub r: Vec3,
+    pub rot: Mat3,
+    pub v: Vec3,
+    pub omega: Vec3,
+    pub a: DVector<f64>,
+    pub a_dot: DVector<f64>,
+}
+
+pub fn modal_state(q: &[f64], v: &[f64], qo: usize, vo: usize, n: usize) -> ModalState {
+    ModalState {
+        r: Vec3::new(q[qo], q[qo + 1], q[qo + 2]),
+        rot: quat_at(q, qo + 3).to_rotation_matrix().into_inner(),
+        v: Vec3::new(v[vo], v[vo + 1], v[vo + 2]),
+        omega: Vec3::new(v[vo + 3], v[vo + 4], v[vo + 5]),
+        a: DVector::from_column_slice(&q[qo + 7..qo + 7 + n]),
+        a_dot: DVector::from_column_slice(&v[vo + 6..vo + 6 + n]),
+    }
+}
+
+/// Linear momentum [N s] and angular momentum about the world origin [N m s], world frame:
+/// `p` = rows 0..3 of `M y`, `L = r x p + A (rows 3..6 of M y)` (body-frame angular momentum
+/// about the frame origin, `S(a) x A^T v + J(a) omega + C_r(a) a_dot`).
+pub fn momenta(data: &ModalBodyData, s: &ModalState) -> (Vec3, Vec3) {
+    let m = data.invariants().mass_matrix(&s.rot, &s.a).unwrap();
+    let n = s.a.len();
+    let mut y = DVector::zeros(6 + n);
+    y.fixed_rows_mut::<3>(0).copy_from(&s.v);
+    y.fixed_rows_mut::<3>(3).copy_from(&s.omega);
+    y.rows_mut(6, n).copy_from(&s.a_dot);
+    let my = m * y;
+    let p = Vec3::new(my[0], my[1], my[2]);
+    let h = Vec3::new(my[3], my[4], my[5]);
+    (p, s.r.cross(&p) + s.rot * h)
+}
