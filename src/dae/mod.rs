@@ -10,7 +10,7 @@ pub mod linear;
 mod modal;
 mod redundancy;
 
-use crate::effect::constraint::{RowEval, joint_rows};
+use crate::effect::constraint::{NodeKin, RowEval, joint_rows};
 use crate::effect::{EvalCtx, JacobianSink, MemoryChange};
 use crate::math::{Mat3, Matrix6, Vec3, skew};
 use crate::model::kinematics::{self, BodyKin, kin_of};
@@ -27,6 +27,14 @@ pub struct System {
     pub inputs: Vec<f64>,
     /// Bodies of each full constraint row.
     row_bodies: Vec<[BodyId; 2]>,
+    /// Flexible-body nodes of the frames of each full row (`None`: not on a node).
+    row_nodes: Vec<[Option<usize>; 2]>,
+    /// Modal columns of node frames: full row `r`, side `s` has `n` entries from
+    /// `row_modal[row_modal_at[r][s]..]` (`usize::MAX` when the side has none).
+    row_modal: Vec<f64>,
+    row_modal_at: Vec<[usize; 2]>,
+    /// Index into `modal` of each body (`None` for rigid bodies and particles).
+    modal_of: Vec<Option<usize>>,
     /// Indices of the independent (active) rows among the full rows.
     active: Vec<usize>,
     kins: Vec<BodyKin>,
@@ -74,10 +82,17 @@ impl System {
     /// (e.g. in a 3D four-bar) are found by a rank-revealing QR and left out.
     pub fn new(model: Arc<Model>) -> Result<Self, String> {
         let mut row_bodies = Vec::new();
+        let mut row_nodes = Vec::new();
         for j in &model.joints {
             for _ in 0..j.kind.n_rows() {
                 row_bodies.push([j.frame_i.body, j.frame_j.body]);
+                row_nodes.push([j.frame_i.node, j.frame_j.node]);
             }
+        }
+        let modal = modal_terms(&model);
+        let mut modal_of = vec![None; model.bodies.len()];
+        for (i, m) in modal.iter().enumerate() {
+            modal_of[m.body] = Some(i);
         }
         let n_full = row_bodies.len();
         let mut memory_offsets = vec![0];
@@ -90,17 +105,24 @@ impl System {
             memory: vec![0.0; n_mem],
             inputs: vec![0.0; model.n_inputs()],
             row_bodies,
+            row_nodes,
+            row_modal: Vec::new(),
+            row_modal_at: Vec::with_capacity(n_full),
+            modal_of,
             active: (0..n_full).collect(),
             kins: Vec::with_capacity(model.bodies.len()),
             rows_full: Vec::with_capacity(n_full),
             rows: Vec::with_capacity(n_full),
             n_evals: 0,
-            modal: modal_terms(&model),
+            modal,
             model,
         };
         let (q0, v0) = (sys.model.q0.clone(), sys.model.v0.clone());
         sys.eval_constraints(0.0, &q0, &v0);
-        sys.active = redundancy::independent_rows(&sys.model, &sys.row_bodies, &sys.rows_full)?;
+        let modal_cols = |r: usize, dense: &mut [f64]| sys.for_row_modal(r, |c, g| dense[c] += g);
+        let active =
+            redundancy::independent_rows(&sys.model, &sys.row_bodies, &sys.rows_full, &modal_cols)?;
+        sys.active = active;
         Ok(sys)
     }
 
@@ -360,12 +382,58 @@ impl System {
         }
     }
 
+    /// Motion of node `node` of body `body` relative to its frame (`None` off nodes).
+    fn node_kin(&self, body: BodyId, node: Option<usize>) -> Option<NodeKin> {
+        let node = node?;
+        let m = &self.modal[self.modal_of[body.index()?]?];
+        let phi = m.data.translational_shapes().get(node)?;
+        let psi = m.data.rotational_shapes().get(node)?;
+        Some(NodeKin {
+            u: m.data.positions()[node] + phi * &m.a,
+            u_dot: phi * &m.a_dot,
+            theta: psi * &m.a,
+            theta_dot: psi * &m.a_dot,
+        })
+    }
+
     /// Evaluates the active constraint rows at `(q, v, t)` into [`System::rows`].
     pub fn eval_constraints(&mut self, t: f64, q: &[f64], v: &[f64]) {
         self.update_kinematics(q, v);
         self.rows_full.clear();
         for j in &self.model.joints {
-            joint_rows(j, &self.kins, t, &self.inputs, &mut self.rows_full);
+            let nodes = [
+                self.node_kin(j.frame_i.body, j.frame_i.node),
+                self.node_kin(j.frame_j.body, j.frame_j.node),
+            ];
+            joint_rows(j, &self.kins, nodes, t, &self.inputs, &mut self.rows_full);
+        }
+        // modal columns of node frames: Phi_k^T gn_t + Psi_k^T gn_r
+        self.row_modal.clear();
+        self.row_modal_at.clear();
+        for (r, row) in self.rows_full.iter().enumerate() {
+            let mut at = [usize::MAX; 2];
+            for side in 0..2 {
+                let (body, node) = (self.row_bodies[r][side], self.row_nodes[r][side]);
+                let Some(node) = node else { continue };
+                let Some(mi) = body.index().and_then(|b| self.modal_of[b]) else {
+                    continue;
+                };
+                let data = &self.modal[mi].data;
+                let (phi, psi) = (
+                    &data.translational_shapes()[node],
+                    &data.rotational_shapes()[node],
+                );
+                let gn = &row.gn[side];
+                at[side] = self.row_modal.len();
+                for c in 0..phi.ncols() {
+                    let mut x = 0.0;
+                    for k in 0..3 {
+                        x += phi[(k, c)] * gn[k] + psi[(k, c)] * gn[3 + k];
+                    }
+                    self.row_modal.push(x);
+                }
+            }
+            self.row_modal_at.push(at);
         }
         self.rows.clear();
         for &r in &self.active {
@@ -373,7 +441,26 @@ impl System {
         }
     }
 
-    /// Column offsets of the two bodies of active row `r` (`None` for ground).
+    /// Calls `f(column, value)` for the modal columns of full row `r` (node frames only).
+    fn for_row_modal(&self, r: usize, mut f: impl FnMut(usize, f64)) {
+        for side in 0..2 {
+            let at = self.row_modal_at[r][side];
+            if at == usize::MAX {
+                continue;
+            }
+            let Some(bi) = self.row_bodies[r][side].index() else {
+                continue;
+            };
+            let body = &self.model.bodies[bi];
+            let n = body.kind.n_modes();
+            for (c, &g) in self.row_modal[at..at + n].iter().enumerate() {
+                f(body.v_offset + 6 + c, g);
+            }
+        }
+    }
+
+    /// Column offsets of the two bodies of active row `r` (`None` for ground) and the length of
+    /// their rigid block (6 with rotations, 3 for particles).
     fn row_cols(&self, r: usize) -> [(Option<usize>, usize); 2] {
         let [bi, bj] = self.row_bodies[self.active[r]];
         let f = |b: BodyId| {
@@ -386,31 +473,33 @@ impl System {
         [f(bi), f(bj)]
     }
 
-    /// `out = G x` for the last evaluated rows.
-    pub fn g_mul(&self, x: &[f64], out: &mut [f64]) {
-        for (r, row) in self.rows.iter().enumerate() {
-            let mut s = 0.0;
-            for (side, (col, n)) in self.row_cols(r).into_iter().enumerate() {
-                if let Some(c) = col {
-                    for k in 0..n {
-                        s += row.g[side][k] * x[c + k];
-                    }
+    /// Calls `f(column, value)` for every structural entry of active row `r`: the 3- or 6-block
+    /// of each body, then the modal columns of node frames.
+    fn for_row(&self, r: usize, mut f: impl FnMut(usize, f64)) {
+        let row = &self.rows[r];
+        for (side, (col, n)) in self.row_cols(r).into_iter().enumerate() {
+            if let Some(c) = col {
+                for k in 0..n {
+                    f(c + k, row.g[side][k]);
                 }
             }
-            out[r] = s;
+        }
+        self.for_row_modal(self.active[r], f);
+    }
+
+    /// `out = G x` for the last evaluated rows.
+    pub fn g_mul(&self, x: &[f64], out: &mut [f64]) {
+        for (r, o) in out.iter_mut().enumerate().take(self.rows.len()) {
+            let mut s = 0.0;
+            self.for_row(r, |c, g| s += g * x[c]);
+            *o = s;
         }
     }
 
     /// `out += G^T y` for the last evaluated rows.
     pub fn gt_mul_add(&self, y: &[f64], out: &mut [f64]) {
-        for (r, row) in self.rows.iter().enumerate() {
-            for (side, (col, n)) in self.row_cols(r).into_iter().enumerate() {
-                if let Some(c) = col {
-                    for k in 0..n {
-                        out[c + k] += row.g[side][k] * y[r];
-                    }
-                }
-            }
+        for (r, &yr) in y.iter().enumerate().take(self.rows.len()) {
+            self.for_row(r, |c, g| out[c] += g * yr);
         }
     }
 
@@ -424,17 +513,13 @@ impl System {
         scale: f64,
         transpose_at: Option<(usize, usize, f64)>,
     ) {
-        for (r, row) in self.rows.iter().enumerate() {
-            for (side, (col, n)) in self.row_cols(r).into_iter().enumerate() {
-                if let Some(c) = col {
-                    for k in 0..n {
-                        lin.push(row_off + r, col_off + c + k, scale * row.g[side][k]);
-                        if let Some((tr, tc, st)) = transpose_at {
-                            lin.push(tr + c + k, tc + r, st * row.g[side][k]);
-                        }
-                    }
+        for r in 0..self.rows.len() {
+            self.for_row(r, |c, g| {
+                lin.push(row_off + r, col_off + c, scale * g);
+                if let Some((tr, tc, st)) = transpose_at {
+                    lin.push(tr + c, tc + r, st * g);
                 }
-            }
+            });
         }
     }
 

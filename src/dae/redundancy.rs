@@ -22,6 +22,7 @@ pub fn independent_rows(
     model: &Model,
     row_bodies: &[[BodyId; 2]],
     rows: &[RowEval],
+    add_modal_columns: &dyn Fn(usize, &mut [f64]),
 ) -> Result<Vec<usize>, String> {
     let nb = model.bodies.len();
     let node = |b: BodyId| b.index().unwrap_or(nb);
@@ -70,6 +71,7 @@ pub fn independent_rows(
                 }
             }
         }
+        add_modal_columns(r, &mut dense);
         let norm0 = dense.iter().map(|x| x * x).sum::<f64>().sqrt();
         if norm0 == 0.0 {
             continue;
