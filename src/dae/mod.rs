@@ -412,7 +412,7 @@ impl System {
         self.row_modal_at.clear();
         for (r, row) in self.rows_full.iter().enumerate() {
             let mut at = [usize::MAX; 2];
-            for side in 0..2 {
+            for (side, at_side) in at.iter_mut().enumerate() {
                 let (body, node) = (self.row_bodies[r][side], self.row_nodes[r][side]);
                 let Some(node) = node else { continue };
                 let Some(mi) = body.index().and_then(|b| self.modal_of[b]) else {
@@ -424,7 +424,7 @@ impl System {
                     &data.rotational_shapes()[node],
                 );
                 let gn = &row.gn[side];
-                at[side] = self.row_modal.len();
+                *at_side = self.row_modal.len();
                 for c in 0..phi.ncols() {
                     let mut x = 0.0;
                     for k in 0..3 {
