@@ -59,3 +59,45 @@ pub fn momenta(data: &ModalBodyData, s: &ModalState) -> (Vec3, Vec3) {
     let h = Vec3::new(my[3], my[4], my[5]);
     (p, s.r.cross(&p) + s.rot * h)
 }
+
+/// Lowest eigenpair `(omega^2, x)` of `K x = omega^2 M x` (M symmetric positive definite).
+pub fn lowest_mode(
+    k: &nalgebra::DMatrix<f64>,
+    m: &nalgebra::DMatrix<f64>,
+) -> (f64, nalgebra::DVector<f64>) {
+    let l = m.clone().cholesky().unwrap().l();
+    let li = l.clone().try_inverse().unwrap();
+    let c = &li * k * li.transpose();
+    let c = 0.5 * (&c + c.transpose());
+    let eig = c.symmetric_eigen();
+    let (i, w2) = eig
+        .eigenvalues
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(i, w)| (i, *w))
+        .unwrap();
+    let x = li.transpose() * eig.eigenvectors.column(i);
+    (w2, x)
+}
+
+/// Times of the upward zero crossings of `signal` sampled while advancing `sim` to `t_end` in
+/// steps `dt` (linear interpolation between samples).
+pub fn upward_crossings(
+    sim: &mut mbcosim::sim::Simulation,
+    t_end: f64,
+    dt: f64,
+    signal: &dyn Fn(&mbcosim::state::State) -> f64,
+) -> Vec<f64> {
+    let mut out = Vec::new();
+    let (mut t0, mut s0) = (sim.state.t, signal(&sim.state));
+    while sim.state.t < t_end - 1e-12 {
+        sim.advance_to((sim.state.t + dt).min(t_end)).unwrap();
+        let (t1, s1) = (sim.state.t, signal(&sim.state));
+        if s0 < 0.0 && s1 >= 0.0 {
+            out.push(t0 + (t1 - t0) * (-s0) / (s1 - s0));
+        }
+        (t0, s0) = (t1, s1);
+    }
+    out
+}
