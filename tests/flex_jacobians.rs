@@ -87,6 +87,57 @@ fn flexible_model(kind: JointKind) -> (Model, Arc<ModalBodyData>) {
         free_length: 0.5,
     })
     .unwrap();
+    // force elements at nodes (node bodies)
+    b.add_spring_damper(SpringDamper {
+        name: "sn".into(),
+        a: Frame::new(p1, Vec3::new(0.02, 0.01, -0.03)).on_node(k2),
+        b: Frame::new(r, Vec3::new(0.1, -0.2, 0.05)),
+        stiffness: 80.0,
+        damping: 4.0,
+        free_length: 0.3,
+    })
+    .unwrap();
+    b.add_spring_damper(SpringDamper {
+        name: "nn".into(),
+        a: Frame::at_node(p1, k1),
+        b: Frame::at_node(p2, k1),
+        stiffness: 30.0,
+        damping: 2.0,
+        free_length: 0.2,
+    })
+    .unwrap();
+    b.add_torsion_spring(TorsionSpring {
+        name: "t".into(),
+        frame_i: Frame::with_z(p1, Vec3::zeros(), ax).on_node(k1),
+        frame_j: Frame::with_z(r, Vec3::zeros(), Vec3::new(0.2, 0.5, 0.84)),
+        stiffness: 30.0,
+        damping: 2.0,
+        free_angle: 0.7,
+        angle_offset: 0.1,
+    })
+    .unwrap();
+    let sine = Profile::Sine {
+        offset: 3.0,
+        amplitude: 1.0,
+        omega: 2.0,
+        phase: 0.1,
+    };
+    b.add_applied_load(AppliedLoad {
+        name: "l".into(),
+        at: Frame::new(p2, Vec3::new(0.01, 0.02, 0.0)).on_node(k2),
+        force_direction: Vec3::new(1.0, 2.0, -0.5),
+        force: sine,
+        torque_direction: Vec3::new(0.2, -0.1, 1.0),
+        torque: sine,
+    })
+    .unwrap();
+    b.add_joint_torque(JointTorque {
+        name: "m".into(),
+        frame_i: Frame::with_z(r, Vec3::zeros(), ax),
+        frame_j: Frame::with_z(p2, Vec3::zeros(), Vec3::new(-0.1, 0.3, 0.95)).on_node(k2),
+        torque: sine,
+    })
+    .unwrap();
     (b.build().unwrap(), data)
 }
 
@@ -257,7 +308,7 @@ fn modal_force_jacobians_and_mass_matrix_are_consistent() {
     }
     println!("K/D: worst mismatch {worst:.3e}, scale {scale:.3e}");
     assert!(
-        worst < 1e-6 * scale,
+        worst < 1e-8 * scale,
         "worst K/D mismatch {worst:.3e} (scale {scale:.3e})"
     );
     // mass matrix: assembled = mass_mul columns = invariants' M(a) on each modal block, symmetric
@@ -350,14 +401,26 @@ fn frames_on_missing_nodes_and_unsupported_uses_are_errors() {
     let err = b
         .add_spring_damper(SpringDamper {
             name: "s".into(),
-            a: Frame::at_node(p, 1),
+            a: Frame::at_node(p, nodes + 3),
             b: Frame::new(r, Vec3::zeros()),
             stiffness: 1.0,
             damping: 0.0,
             free_length: 0.0,
         })
         .unwrap_err();
-    assert!(err.contains("node 1"), "{err}");
+    assert!(err.contains(&format!("node {}", nodes + 3)), "{err}");
+    let nb = b.node_body(p, 2).unwrap();
+    assert_eq!(b.node_body(p, 2).unwrap(), nb);
+    assert!(b.node_body(r, 0).unwrap_err().contains("not a modal"));
+    let err = b
+        .add_joint(
+            "j",
+            JointKind::Spherical,
+            Frame::new(nb, Vec3::zeros()),
+            Frame::new(r, Vec3::zeros()),
+        )
+        .unwrap_err();
+    assert!(err.contains("node body"), "{err}");
     let err = b
         .add_modal_body("q", data, BodyInit::at(Vec3::zeros()), &[0.0; 2], &[0.0; 3])
         .unwrap_err();

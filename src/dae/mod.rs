@@ -8,6 +8,7 @@
 
 pub mod linear;
 mod modal;
+mod node_body;
 mod redundancy;
 
 use crate::effect::constraint::{NodeKin, RowEval, joint_rows};
@@ -17,6 +18,7 @@ use crate::model::kinematics::{self, BodyKin, kin_of};
 use crate::model::{BodyId, BodyKind, Model};
 use linear::LinearSolver;
 use modal::{ModalTerms, modal_terms};
+use node_body::{EffectBlock, MappedSide, NodeBodyTerms, mapped_block, node_body_terms};
 use std::sync::Arc;
 
 /// The assembled system with its evaluation scratch (no allocation per evaluation).
@@ -49,20 +51,70 @@ pub struct System {
     pub memory: Vec<f64>,
     /// Floating-frame terms of the modal bodies, at the last kinematics update.
     modal: Vec<ModalTerms>,
+    /// Node bodies (frames on modal-body nodes where force effects act), same order as
+    /// `model.node_bodies`.
+    nodes: Vec<NodeBodyTerms>,
+    /// Force scratch of length `n_v + 6 * nodes.len()` (node-body forces past `n_v`).
+    f_ext: Vec<f64>,
 }
 
-/// Adds `c_K K + c_D D` blocks into a linear solver at an offset.
+/// Adds `c_K K + c_D D` blocks into a linear solver at an offset; blocks of node bodies are
+/// mapped to their modal bodies (see [`node_body`]).
 struct TripletSink<'a> {
     lin: &'a mut LinearSolver,
     ck: f64,
     cd: f64,
     row_off: usize,
     col_off: usize,
+    n_v: usize,
+    nodes: &'a [NodeBodyTerms],
+}
+
+impl<'a> TripletSink<'a> {
+    fn side(n_v: usize, nodes: &'a [NodeBodyTerms], k: &BodyKin) -> (MappedSide<'a>, usize) {
+        let nk = if k.rotational { 6 } else { 3 };
+        if k.col >= n_v {
+            let nb = &nodes[(k.col - n_v) / 6];
+            let side = MappedSide {
+                col: nb.body_col,
+                size: nb.map.ncols(),
+                node: Some(nb),
+            };
+            (side, nk)
+        } else {
+            let side = MappedSide {
+                col: k.col,
+                size: nk,
+                node: None,
+            };
+            (side, nk)
+        }
+    }
 }
 
 impl JacobianSink for TripletSink<'_> {
     fn add(&mut self, row: &BodyKin, col: &BodyKin, k: &Matrix6<f64>, d: &Matrix6<f64>) {
         if !row.is_free() || !col.is_free() {
+            return;
+        }
+        if row.col >= self.n_v || col.col >= self.n_v {
+            let (rs, nr) = Self::side(self.n_v, self.nodes, row);
+            let (cs, nc) = Self::side(self.n_v, self.nodes, col);
+            let eb = EffectBlock {
+                nr,
+                nc,
+                k,
+                d,
+                ck: self.ck,
+                cd: self.cd,
+            };
+            let blk = mapped_block(&rs, &cs, &eb);
+            let (ro, co) = (self.row_off + rs.col, self.col_off + cs.col);
+            for c in 0..cs.size {
+                for r in 0..rs.size {
+                    self.lin.push(ro + r, co + c, blk[(r, c)]);
+                }
+            }
             return;
         }
         let nr = if row.rotational { 6 } else { 3 };
@@ -100,6 +152,8 @@ impl System {
             memory_offsets.push(memory_offsets.last().copied().unwrap_or(0) + e.n_memory());
         }
         let n_mem = *memory_offsets.last().unwrap_or(&0);
+        let nodes = node_body_terms(&model, &modal, &modal_of);
+        let f_ext = vec![0.0; model.n_v + 6 * nodes.len()];
         let mut sys = System {
             memory_offsets,
             memory: vec![0.0; n_mem],
@@ -115,6 +169,8 @@ impl System {
             rows: Vec::with_capacity(n_full),
             n_evals: 0,
             modal,
+            nodes,
+            f_ext,
             model,
         };
         let (q0, v0) = (sys.model.q0.clone(), sys.model.v0.clone());
@@ -201,6 +257,37 @@ impl System {
         for m in &mut self.modal {
             m.update(q, v, &self.kins[m.body]);
         }
+        for nb in &mut self.nodes {
+            nb.update(&self.modal);
+        }
+        // node bodies after the bodies, in reverse order (see `kinematics::kin_of`)
+        for nb in self.nodes.iter().rev() {
+            self.kins.push(nb.kin);
+        }
+    }
+
+    /// Adds the force effects' generalized forces to `f` (length `n_v`), mapping node-body
+    /// forces to their modal bodies; leaves the node-body forces in `f_ext[n_v..]`.
+    fn add_effect_forces(&mut self, t: f64, f: &mut [f64]) {
+        if self.nodes.is_empty() {
+            for (i, e) in self.model.forces.iter().enumerate() {
+                e.add_forces(&self.ctx(t, i), f);
+            }
+            return;
+        }
+        let mut fe = std::mem::take(&mut self.f_ext);
+        fe.fill(0.0);
+        for (i, e) in self.model.forces.iter().enumerate() {
+            e.add_forces(&self.ctx(t, i), &mut fe);
+        }
+        let nv = self.model.n_v;
+        for (x, y) in f.iter_mut().zip(&fe[..nv]) {
+            *x += y;
+        }
+        for (j, nb) in self.nodes.iter().enumerate() {
+            nb.add_mapped_force(&fe[nv + 6 * j..nv + 6 * j + 6], f);
+        }
+        self.f_ext = fe;
     }
 
     /// Evaluation context of force effect `i`.
@@ -304,9 +391,7 @@ impl System {
                 }
             }
         }
-        for (i, e) in self.model.forces.iter().enumerate() {
-            e.add_forces(&self.ctx(t, i), f);
-        }
+        self.add_effect_forces(t, f);
         for m in &self.modal {
             m.add_forces(self.model.gravity.as_ref(), f);
         }
@@ -370,12 +455,30 @@ impl System {
             let g = self.model.gravity.as_ref();
             m.add_newton_block(g, cm, cd, ck, lin, row_off, col_off);
         }
+        if !self.nodes.is_empty() && ck != 0.0 {
+            // geometric terms of node bodies need their forces; W their velocity transport
+            let mut scratch = vec![0.0; self.model.n_v];
+            self.add_effect_forces(t, &mut scratch);
+            let nv = self.model.n_v;
+            for (j, nb) in self.nodes.iter_mut().enumerate() {
+                nb.update_w(&self.modal, v);
+                let geo = nb.geometric(&self.modal, &self.f_ext[nv + 6 * j..nv + 6 * j + 6]);
+                let (ro, co) = (row_off + nb.body_col, col_off + nb.body_col);
+                for c in 0..geo.ncols() {
+                    for r in 0..geo.nrows() {
+                        lin.push(ro + r, co + c, ck * geo[(r, c)]);
+                    }
+                }
+            }
+        }
         let mut sink = TripletSink {
             lin,
             ck,
             cd,
             row_off,
             col_off,
+            n_v: self.model.n_v,
+            nodes: &self.nodes,
         };
         for (i, e) in self.model.forces.iter().enumerate() {
             e.add_jacobian(&self.ctx(t, i), &mut sink);

@@ -44,6 +44,7 @@ pub(crate) struct ModalTerms {
     /// Reference-frame pose and rates at the last update.
     pub r: Vec3,
     pub rot: Mat3,
+    pub v: Vec3,
     pub omega: Vec3,
     /// `M(a)` at the last update, `(6 + n)` square.
     pub mass: DMatrix<f64>,
@@ -67,6 +68,7 @@ pub(crate) fn modal_terms(model: &Model) -> Vec<ModalTerms> {
                     a_dot: DVector::zeros(n),
                     r: Vec3::zeros(),
                     rot: Mat3::identity(),
+                    v: Vec3::zeros(),
                     omega: Vec3::zeros(),
                     mass: DMatrix::identity(6 + n, 6 + n),
                 })
@@ -115,6 +117,7 @@ impl ModalTerms {
             .copy_from_slice(&v[self.col + 6..self.col + 6 + n]);
         self.r = kin.r;
         self.rot = kin.rot;
+        self.v = kin.v;
         self.omega = kin.omega;
         if let Ok(m) = self.data.invariants().mass_matrix(&self.rot, &self.a) {
             self.mass = m;

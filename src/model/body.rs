@@ -33,7 +33,10 @@
 //! Frames on a modal body either ride on the reference frame (a [`crate::model::Frame`] without a
 //! node) or on an attachment **node** ([`crate::model::Frame::at_node`]): origin
 //! `rho_k + Phi_k a + d + theta_k x d`, axes `e + theta_k x e` with the node's small rotation
-//! `theta_k = Psi_k a` (linear in `a`, consistent with the linear-modes limit).
+//! `theta_k = Psi_k a` (linear in `a`, consistent with the linear-modes limit). Joints use such
+//! frames directly (their Jacobian rows get `6 + n` entries for the body); force elements given a
+//! node frame act on a *node body* ([`crate::model::ModelBuilder::node_body`]), a rigid frame
+//! riding on the node whose forces are carried over to the modal body (see `dae::node_body`).
 
 use crate::flex::ModalBodyData;
 use crate::math::{Mat3, Quat, Vec3};
@@ -52,11 +55,24 @@ impl BodyId {
         self.0 == usize::MAX
     }
 
-    /// Index into the model's body list (`None` for ground).
+    /// Index into the model's body list (`None` for ground and node bodies).
     pub fn index(self) -> Option<usize> {
-        (!self.is_ground()).then_some(self.0)
+        (self.0 < NODE_BODY_LIMIT).then_some(self.0)
+    }
+
+    /// The id of node body `j` (see [`crate::model::ModelBuilder::node_body`]).
+    pub(crate) fn node_body(j: usize) -> BodyId {
+        BodyId(usize::MAX - 1 - j)
+    }
+
+    /// Index `j` of a node body in [`crate::model::Model::node_bodies`] (`None` otherwise).
+    pub fn node_body_index(self) -> Option<usize> {
+        (self.0 >= NODE_BODY_LIMIT && !self.is_ground()).then(|| usize::MAX - 1 - self.0)
     }
 }
+
+/// Ids at or above this are node bodies (counted down from `usize::MAX - 1`) or the ground.
+const NODE_BODY_LIMIT: usize = usize::MAX / 2;
 
 /// The physical kind of a body.
 #[derive(Debug, Clone, PartialEq)]

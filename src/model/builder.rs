@@ -5,7 +5,7 @@ use super::element::{
     AppliedLoad, Frame, Joint, JointKind, JointTorque, SpringDamper, TorsionSpring,
 };
 use super::kinematics::put_quat;
-use super::{Model, Profile};
+use super::{Model, NodeBody, Profile};
 use crate::effect::ForceEffect;
 use crate::effect::applied::AppliedLoads;
 use crate::effect::gravity::Gravity;
@@ -29,6 +29,8 @@ pub struct ModelBuilder {
     gravity: Option<Vec3>,
     extra: Vec<Arc<dyn ForceEffect>>,
     inputs: Vec<String>,
+    /// Node frames used by force effects, in order of first use (see [`ModelBuilder::node_body`]).
+    node_bodies: Vec<NodeBody>,
 }
 
 fn finite3(v: &Vec3) -> bool {
@@ -219,21 +221,59 @@ impl ModelBuilder {
         Ok(())
     }
 
-    /// Force elements act at reference-frame points of a modal body only (not at nodes, yet).
-    fn check_force_frame(
-        &self,
+    /// Checks a force element's frame; a node frame is replaced by a frame on the node body
+    /// (same offset and axes, relative to the node's frame).
+    fn force_frame(
+        &mut self,
         owner: &str,
         which: &str,
         f: &Frame,
         needs_rotation: bool,
-    ) -> Result<(), String> {
+    ) -> Result<Frame, String> {
         self.check_frame(owner, which, f, needs_rotation)?;
-        if let Some(node) = f.node {
+        match f.node {
+            None => Ok(*f),
+            Some(node) => Ok(Frame {
+                body: self.node_body(f.body, node)?,
+                node: None,
+                ..*f
+            }),
+        }
+    }
+
+    /// The *node body* of node `node` of modal body `body`: a rigid frame riding on the node
+    /// (origin at the deformed node, rotated by the node's rotation), for force effects, including
+    /// custom ones ([`ModelBuilder::add_force_effect`]), that should act at the node; forces and
+    /// torques on it are carried over to the modal body. Force elements given a node frame
+    /// ([`Frame::on_node`]) use it automatically. A node body has no coordinates and cannot carry
+    /// joints (joints take node frames directly). Errors: `body` is not a modal body or has no such
+    /// node.
+    pub fn node_body(&mut self, body: BodyId, node: usize) -> Result<BodyId, String> {
+        let Some((bname, kind, _)) = body.index().and_then(|i| self.bodies.get(i)) else {
             return Err(format!(
-                "{owner}: frame {which} refers to flexible-body node {node}; force elements act only at points of a body's reference frame (joints may use nodes)"
+                "node body: body {body:?} is not a body of the model (ground or unknown)"
+            ));
+        };
+        let Some(data) = kind.modal() else {
+            return Err(format!(
+                "node body: '{bname}' is not a modal (flexible) body and has no nodes"
+            ));
+        };
+        if node >= data.n_nodes() {
+            return Err(format!(
+                "node body: modal body '{bname}' has {} nodes, node {node} does not exist",
+                data.n_nodes()
             ));
         }
-        Ok(())
+        let nb = NodeBody { body, node };
+        let i = match self.node_bodies.iter().position(|x| *x == nb) {
+            Some(i) => i,
+            None => {
+                self.node_bodies.push(nb);
+                self.node_bodies.len() - 1
+            }
+        };
+        Ok(BodyId::node_body(i))
     }
 
     fn check_profile(&self, owner: &str, p: &Profile) -> Result<(), String> {
@@ -265,6 +305,11 @@ impl ModelBuilder {
         if frame_i.body == frame_j.body {
             return Err(format!("{owner}: both frames are on the same body"));
         }
+        if frame_i.body.node_body_index().is_some() || frame_j.body.node_body_index().is_some() {
+            return Err(format!(
+                "{owner}: a joint frame cannot be on a node body; give the modal body and the node (Frame::on_node)"
+            ));
+        }
         if let JointKind::AngleDrive(p) | JointKind::TranslationDrive(p) = &kind {
             self.check_profile(&owner, p)?;
         }
@@ -287,8 +332,9 @@ impl ModelBuilder {
     /// Adds a translational spring-damper.
     pub fn add_spring_damper(&mut self, e: SpringDamper) -> Result<(), String> {
         let owner = format!("spring-damper '{}'", e.name);
-        self.check_force_frame(&owner, "a", &e.a, false)?;
-        self.check_force_frame(&owner, "b", &e.b, false)?;
+        let mut e = e;
+        e.a = self.force_frame(&owner, "a", &e.a, false)?;
+        e.b = self.force_frame(&owner, "b", &e.b, false)?;
         if !(e.stiffness >= 0.0
             && e.damping >= 0.0
             && e.free_length >= 0.0
@@ -305,8 +351,9 @@ impl ModelBuilder {
     /// Adds a rotational spring-damper about the z axes of its frames.
     pub fn add_torsion_spring(&mut self, e: TorsionSpring) -> Result<(), String> {
         let owner = format!("torsion spring '{}'", e.name);
-        self.check_force_frame(&owner, "i", &e.frame_i, true)?;
-        self.check_force_frame(&owner, "j", &e.frame_j, true)?;
+        let mut e = e;
+        e.frame_i = self.force_frame(&owner, "i", &e.frame_i, true)?;
+        e.frame_j = self.force_frame(&owner, "j", &e.frame_j, true)?;
         if !(e.stiffness >= 0.0
             && e.damping >= 0.0
             && (e.stiffness + e.damping + e.free_angle + e.angle_offset).is_finite())
@@ -322,7 +369,8 @@ impl ModelBuilder {
     /// Adds an applied force/torque.
     pub fn add_applied_load(&mut self, e: AppliedLoad) -> Result<(), String> {
         let owner = format!("load '{}'", e.name);
-        self.check_force_frame(&owner, "at", &e.at, false)?;
+        let mut e = e;
+        e.at = self.force_frame(&owner, "at", &e.at, false)?;
         self.check_profile(&owner, &e.force)?;
         self.check_profile(&owner, &e.torque)?;
         if !finite3(&e.force_direction) || !finite3(&e.torque_direction) {
@@ -335,8 +383,9 @@ impl ModelBuilder {
     /// Adds a torque between two bodies about a joint axis.
     pub fn add_joint_torque(&mut self, e: JointTorque) -> Result<(), String> {
         let owner = format!("joint torque '{}'", e.name);
-        self.check_force_frame(&owner, "i", &e.frame_i, true)?;
-        self.check_force_frame(&owner, "j", &e.frame_j, true)?;
+        let mut e = e;
+        e.frame_i = self.force_frame(&owner, "i", &e.frame_i, true)?;
+        e.frame_j = self.force_frame(&owner, "j", &e.frame_j, true)?;
         self.check_profile(&owner, &e.torque)?;
         self.joint_torques.push(e);
         Ok(())
@@ -420,6 +469,7 @@ impl ModelBuilder {
             n_v,
             q0,
             v0,
+            node_bodies: self.node_bodies,
         })
     }
 }

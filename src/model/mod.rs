@@ -39,6 +39,20 @@ pub struct Model {
     /// Initial positions (length `n_q`) and speeds (length `n_v`), before projection.
     pub q0: Vec<f64>,
     pub v0: Vec<f64>,
+    /// Node frames of modal bodies that force effects act at: entry `j` is the *node body*
+    /// returned by [`ModelBuilder::node_body`], a kinematic frame (no coordinates of its own) that rides on
+    /// node `node` of `body` (see [`ModelBuilder::node_body`]).
+    pub node_bodies: Vec<NodeBody>,
+}
+
+/// A node frame of a modal body seen by force effects as a rigid frame: origin
+/// `r + A (rho_k + Phi_k a)`, rotation `A exp((Psi_k a)~)`, its velocity and body-frame angular
+/// velocity; its forces are mapped to the modal body's speeds by the transpose of its velocity
+/// map (see [`crate::dae`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NodeBody {
+    pub body: BodyId,
+    pub node: usize,
 }
 
 impl Model {
@@ -47,9 +61,9 @@ impl Model {
         self.input_names.len()
     }
 
-    /// The body with the given id (`None` for ground).
+    /// The body with the given id (`None` for ground and node bodies).
     pub fn body(&self, id: BodyId) -> Option<&Body> {
-        id.index().map(|i| &self.bodies[i])
+        id.index().and_then(|i| self.bodies.get(i))
     }
 
     /// Retraction: `out = q ⊕ dx`. Translations add in the world frame; rotations compose on the
