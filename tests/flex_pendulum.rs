@@ -23,14 +23,13 @@
 //! self-equilibrated load barely projects on the low modes of this panel).
 
 mod common;
-use common::flex::{lowest_mode, panel, upward_crossings};
+use common::flex::{hanging_linearization, lowest_mode, panel, upward_crossings};
 use mbcosim::flex::ModalBodyData;
 use mbcosim::integrator::{IntegratorKind, Settings};
 use mbcosim::math::{Quat, Vec3};
 use mbcosim::model::kinematics::quat_at;
 use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, ModelBuilder};
 use mbcosim::sim::Simulation;
-use nalgebra::{DMatrix, DVector};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::sync::Arc;
 
@@ -48,32 +47,8 @@ fn hanging_flexible_panel_swings_with_the_flexible_pendulum_period() {
     let rho_f = data.positions()[hinge_node];
     // hanging: body x down (world -Z), hinge axis body y = world Y, normal body z = world X;
     // A(theta) = R_Y(pi/2 + theta)
-    let a0_rot = Quat::from_axis_angle(&Vec3::y_axis(), FRAC_PI_2)
-        .to_rotation_matrix()
-        .into_inner();
-    // linearized model
-    let mut nmap = DMatrix::zeros(6 + n, 1 + n);
-    let ey = Vec3::y();
-    let v_col = a0_rot * ey.cross(&(-rho_f));
-    for k in 0..3 {
-        nmap[(k, 0)] = v_col[k];
-        nmap[(3 + k, 0)] = ey[k];
-    }
-    for j in 0..n {
-        nmap[(6 + j, 1 + j)] = 1.0;
-    }
-    let m0 = inv.mass_matrix(&a0_rot, &DVector::zeros(n)).unwrap();
-    let m_l = nmap.transpose() * &m0 * &nmap;
+    let (m_l, k_l) = hanging_linearization(&data, &rho_f, G);
     let s_x = inv.first_moment.x - inv.mass * rho_f.x;
-    let mut k_l = DMatrix::zeros(1 + n, 1 + n);
-    k_l[(0, 0)] = G * s_x;
-    for j in 0..n {
-        k_l[(0, 1 + j)] = -G * inv.c_t[(2, j)];
-        k_l[(1 + j, 0)] = -G * inv.c_t[(2, j)];
-        for i in 0..n {
-            k_l[(1 + i, 1 + j)] = data.stiffness()[(i, j)];
-        }
-    }
     let (w2_flex, mode) = lowest_mode(&k_l, &m_l);
     let t_flex = 2.0 * PI / w2_flex.sqrt();
     let w2_rigid = G * s_x / m_l[(0, 0)];

@@ -101,3 +101,42 @@ pub fn upward_crossings(
     }
     out
 }
+
+/// Small motions of a panel hanging from a hinge about its body y axis through `rho_f` (body
+/// x pointing down, `A0 = R_Y(pi/2)`, gravity `g` [m/s^2] along world -Z): mass and stiffness
+/// matrices over `[theta; a]` (derivation in `tests/flex_pendulum.rs`).
+pub fn hanging_linearization(
+    data: &ModalBodyData,
+    rho_f: &Vec3,
+    g: f64,
+) -> (nalgebra::DMatrix<f64>, nalgebra::DMatrix<f64>) {
+    use nalgebra::DMatrix;
+    let inv = data.invariants();
+    let n = data.n_modes();
+    let a0_rot = mbcosim::math::Quat::from_axis_angle(&Vec3::y_axis(), std::f64::consts::FRAC_PI_2)
+        .to_rotation_matrix()
+        .into_inner();
+    let mut nmap = DMatrix::zeros(6 + n, 1 + n);
+    let ey = Vec3::y();
+    let v_col = a0_rot * ey.cross(&(-rho_f));
+    for k in 0..3 {
+        nmap[(k, 0)] = v_col[k];
+        nmap[(3 + k, 0)] = ey[k];
+    }
+    for j in 0..n {
+        nmap[(6 + j, 1 + j)] = 1.0;
+    }
+    let m0 = inv.mass_matrix(&a0_rot, &DVector::zeros(n)).unwrap();
+    let m_l = nmap.transpose() * &m0 * &nmap;
+    let s_x = inv.first_moment.x - inv.mass * rho_f.x;
+    let mut k_l = DMatrix::zeros(1 + n, 1 + n);
+    k_l[(0, 0)] = g * s_x;
+    for j in 0..n {
+        k_l[(0, 1 + j)] = -g * inv.c_t[(2, j)];
+        k_l[(1 + j, 0)] = -g * inv.c_t[(2, j)];
+        for i in 0..n {
+            k_l[(1 + i, 1 + j)] = data.stiffness()[(i, j)];
+        }
+    }
+    (m_l, k_l)
+}
