@@ -5,6 +5,13 @@
 //! `q_dot = H(q) v` expressed through the retraction of [`crate::model::Model`]. Integrators ask for
 //! `f`, `M a`, `Phi`, `G x`, `G^T y`, `gamma`, and for Newton matrices built from
 //! `c_M M + c_D D + c_K K` and `G` blocks at offsets they choose.
+//!
+//! Modal (flexible) bodies add a full `(6 + n)` block `M(a)` and their floating-frame forces
+//! (module `dae::modal`); force effects acting at flexible-body nodes see *node bodies*, rigid
+//! frames riding on the nodes, whose forces and Jacobian blocks are mapped to the modal bodies
+//! (module `dae::node_body`, private; its doc has the formulas); joint rows at node frames carry modal columns. `M(a)` in [`System::mass_mul`]
+//! is that of the last kinematics update (every integrator calls it right after `forces` at
+//! the same state).
 
 pub mod linear;
 mod modal;
