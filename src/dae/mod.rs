@@ -9,23 +9,26 @@
 //! Modal (flexible) bodies add a full `(6 + n)` block `M(a)` and their floating-frame forces
 //! (module `dae::modal`); force effects acting at flexible-body nodes see *node bodies*, rigid
 //! frames riding on the nodes, whose forces and Jacobian blocks are mapped to the modal bodies
-//! (module `dae::node_body`, private; its doc has the formulas); joint rows at node frames carry modal columns. `M(a)` in [`System::mass_mul`]
-//! is that of the last kinematics update (every integrator calls it right after `forces` at
-//! the same state).
+//! (module `dae::node_body`, private; its doc has the formulas); joint rows at node frames
+//! carry modal columns (module `dae::rows`). `M(a)` in [`System::mass_mul`] is that of the last
+//! kinematics update (every integrator calls it right after `forces` at the same state).
 
 pub mod linear;
 mod modal;
 mod node_body;
 mod redundancy;
+mod rows;
+mod sink;
 
-use crate::effect::constraint::{NodeKin, RowEval, joint_rows};
-use crate::effect::{EvalCtx, JacobianSink, MemoryChange};
-use crate::math::{Mat3, Matrix6, Vec3, skew};
+use crate::effect::constraint::RowEval;
+use crate::effect::{EvalCtx, MemoryChange};
+use crate::math::{Mat3, Vec3, skew};
 use crate::model::kinematics::{self, BodyKin, kin_of};
 use crate::model::{BodyId, BodyKind, Model};
 use linear::LinearSolver;
 use modal::{ModalTerms, modal_terms};
-use node_body::{EffectBlock, MappedSide, NodeBodyTerms, mapped_block, node_body_terms};
+use node_body::{NodeBodyTerms, node_body_terms};
+use sink::TripletSink;
 use std::sync::Arc;
 
 /// The assembled system with its evaluation scratch (no allocation per evaluation).
@@ -63,77 +66,6 @@ pub struct System {
     nodes: Vec<NodeBodyTerms>,
     /// Force scratch of length `n_v + 6 * nodes.len()` (node-body forces past `n_v`).
     f_ext: Vec<f64>,
-}
-
-/// Adds `c_K K + c_D D` blocks into a linear solver at an offset; blocks of node bodies are
-/// mapped to their modal bodies (see [`node_body`]).
-struct TripletSink<'a> {
-    lin: &'a mut LinearSolver,
-    ck: f64,
-    cd: f64,
-    row_off: usize,
-    col_off: usize,
-    n_v: usize,
-    nodes: &'a [NodeBodyTerms],
-}
-
-impl<'a> TripletSink<'a> {
-    fn side(n_v: usize, nodes: &'a [NodeBodyTerms], k: &BodyKin) -> (MappedSide<'a>, usize) {
-        let nk = if k.rotational { 6 } else { 3 };
-        if k.col >= n_v {
-            let nb = &nodes[(k.col - n_v) / 6];
-            let side = MappedSide {
-                col: nb.body_col,
-                size: nb.map.ncols(),
-                node: Some(nb),
-            };
-            (side, nk)
-        } else {
-            let side = MappedSide {
-                col: k.col,
-                size: nk,
-                node: None,
-            };
-            (side, nk)
-        }
-    }
-}
-
-impl JacobianSink for TripletSink<'_> {
-    fn add(&mut self, row: &BodyKin, col: &BodyKin, k: &Matrix6<f64>, d: &Matrix6<f64>) {
-        if !row.is_free() || !col.is_free() {
-            return;
-        }
-        if row.col >= self.n_v || col.col >= self.n_v {
-            let (rs, nr) = Self::side(self.n_v, self.nodes, row);
-            let (cs, nc) = Self::side(self.n_v, self.nodes, col);
-            let eb = EffectBlock {
-                nr,
-                nc,
-                k,
-                d,
-                ck: self.ck,
-                cd: self.cd,
-            };
-            let blk = mapped_block(&rs, &cs, &eb);
-            let (ro, co) = (self.row_off + rs.col, self.col_off + cs.col);
-            for c in 0..cs.size {
-                for r in 0..rs.size {
-                    self.lin.push(ro + r, co + c, blk[(r, c)]);
-                }
-            }
-            return;
-        }
-        let nr = if row.rotational { 6 } else { 3 };
-        let nc = if col.rotational { 6 } else { 3 };
-        for c in 0..nc {
-            for r in 0..nr {
-                let v = self.ck * k[(r, c)] + self.cd * d[(r, c)];
-                self.lin
-                    .push(self.row_off + row.col + r, self.col_off + col.col + c, v);
-            }
-        }
-    }
 }
 
 impl System {
@@ -489,147 +421,6 @@ impl System {
         };
         for (i, e) in self.model.forces.iter().enumerate() {
             e.add_jacobian(&self.ctx(t, i), &mut sink);
-        }
-    }
-
-    /// Motion of node `node` of body `body` relative to its frame (`None` off nodes).
-    fn node_kin(&self, body: BodyId, node: Option<usize>) -> Option<NodeKin> {
-        let node = node?;
-        let m = &self.modal[self.modal_of[body.index()?]?];
-        let phi = m.data.translational_shapes().get(node)?;
-        let psi = m.data.rotational_shapes().get(node)?;
-        Some(NodeKin {
-            u: m.data.positions()[node] + phi * &m.a,
-            u_dot: phi * &m.a_dot,
-            theta: psi * &m.a,
-            theta_dot: psi * &m.a_dot,
-        })
-    }
-
-    /// Evaluates the active constraint rows at `(q, v, t)` into [`System::rows`].
-    pub fn eval_constraints(&mut self, t: f64, q: &[f64], v: &[f64]) {
-        self.update_kinematics(q, v);
-        self.rows_full.clear();
-        for j in &self.model.joints {
-            let nodes = [
-                self.node_kin(j.frame_i.body, j.frame_i.node),
-                self.node_kin(j.frame_j.body, j.frame_j.node),
-            ];
-            joint_rows(j, &self.kins, nodes, t, &self.inputs, &mut self.rows_full);
-        }
-        // modal columns of node frames: Phi_k^T gn_t + Psi_k^T gn_r
-        self.row_modal.clear();
-        self.row_modal_at.clear();
-        for (r, row) in self.rows_full.iter().enumerate() {
-            let mut at = [usize::MAX; 2];
-            for (side, at_side) in at.iter_mut().enumerate() {
-                let (body, node) = (self.row_bodies[r][side], self.row_nodes[r][side]);
-                let Some(node) = node else { continue };
-                let Some(mi) = body.index().and_then(|b| self.modal_of[b]) else {
-                    continue;
-                };
-                let data = &self.modal[mi].data;
-                let (phi, psi) = (
-                    &data.translational_shapes()[node],
-                    &data.rotational_shapes()[node],
-                );
-                let gn = &row.gn[side];
-                *at_side = self.row_modal.len();
-                for c in 0..phi.ncols() {
-                    let mut x = 0.0;
-                    for k in 0..3 {
-                        x += phi[(k, c)] * gn[k] + psi[(k, c)] * gn[3 + k];
-                    }
-                    self.row_modal.push(x);
-                }
-            }
-            self.row_modal_at.push(at);
-        }
-        self.rows.clear();
-        for &r in &self.active {
-            self.rows.push(self.rows_full[r]);
-        }
-    }
-
-    /// Calls `f(column, value)` for the modal columns of full row `r` (node frames only).
-    fn for_row_modal(&self, r: usize, mut f: impl FnMut(usize, f64)) {
-        for side in 0..2 {
-            let at = self.row_modal_at[r][side];
-            if at == usize::MAX {
-                continue;
-            }
-            let Some(bi) = self.row_bodies[r][side].index() else {
-                continue;
-            };
-            let body = &self.model.bodies[bi];
-            let n = body.kind.n_modes();
-            for (c, &g) in self.row_modal[at..at + n].iter().enumerate() {
-                f(body.v_offset + 6 + c, g);
-            }
-        }
-    }
-
-    /// Column offsets of the two bodies of active row `r` (`None` for ground) and the length of
-    /// their rigid block (6 with rotations, 3 for particles).
-    fn row_cols(&self, r: usize) -> [(Option<usize>, usize); 2] {
-        let [bi, bj] = self.row_bodies[self.active[r]];
-        let f = |b: BodyId| {
-            let k = kin_of(&self.kins, b);
-            (
-                k.is_free().then_some(k.col),
-                if k.rotational { 6 } else { 3 },
-            )
-        };
-        [f(bi), f(bj)]
-    }
-
-    /// Calls `f(column, value)` for every structural entry of active row `r`: the 3- or 6-block
-    /// of each body, then the modal columns of node frames.
-    fn for_row(&self, r: usize, mut f: impl FnMut(usize, f64)) {
-        let row = &self.rows[r];
-        for (side, (col, n)) in self.row_cols(r).into_iter().enumerate() {
-            if let Some(c) = col {
-                for k in 0..n {
-                    f(c + k, row.g[side][k]);
-                }
-            }
-        }
-        self.for_row_modal(self.active[r], f);
-    }
-
-    /// `out = G x` for the last evaluated rows.
-    pub fn g_mul(&self, x: &[f64], out: &mut [f64]) {
-        for (r, o) in out.iter_mut().enumerate().take(self.rows.len()) {
-            let mut s = 0.0;
-            self.for_row(r, |c, g| s += g * x[c]);
-            *o = s;
-        }
-    }
-
-    /// `out += G^T y` for the last evaluated rows.
-    pub fn gt_mul_add(&self, y: &[f64], out: &mut [f64]) {
-        for (r, &yr) in y.iter().enumerate().take(self.rows.len()) {
-            self.for_row(r, |c, g| out[c] += g * yr);
-        }
-    }
-
-    /// Pushes `scale * G` at `(row_off, col_off)` and, if `transpose_at` is given,
-    /// `scale_t * G^T` at that `(row, col)` offset.
-    pub fn add_constraint_blocks(
-        &self,
-        lin: &mut LinearSolver,
-        row_off: usize,
-        col_off: usize,
-        scale: f64,
-        transpose_at: Option<(usize, usize, f64)>,
-    ) {
-        for r in 0..self.rows.len() {
-            self.for_row(r, |c, g| {
-                lin.push(row_off + r, col_off + c, scale * g);
-                if let Some((tr, tc, st)) = transpose_at {
-                    lin.push(tr + c, tc + r, st * g);
-                }
-            });
         }
     }
 
