@@ -291,7 +291,11 @@ impl ModelBuilder {
         Ok(())
     }
 
-    /// Adds a joint between `frame_i` and `frame_j`.
+    /// Adds a joint between `frame_i` and `frame_j`. A frame may ride on a node of a modal body
+    /// ([`Frame::on_node`], e.g. a hinge at a panel's attachment node): revolute, spherical,
+    /// fixed, prismatic and translation-drive joints work there (not the angle drive). Errors
+    /// name the joint and the frame: a node the body does not have, a node on a rigid body or the
+    /// ground, a frame on a node body.
     pub fn add_joint(
         &mut self,
         name: &str,
