@@ -5,17 +5,31 @@
 //! `q_dot = H(q) v` expressed through the retraction of [`crate::model::Model`]. Integrators ask for
 //! `f`, `M a`, `Phi`, `G x`, `G^T y`, `gamma`, and for Newton matrices built from
 //! `c_M M + c_D D + c_K K` and `G` blocks at offsets they choose.
+//!
+//! Modal (flexible) bodies add a full `(6 + n)` block `M(a)` and their floating-frame forces
+//! (module `dae::modal`); force effects acting at flexible-body nodes see *node bodies*, rigid
+//! frames riding on the nodes, whose forces and Jacobian blocks are mapped to the modal bodies
+//! (module `dae::node_body`, private; its doc has the formulas); joint rows at node frames
+//! carry modal columns (module `dae::rows`). `M(a)` in [`System::mass_mul`] is that of the last
+//! kinematics update (every integrator calls it right after `forces` at the same state).
 
 pub mod dense_lu;
 pub mod linear;
+mod modal;
+mod node_body;
 mod redundancy;
+mod rows;
+mod sink;
 
-use crate::effect::constraint::{RowEval, joint_rows};
-use crate::effect::{EvalCtx, JacobianSink, MemoryChange};
-use crate::math::{Mat3, Matrix6, Vec3, skew};
+use crate::effect::constraint::RowEval;
+use crate::effect::{EvalCtx, MemoryChange};
+use crate::math::{Mat3, Vec3, skew};
 use crate::model::kinematics::{self, BodyKin, kin_of};
 use crate::model::{BodyId, BodyKind, Model};
 use linear::LinearSolver;
+use modal::{ModalTerms, modal_terms};
+use node_body::{NodeBodyTerms, node_body_terms};
+use sink::TripletSink;
 use std::sync::Arc;
 
 /// The assembled system with its evaluation scratch (no allocation per evaluation).
@@ -26,6 +40,14 @@ pub struct System {
     pub inputs: Vec<f64>,
     /// Bodies of each full constraint row.
     row_bodies: Vec<[BodyId; 2]>,
+    /// Flexible-body nodes of the frames of each full row (`None`: not on a node).
+    row_nodes: Vec<[Option<usize>; 2]>,
+    /// Modal columns of node frames: full row `r`, side `s` has `n` entries from
+    /// `row_modal[row_modal_at[r][s]..]` (`usize::MAX` when the side has none).
+    row_modal: Vec<f64>,
+    row_modal_at: Vec<[usize; 2]>,
+    /// Index into `modal` of each body (`None` for rigid bodies and particles).
+    modal_of: Vec<Option<usize>>,
     /// Indices of the independent (active) rows among the full rows.
     active: Vec<usize>,
     kins: Vec<BodyKin>,
@@ -38,32 +60,13 @@ pub struct System {
     memory_offsets: Vec<usize>,
     /// Current effect memory (copied from the state before each evaluation).
     pub memory: Vec<f64>,
-}
-
-/// Adds `c_K K + c_D D` blocks into a linear solver at an offset.
-struct TripletSink<'a> {
-    lin: &'a mut LinearSolver,
-    ck: f64,
-    cd: f64,
-    row_off: usize,
-    col_off: usize,
-}
-
-impl JacobianSink for TripletSink<'_> {
-    fn add(&mut self, row: &BodyKin, col: &BodyKin, k: &Matrix6<f64>, d: &Matrix6<f64>) {
-        if !row.is_free() || !col.is_free() {
-            return;
-        }
-        let nr = if row.rotational { 6 } else { 3 };
-        let nc = if col.rotational { 6 } else { 3 };
-        for c in 0..nc {
-            for r in 0..nr {
-                let v = self.ck * k[(r, c)] + self.cd * d[(r, c)];
-                self.lin
-                    .push(self.row_off + row.col + r, self.col_off + col.col + c, v);
-            }
-        }
-    }
+    /// Floating-frame terms of the modal bodies, at the last kinematics update.
+    modal: Vec<ModalTerms>,
+    /// Node bodies (frames on modal-body nodes where force effects act), same order as
+    /// `model.node_bodies`.
+    nodes: Vec<NodeBodyTerms>,
+    /// Force scratch of length `n_v + 6 * nodes.len()` (node-body forces past `n_v`).
+    f_ext: Vec<f64>,
 }
 
 impl System {
@@ -71,10 +74,17 @@ impl System {
     /// (e.g. in a 3D four-bar) are found by a rank-revealing QR and left out.
     pub fn new(model: Arc<Model>) -> Result<Self, String> {
         let mut row_bodies = Vec::new();
+        let mut row_nodes = Vec::new();
         for j in &model.joints {
             for _ in 0..j.kind.n_rows() {
                 row_bodies.push([j.frame_i.body, j.frame_j.body]);
+                row_nodes.push([j.frame_i.node, j.frame_j.node]);
             }
+        }
+        let modal = modal_terms(&model);
+        let mut modal_of = vec![None; model.bodies.len()];
+        for (i, m) in modal.iter().enumerate() {
+            modal_of[m.body] = Some(i);
         }
         let n_full = row_bodies.len();
         let mut memory_offsets = vec![0];
@@ -82,21 +92,33 @@ impl System {
             memory_offsets.push(memory_offsets.last().copied().unwrap_or(0) + e.n_memory());
         }
         let n_mem = *memory_offsets.last().unwrap_or(&0);
+        let nodes = node_body_terms(&model, &modal, &modal_of);
+        let f_ext = vec![0.0; model.n_v + 6 * nodes.len()];
         let mut sys = System {
             memory_offsets,
             memory: vec![0.0; n_mem],
             inputs: vec![0.0; model.n_inputs()],
             row_bodies,
+            row_nodes,
+            row_modal: Vec::new(),
+            row_modal_at: Vec::with_capacity(n_full),
+            modal_of,
             active: (0..n_full).collect(),
             kins: Vec::with_capacity(model.bodies.len()),
             rows_full: Vec::with_capacity(n_full),
             rows: Vec::with_capacity(n_full),
             n_evals: 0,
+            modal,
+            nodes,
+            f_ext,
             model,
         };
         let (q0, v0) = (sys.model.q0.clone(), sys.model.v0.clone());
         sys.eval_constraints(0.0, &q0, &v0);
-        sys.active = redundancy::independent_rows(&sys.model, &sys.row_bodies, &sys.rows_full)?;
+        let modal_cols = |r: usize, dense: &mut [f64]| sys.for_row_modal(r, |c, g| dense[c] += g);
+        let active =
+            redundancy::independent_rows(&sys.model, &sys.row_bodies, &sys.rows_full, &modal_cols)?;
+        sys.active = active;
         Ok(sys)
     }
 
@@ -172,6 +194,40 @@ impl System {
     /// Evaluates body kinematics at `(q, v)`.
     pub fn update_kinematics(&mut self, q: &[f64], v: &[f64]) {
         kinematics::evaluate(&self.model, q, v, &mut self.kins);
+        for m in &mut self.modal {
+            m.update(q, v, &self.kins[m.body]);
+        }
+        for nb in &mut self.nodes {
+            nb.update(&self.modal);
+        }
+        // node bodies after the bodies, in reverse order (see `kinematics::kin_of`)
+        for nb in self.nodes.iter().rev() {
+            self.kins.push(nb.kin);
+        }
+    }
+
+    /// Adds the force effects' generalized forces to `f` (length `n_v`), mapping node-body
+    /// forces to their modal bodies; leaves the node-body forces in `f_ext[n_v..]`.
+    fn add_effect_forces(&mut self, t: f64, f: &mut [f64]) {
+        if self.nodes.is_empty() {
+            for (i, e) in self.model.forces.iter().enumerate() {
+                e.add_forces(&self.ctx(t, i), f);
+            }
+            return;
+        }
+        let mut fe = std::mem::take(&mut self.f_ext);
+        fe.fill(0.0);
+        for (i, e) in self.model.forces.iter().enumerate() {
+            e.add_forces(&self.ctx(t, i), &mut fe);
+        }
+        let nv = self.model.n_v;
+        for (x, y) in f.iter_mut().zip(&fe[..nv]) {
+            *x += y;
+        }
+        for (j, nb) in self.nodes.iter().enumerate() {
+            nb.add_mapped_force(&fe[nv + 6 * j..nv + 6 * j + 6], f);
+        }
+        self.f_ext = fe;
     }
 
     /// Evaluation context of force effect `i`.
@@ -236,7 +292,8 @@ impl System {
         change
     }
 
-    /// `out = M a` (block diagonal mass matrix).
+    /// `out = M a` (block diagonal mass matrix; the blocks of modal bodies `M(a)` are those of
+    /// the last kinematics update, i.e. of the last `forces`/`eval_constraints` call).
     pub fn mass_mul(&self, a: &[f64], out: &mut [f64]) {
         for b in &self.model.bodies {
             let o = b.v_offset;
@@ -253,7 +310,11 @@ impl System {
                         out[o + i] = mass * a[o + i];
                     }
                 }
+                BodyKind::Modal { .. } => {}
             }
+        }
+        for m in &self.modal {
+            m.mass_mul(a, out);
         }
     }
 
@@ -270,8 +331,9 @@ impl System {
                 }
             }
         }
-        for (i, e) in self.model.forces.iter().enumerate() {
-            e.add_forces(&self.ctx(t, i), f);
+        self.add_effect_forces(t, f);
+        for m in &self.modal {
+            m.add_forces(self.model.gravity.as_ref(), f);
         }
     }
 
@@ -326,6 +388,27 @@ impl System {
                         lin.push(o + i, oc + i, cm * mass);
                     }
                 }
+                BodyKind::Modal { .. } => {}
+            }
+        }
+        for m in &self.modal {
+            let g = self.model.gravity.as_ref();
+            m.add_newton_block(g, cm, cd, ck, lin, row_off, col_off);
+        }
+        if !self.nodes.is_empty() && ck != 0.0 {
+            // geometric terms of node bodies need their forces; W their velocity transport
+            let mut scratch = vec![0.0; self.model.n_v];
+            self.add_effect_forces(t, &mut scratch);
+            let nv = self.model.n_v;
+            for (j, nb) in self.nodes.iter_mut().enumerate() {
+                nb.update_w(&self.modal, v);
+                let geo = nb.geometric(&self.modal, &self.f_ext[nv + 6 * j..nv + 6 * j + 6]);
+                let (ro, co) = (row_off + nb.body_col, col_off + nb.body_col);
+                for c in 0..geo.ncols() {
+                    for r in 0..geo.nrows() {
+                        lin.push(ro + r, co + c, ck * geo[(r, c)]);
+                    }
+                }
             }
         }
         let mut sink = TripletSink {
@@ -334,87 +417,11 @@ impl System {
             cd,
             row_off,
             col_off,
+            n_v: self.model.n_v,
+            nodes: &self.nodes,
         };
         for (i, e) in self.model.forces.iter().enumerate() {
             e.add_jacobian(&self.ctx(t, i), &mut sink);
-        }
-    }
-
-    /// Evaluates the active constraint rows at `(q, v, t)` into [`System::rows`].
-    pub fn eval_constraints(&mut self, t: f64, q: &[f64], v: &[f64]) {
-        self.update_kinematics(q, v);
-        self.rows_full.clear();
-        for j in &self.model.joints {
-            joint_rows(j, &self.kins, t, &self.inputs, &mut self.rows_full);
-        }
-        self.rows.clear();
-        for &r in &self.active {
-            self.rows.push(self.rows_full[r]);
-        }
-    }
-
-    /// Column offsets of the two bodies of active row `r` (`None` for ground).
-    fn row_cols(&self, r: usize) -> [(Option<usize>, usize); 2] {
-        let [bi, bj] = self.row_bodies[self.active[r]];
-        let f = |b: BodyId| {
-            let k = kin_of(&self.kins, b);
-            (
-                k.is_free().then_some(k.col),
-                if k.rotational { 6 } else { 3 },
-            )
-        };
-        [f(bi), f(bj)]
-    }
-
-    /// `out = G x` for the last evaluated rows.
-    pub fn g_mul(&self, x: &[f64], out: &mut [f64]) {
-        for (r, row) in self.rows.iter().enumerate() {
-            let mut s = 0.0;
-            for (side, (col, n)) in self.row_cols(r).into_iter().enumerate() {
-                if let Some(c) = col {
-                    for k in 0..n {
-                        s += row.g[side][k] * x[c + k];
-                    }
-                }
-            }
-            out[r] = s;
-        }
-    }
-
-    /// `out += G^T y` for the last evaluated rows.
-    pub fn gt_mul_add(&self, y: &[f64], out: &mut [f64]) {
-        for (r, row) in self.rows.iter().enumerate() {
-            for (side, (col, n)) in self.row_cols(r).into_iter().enumerate() {
-                if let Some(c) = col {
-                    for k in 0..n {
-                        out[c + k] += row.g[side][k] * y[r];
-                    }
-                }
-            }
-        }
-    }
-
-    /// Pushes `scale * G` at `(row_off, col_off)` and, if `transpose_at` is given,
-    /// `scale_t * G^T` at that `(row, col)` offset.
-    pub fn add_constraint_blocks(
-        &self,
-        lin: &mut LinearSolver,
-        row_off: usize,
-        col_off: usize,
-        scale: f64,
-        transpose_at: Option<(usize, usize, f64)>,
-    ) {
-        for (r, row) in self.rows.iter().enumerate() {
-            for (side, (col, n)) in self.row_cols(r).into_iter().enumerate() {
-                if let Some(c) = col {
-                    for k in 0..n {
-                        lin.push(row_off + r, col_off + c + k, scale * row.g[side][k]);
-                        if let Some((tr, tc, st)) = transpose_at {
-                            lin.push(tr + c + k, tc + r, st * row.g[side][k]);
-                        }
-                    }
-                }
-            }
         }
     }
 
@@ -430,7 +437,12 @@ impl System {
             .iter()
             .enumerate()
             .map(|(i, e)| e.potential_energy(&self.ctx(t, i)))
-            .sum();
+            .sum::<f64>()
+            + self
+                .modal
+                .iter()
+                .map(|m| m.potential_energy(self.model.gravity.as_ref()))
+                .sum::<f64>();
         (kinetic, potential)
     }
 
@@ -442,7 +454,8 @@ impl System {
             .iter()
             .enumerate()
             .map(|(i, e)| e.dissipated_power(&self.ctx(t, i)))
-            .sum();
+            .sum::<f64>()
+            + self.modal.iter().map(|m| m.dissipated_power()).sum::<f64>();
         let input = forces
             .iter()
             .enumerate()

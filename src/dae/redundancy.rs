@@ -22,6 +22,7 @@ pub fn independent_rows(
     model: &Model,
     row_bodies: &[[BodyId; 2]],
     rows: &[RowEval],
+    add_modal_columns: &dyn Fn(usize, &mut [f64]),
 ) -> Result<Vec<usize>, String> {
     let nb = model.bodies.len();
     let node = |b: BodyId| b.index().unwrap_or(nb);
@@ -65,11 +66,12 @@ pub fn independent_rows(
         for (side, b) in row_bodies[r].iter().enumerate() {
             if let Some(bi) = b.index() {
                 let body = &model.bodies[bi];
-                for k in 0..body.kind.n_v() {
+                for k in 0..body.kind.n_v().min(6) {
                     dense[body.v_offset + k] += rows[r].g[side][k];
                 }
             }
         }
+        add_modal_columns(r, &mut dense);
         let norm0 = dense.iter().map(|x| x * x).sum::<f64>().sqrt();
         if norm0 == 0.0 {
             continue;

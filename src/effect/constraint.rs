@@ -11,6 +11,14 @@
 //! - *dot1*: `u_i . u_j` (axes perpendicular);
 //! - *dot2*: `u_i . (p_j - p_i)` (point j in the plane through p_i normal to u_i);
 //! - *angle*: rotation of `x_j` about `z_i` (see [`super::angle`]).
+//!
+//! Frames on a flexible-body node (see [`crate::model::Frame::on_node`]) enter through
+//! [`NodeKin`]: their body-frame origin and axes then depend on the modal coordinates, with
+//! elastic rates, and each row carries per side two body-frame covectors [`RowEval::gn`] from
+//! which the system forms the modal columns `Phi_k^T gn_t + Psi_k^T gn_r` (`6 + n` entries per
+//! body in all). The formulas stay those of a rigid body with, for a body vector `s` (origin or
+//! axis) of elastic rate `s'`: velocity `R (omega x s + s')`, acceleration bias
+//! `R (omega x (omega x s) + 2 omega x s')`.
 
 use super::angle::{angle_curvature, relative_angle, wrap_angle};
 use crate::math::Vec3;
@@ -28,108 +36,247 @@ pub struct RowEval {
     pub gamma: f64,
     /// Jacobian blocks of body i and body j (translation, rotation).
     pub g: [[f64; 6]; 2],
+    /// Node covectors of sides i and j (body frame): `[gn_t (3), gn_r (3)]`; the row's modal
+    /// columns of a node frame are `Phi_k^T gn_t + Psi_k^T gn_r` (zero for other frames).
+    pub gn: [[f64; 6]; 2],
 }
 
-fn row(phi: f64, gamma: f64, gi_t: Vec3, gi_r: Vec3, gj_t: Vec3, gj_r: Vec3) -> RowEval {
-    let mut g = [[0.0; 6]; 2];
-    for k in 0..3 {
-        g[0][k] = gi_t[k];
-        g[0][k + 3] = gi_r[k];
-        g[1][k] = gj_t[k];
-        g[1][k + 3] = gj_r[k];
+/// Motion of a flexible-body node relative to its body frame (body-frame vectors).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct NodeKin {
+    /// Deformed position `rho_k + Phi_k a` [m].
+    pub u: Vec3,
+    /// Elastic velocity `Phi_k a_dot` [m/s].
+    pub u_dot: Vec3,
+    /// Small rotation `Psi_k a` [rad].
+    pub theta: Vec3,
+    /// Its rate `Psi_k a_dot` [rad/s].
+    pub theta_dot: Vec3,
+}
+
+/// A body-frame vector of a frame (origin or axis) at the current configuration.
+#[derive(Debug, Clone, Copy)]
+struct BVec {
+    /// Current value (body frame).
+    s: Vec3,
+    /// Elastic rate (body frame).
+    rate: Vec3,
+    /// For node frames: the offset `d` (origin) or undeformed axis `e`, whose cross product with
+    /// a covector gives the node-rotation covector; `None` off nodes.
+    lever: Option<Vec3>,
+}
+
+/// One side of a joint: body kinematics and the frame's node motion (if any).
+#[derive(Debug, Clone, Copy)]
+struct Side<'a> {
+    k: &'a BodyKin,
+    f: &'a Frame,
+    node: Option<NodeKin>,
+}
+
+impl Side<'_> {
+    /// The frame origin as a body vector.
+    fn origin(&self) -> BVec {
+        let d = self.f.origin;
+        match self.node {
+            None => BVec {
+                s: d,
+                rate: Vec3::zeros(),
+                lever: None,
+            },
+            Some(n) => BVec {
+                s: n.u + d + n.theta.cross(&d),
+                rate: n.u_dot + n.theta_dot.cross(&d),
+                lever: Some(d),
+            },
+        }
     }
+
+    /// Frame axis `c` (0, 1, 2) as a body vector.
+    fn axis(&self, c: usize) -> BVec {
+        let e: Vec3 = self.f.axes.column(c).into();
+        match self.node {
+            None => BVec {
+                s: e,
+                rate: Vec3::zeros(),
+                lever: None,
+            },
+            Some(n) => BVec {
+                s: e + n.theta.cross(&e),
+                rate: n.theta_dot.cross(&e),
+                lever: Some(e),
+            },
+        }
+    }
+
+    /// World image `R s` (without the body origin).
+    fn world(&self, b: &BVec) -> Vec3 {
+        self.k.rot * b.s
+    }
+
+    /// World point `r + R s`.
+    fn point(&self, b: &BVec) -> Vec3 {
+        self.k.r + self.k.rot * b.s
+    }
+
+    /// Rate of `R s` (without the body velocity).
+    fn world_rate(&self, b: &BVec) -> Vec3 {
+        self.k.rot * (self.k.omega.cross(&b.s) + b.rate)
+    }
+
+    /// Velocity of the point `r + R s`.
+    fn point_velocity(&self, b: &BVec) -> Vec3 {
+        self.k.v + self.world_rate(b)
+    }
+
+    /// Acceleration bias of `R s`: `R (omega x (omega x s) + 2 omega x s')`.
+    fn bias(&self, b: &BVec) -> Vec3 {
+        let w = self.k.omega;
+        self.k.rot * (w.cross(&w.cross(&b.s)) + 2.0 * w.cross(&b.rate))
+    }
+}
+
+/// Jacobian of one side of a row, accumulated from world covectors of its body vectors.
+#[derive(Debug, Clone, Copy, Default)]
+struct SideJac {
+    t: Vec3,
+    r: Vec3,
+    nt: Vec3,
+    nr: Vec3,
+}
+
+impl SideJac {
+    /// Adds `c . (R s)` of an axis-like vector (no translation dependence).
+    fn vector(&mut self, side: &Side, b: &BVec, c: &Vec3) {
+        let cb = side.k.rot.transpose() * c;
+        self.r += b.s.cross(&cb);
+        if let Some(l) = b.lever {
+            self.nr += l.cross(&cb);
+        }
+    }
+
+    /// Adds `c . (r + R s)` of a point.
+    fn point(&mut self, side: &Side, b: &BVec, c: &Vec3) {
+        self.t += c;
+        self.vector(side, b, c);
+        if b.lever.is_some() {
+            self.nt += side.k.rot.transpose() * c;
+        }
+    }
+
+    fn pack(&self) -> ([f64; 6], [f64; 6]) {
+        let (mut g, mut gn) = ([0.0; 6], [0.0; 6]);
+        for k in 0..3 {
+            g[k] = self.t[k];
+            g[k + 3] = self.r[k];
+            gn[k] = self.nt[k];
+            gn[k + 3] = self.nr[k];
+        }
+        (g, gn)
+    }
+}
+
+fn row(phi: f64, gamma: f64, ji: &SideJac, jj: &SideJac) -> RowEval {
+    let (gi, gni) = ji.pack();
+    let (gj, gnj) = jj.pack();
     RowEval {
         phi,
         phi_t: 0.0,
         gamma,
-        g,
+        g: [gi, gj],
+        gn: [gni, gnj],
     }
 }
 
 /// Point coincidence `p_i - p_j = 0`: three rows appended to `out`.
-fn point_rows(ki: &BodyKin, fi: &Frame, kj: &BodyKin, fj: &Frame, out: &mut Vec<RowEval>) {
-    let d = ki.point(&fi.origin) - kj.point(&fj.origin);
-    let ji = ki.point_rot_jacobian(&fi.origin);
-    let jj = kj.point_rot_jacobian(&fj.origin);
-    let acc = ki.point_centripetal(&fi.origin) - kj.point_centripetal(&fj.origin);
+fn point_rows(si: &Side, sj: &Side, out: &mut Vec<RowEval>) {
+    let (oi, oj) = (si.origin(), sj.origin());
+    let d = si.point(&oi) - sj.point(&oj);
+    let acc = si.bias(&oi) - sj.bias(&oj);
     for k in 0..3 {
         let e = Vec3::ith(k, 1.0);
-        let gi_r: Vec3 = ji.row(k).transpose();
-        let gj_r: Vec3 = -jj.row(k).transpose();
-        out.push(row(d[k], -acc[k], e, gi_r, -e, gj_r));
+        let (mut ji, mut jj) = (SideJac::default(), SideJac::default());
+        ji.point(si, &oi, &e);
+        jj.point(sj, &oj, &-e);
+        out.push(row(d[k], -acc[k], &ji, &jj));
     }
 }
 
-/// `u_i . u_j = 0` for body-frame axes `a_i`, `a_j`.
-fn dot1_row(ki: &BodyKin, a_i: Vec3, kj: &BodyKin, a_j: Vec3) -> RowEval {
-    let ui = ki.rot * a_i;
-    let uj = kj.rot * a_j;
-    let ui_dot = ki.rot * ki.omega.cross(&a_i);
-    let uj_dot = kj.rot * kj.omega.cross(&a_j);
-    let gdv = ki.point_centripetal(&a_i).dot(&uj)
-        + 2.0 * ui_dot.dot(&uj_dot)
-        + ui.dot(&kj.point_centripetal(&a_j));
-    let z = Vec3::zeros();
-    row(
-        ui.dot(&uj),
-        -gdv,
-        z,
-        a_i.cross(&(ki.rot.transpose() * uj)),
-        z,
-        a_j.cross(&(kj.rot.transpose() * ui)),
-    )
+/// `u_i . u_j = 0` for frame axes `ci` of i and `cj` of j.
+fn dot1_row(si: &Side, ci: usize, sj: &Side, cj: usize) -> RowEval {
+    let (ai, aj) = (si.axis(ci), sj.axis(cj));
+    let ui = si.world(&ai);
+    let uj = sj.world(&aj);
+    let gdv = si.bias(&ai).dot(&uj)
+        + 2.0 * si.world_rate(&ai).dot(&sj.world_rate(&aj))
+        + ui.dot(&sj.bias(&aj));
+    let (mut ji, mut jj) = (SideJac::default(), SideJac::default());
+    ji.vector(si, &ai, &uj);
+    jj.vector(sj, &aj, &ui);
+    row(ui.dot(&uj), -gdv, &ji, &jj)
 }
 
-/// `u_i . (p_j - p_i)` for body-frame axis `a_i` and the frame origins.
-fn dot2_row(ki: &BodyKin, fi: &Frame, a_i: Vec3, kj: &BodyKin, fj: &Frame) -> RowEval {
-    let ui = ki.rot * a_i;
-    let d = kj.point(&fj.origin) - ki.point(&fi.origin);
-    let d_dot = kj.point_velocity(&fj.origin) - ki.point_velocity(&fi.origin);
-    let ui_dot = ki.rot * ki.omega.cross(&a_i);
-    let acc = kj.point_centripetal(&fj.origin) - ki.point_centripetal(&fi.origin);
-    let gdv = ki.point_centripetal(&a_i).dot(&d) + 2.0 * ui_dot.dot(&d_dot) + ui.dot(&acc);
-    row(
-        ui.dot(&d),
-        -gdv,
-        -ui,
-        a_i.cross(&(ki.rot.transpose() * d + fi.origin)),
-        ui,
-        fj.origin.cross(&(kj.rot.transpose() * ui)),
-    )
+/// `u_i . (p_j - p_i)` for frame axis `ci` of i and the frame origins.
+fn dot2_row(si: &Side, ci: usize, sj: &Side) -> RowEval {
+    let (ai, oi, oj) = (si.axis(ci), si.origin(), sj.origin());
+    let ui = si.world(&ai);
+    let d = sj.point(&oj) - si.point(&oi);
+    let d_dot = sj.point_velocity(&oj) - si.point_velocity(&oi);
+    let acc = sj.bias(&oj) - si.bias(&oi);
+    let gdv = si.bias(&ai).dot(&d) + 2.0 * si.world_rate(&ai).dot(&d_dot) + ui.dot(&acc);
+    let (mut ji, mut jj) = (SideJac::default(), SideJac::default());
+    ji.vector(si, &ai, &d);
+    ji.point(si, &oi, &-ui);
+    jj.point(sj, &oj, &ui);
+    row(ui.dot(&d), -gdv, &ji, &jj)
 }
 
-/// Evaluates all rows of `joint` at time `t` and appends them to `out`.
-pub fn joint_rows(joint: &Joint, kins: &[BodyKin], t: f64, inputs: &[f64], out: &mut Vec<RowEval>) {
+/// Evaluates all rows of `joint` at time `t` and appends them to `out`; `nodes` holds the node
+/// motion of frames i and j when they ride on a flexible-body node.
+pub fn joint_rows(
+    joint: &Joint,
+    kins: &[BodyKin],
+    nodes: [Option<NodeKin>; 2],
+    t: f64,
+    inputs: &[f64],
+    out: &mut Vec<RowEval>,
+) {
     let (fi, fj) = (&joint.frame_i, &joint.frame_j);
     let ki = kin_of(kins, fi.body);
     let kj = kin_of(kins, fj.body);
-    let (xi, yi, zi) = (
-        fi.axes.column(0).into(),
-        fi.axes.column(1).into(),
-        fi.axes.column(2).into(),
-    );
-    let (xj, yj) = (fj.axes.column(0).into(), fj.axes.column(1).into());
+    let si = Side {
+        k: ki,
+        f: fi,
+        node: nodes[0],
+    };
+    let sj = Side {
+        k: kj,
+        f: fj,
+        node: nodes[1],
+    };
+    let (x, y, z) = (0, 1, 2);
     match joint.kind {
-        JointKind::Spherical => point_rows(ki, fi, kj, fj, out),
+        JointKind::Spherical => point_rows(&si, &sj, out),
         JointKind::Revolute => {
-            point_rows(ki, fi, kj, fj, out);
-            out.push(dot1_row(ki, zi, kj, xj));
-            out.push(dot1_row(ki, zi, kj, yj));
+            point_rows(&si, &sj, out);
+            out.push(dot1_row(&si, z, &sj, x));
+            out.push(dot1_row(&si, z, &sj, y));
         }
         JointKind::Fixed => {
-            point_rows(ki, fi, kj, fj, out);
-            out.push(dot1_row(ki, zi, kj, xj));
-            out.push(dot1_row(ki, zi, kj, yj));
-            out.push(dot1_row(ki, xi, kj, yj));
+            point_rows(&si, &sj, out);
+            out.push(dot1_row(&si, z, &sj, x));
+            out.push(dot1_row(&si, z, &sj, y));
+            out.push(dot1_row(&si, x, &sj, y));
         }
         JointKind::Prismatic => {
-            out.push(dot1_row(ki, zi, kj, xj));
-            out.push(dot1_row(ki, zi, kj, yj));
-            out.push(dot1_row(ki, xi, kj, yj));
-            out.push(dot2_row(ki, fi, xi, kj, fj));
-            out.push(dot2_row(ki, fi, yi, kj, fj));
+            out.push(dot1_row(&si, z, &sj, x));
+            out.push(dot1_row(&si, z, &sj, y));
+            out.push(dot1_row(&si, x, &sj, y));
+            out.push(dot2_row(&si, x, &sj));
+            out.push(dot2_row(&si, y, &sj));
         }
         JointKind::AngleDrive(profile) => {
+            // not allowed on node frames (checked by the model builder)
             let (target, rate, acc) = profile.eval(t, inputs);
             let ra = relative_angle(kins, fi, fj);
             let h = angle_curvature(kins, fi, fj);
@@ -137,21 +284,21 @@ pub fn joint_rows(joint: &Joint, kins: &[BodyKin], t: f64, inputs: &[f64], out: 
                 ki.omega.x, ki.omega.y, ki.omega.z, kj.omega.x, kj.omega.y, kj.omega.z,
             );
             let quad = om.dot(&(h * om));
-            let z = Vec3::zeros();
-            let mut r = row(
-                wrap_angle(ra.theta - target),
-                -quad + acc,
-                z,
-                ra.grad[0],
-                z,
-                ra.grad[1],
-            );
+            let ji = SideJac {
+                r: ra.grad[0],
+                ..SideJac::default()
+            };
+            let jj = SideJac {
+                r: ra.grad[1],
+                ..SideJac::default()
+            };
+            let mut r = row(wrap_angle(ra.theta - target), -quad + acc, &ji, &jj);
             r.phi_t = -rate;
             out.push(r);
         }
         JointKind::TranslationDrive(profile) => {
             let (target, rate, acc) = profile.eval(t, inputs);
-            let mut r = dot2_row(ki, fi, zi, kj, fj);
+            let mut r = dot2_row(&si, z, &sj);
             r.phi -= target;
             r.phi_t = -rate;
             r.gamma += acc;

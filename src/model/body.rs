@@ -6,14 +6,41 @@
 //! |-----------|------------------------------------------------|--------------------------------------------|
 //! | rigid     | `r` [m] world, unit quaternion (w, x, y, z)    | `v` [m/s] world, `omega` [rad/s] body frame |
 //! | particle  | `r` [m] world                                  | `v` [m/s] world                             |
+//! | modal     | `r` [m] world, unit quaternion, `a` (n)        | `v` world, `omega` body, `a_dot` (n)        |
 //!
 //! Position increments live in the tangent space, of the same length as `v`: a translation
 //! increment in the world frame and a rotation vector in the body frame (`R_new = R exp(dtheta~)`).
-//! Integrators only ever see flat vectors and the retraction of [`crate::model::Model`], so further
-//! kinds (a modally reduced flexible body with speeds `[v, omega, a_dot]`) slot in here without
-//! touching them.
+//! Modal coordinates are additive (their increment is `da`, their chart rate is `a_dot`).
+//! Integrators only ever see flat vectors and the retraction of [`crate::model::Model`].
+//!
+//! # Modal (floating-frame) body
+//! A modally reduced flexible body ([`BodyKind::Modal`], data [`ModalBodyData`]):
+//!
+//! - `r` [m] is the world position of the **body reference frame's origin** (for a panel from
+//!   [`crate::flex`] the panel corner, or the Craig-Bampton frame node), *not* the centre of mass;
+//!   the quaternion is the orientation of that reference frame (body to world).
+//! - A material point with undeformed body-frame position `rho` [m] is at `r + A (rho + Phi a)`;
+//!   the modal coordinates `a` (length n) are the reduced coordinates of the body data: amplitudes
+//!   of free-interface modes (mass-normalized: `a` in kg^1/2 m, `Phi` in kg^-1/2), or for
+//!   a Craig-Bampton body the w [m], theta_x, theta_y [rad] of the other attachment nodes followed by
+//!   the fixed-interface mode amplitudes. `a = 0` is the undeformed body.
+//! - Speeds `[v (world, of the frame origin), omega (body frame), a_dot]`, mass matrix `M(a)`,
+//!   quadratic-velocity vector and gravity exactly as in [`crate::flex::invariants`].
+//! - **Linear-modes limit**: deformations are a linear superposition of small-deflection modes of
+//!   the unloaded body: no geometric (stress) stiffening, no foreshortening, small node rotations
+//!   (see the module doc of [`crate::flex`]). Keep spin rates well below the first frequency.
+//!
+//! Frames on a modal body either ride on the reference frame (a [`crate::model::Frame`] without a
+//! node) or on an attachment **node** ([`crate::model::Frame::at_node`]): origin
+//! `rho_k + Phi_k a + d + theta_k x d`, axes `e + theta_k x e` with the node's small rotation
+//! `theta_k = Psi_k a` (linear in `a`, consistent with the linear-modes limit). Joints use such
+//! frames directly (their Jacobian rows get `6 + n` entries for the body); force elements given a
+//! node frame act on a *node body* ([`crate::model::ModelBuilder::node_body`]), a rigid frame
+//! riding on the node whose forces are carried over to the modal body (see `dae::node_body`).
 
+use crate::flex::ModalBodyData;
 use crate::math::{Mat3, Quat, Vec3};
+use std::sync::Arc;
 
 /// Identifies a body of a model; [`BodyId::GROUND`] is the fixed world frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -28,11 +55,24 @@ impl BodyId {
         self.0 == usize::MAX
     }
 
-    /// Index into the model's body list (`None` for ground).
+    /// Index into the model's body list (`None` for ground and node bodies).
     pub fn index(self) -> Option<usize> {
-        (!self.is_ground()).then_some(self.0)
+        (self.0 < NODE_BODY_LIMIT).then_some(self.0)
+    }
+
+    /// The id of node body `j` (see [`crate::model::ModelBuilder::node_body`]).
+    pub(crate) fn node_body(j: usize) -> BodyId {
+        BodyId(usize::MAX - 1 - j)
+    }
+
+    /// Index `j` of a node body in [`crate::model::Model::node_bodies`] (`None` otherwise).
+    pub fn node_body_index(self) -> Option<usize> {
+        (self.0 >= NODE_BODY_LIMIT && !self.is_ground()).then(|| usize::MAX - 1 - self.0)
     }
 }
+
+/// Ids at or above this are node bodies (counted down from `usize::MAX - 1`) or the ground.
+const NODE_BODY_LIMIT: usize = usize::MAX / 2;
 
 /// The physical kind of a body.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,6 +82,8 @@ pub enum BodyKind {
     Rigid { mass: f64, inertia: Mat3 },
     /// A point mass [kg] with translations only (rope nodes).
     Particle { mass: f64 },
+    /// A modally reduced flexible body in a floating frame (see the module doc).
+    Modal { data: Arc<ModalBodyData> },
 }
 
 impl BodyKind {
@@ -50,6 +92,7 @@ impl BodyKind {
         match self {
             BodyKind::Rigid { .. } => 7,
             BodyKind::Particle { .. } => 3,
+            BodyKind::Modal { data } => 7 + data.n_modes(),
         }
     }
 
@@ -58,18 +101,36 @@ impl BodyKind {
         match self {
             BodyKind::Rigid { .. } => 6,
             BodyKind::Particle { .. } => 3,
+            BodyKind::Modal { data } => 6 + data.n_modes(),
         }
     }
 
     /// Whether the body has rotational coordinates.
     pub fn has_rotation(&self) -> bool {
-        matches!(self, BodyKind::Rigid { .. })
+        matches!(self, BodyKind::Rigid { .. } | BodyKind::Modal { .. })
+    }
+
+    /// Number of modal coordinates (0 for rigid bodies and particles).
+    pub fn n_modes(&self) -> usize {
+        match self {
+            BodyKind::Modal { data } => data.n_modes(),
+            _ => 0,
+        }
+    }
+
+    /// The modal data of a flexible body.
+    pub fn modal(&self) -> Option<&Arc<ModalBodyData>> {
+        match self {
+            BodyKind::Modal { data } => Some(data),
+            _ => None,
+        }
     }
 
     /// Mass [kg].
     pub fn mass(&self) -> f64 {
         match self {
             BodyKind::Rigid { mass, .. } | BodyKind::Particle { mass } => *mass,
+            BodyKind::Modal { data } => data.invariants().mass,
         }
     }
 }
@@ -89,7 +150,8 @@ pub struct Body {
 /// Initial pose and velocity of a body.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BodyInit {
-    /// Position of the centre of mass [m], world frame.
+    /// Position of the centre of mass [m], world frame (of the reference-frame origin for a
+    /// modal body).
     pub position: Vec3,
     /// Orientation of the body frame relative to the world (ignored for particles).
     pub orientation: Quat,

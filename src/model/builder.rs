@@ -5,12 +5,13 @@ use super::element::{
     AppliedLoad, Frame, Joint, JointKind, JointTorque, SpringDamper, TorsionSpring,
 };
 use super::kinematics::put_quat;
-use super::{Model, Profile};
+use super::{Model, NodeBody, Profile};
 use crate::effect::ForceEffect;
 use crate::effect::applied::AppliedLoads;
 use crate::effect::gravity::Gravity;
 use crate::effect::spring_damper::SpringDampers;
 use crate::effect::torsion::{JointTorques, TorsionSprings};
+use crate::flex::ModalBodyData;
 use crate::math::{Mat3, Vec3};
 use std::sync::Arc;
 
@@ -18,6 +19,8 @@ use std::sync::Arc;
 #[derive(Debug, Default)]
 pub struct ModelBuilder {
     bodies: Vec<(String, BodyKind, BodyInit)>,
+    /// Initial modal coordinates and speeds of modal bodies (index = body index; empty otherwise).
+    modal_init: Vec<(Vec<f64>, Vec<f64>)>,
     joints: Vec<Joint>,
     springs: Vec<SpringDamper>,
     torsions: Vec<TorsionSpring>,
@@ -26,6 +29,8 @@ pub struct ModelBuilder {
     gravity: Option<Vec3>,
     extra: Vec<Arc<dyn ForceEffect>>,
     inputs: Vec<String>,
+    /// Node frames used by force effects, in order of first use (see [`ModelBuilder::node_body`]).
+    node_bodies: Vec<NodeBody>,
 }
 
 fn finite3(v: &Vec3) -> bool {
@@ -89,6 +94,7 @@ impl ModelBuilder {
         Self::check_init(name, &init)?;
         self.bodies
             .push((name.to_string(), BodyKind::Rigid { mass, inertia }, init));
+        self.modal_init.push((Vec::new(), Vec::new()));
         Ok(BodyId(self.bodies.len() - 1))
     }
 
@@ -109,6 +115,39 @@ impl ModelBuilder {
         Self::check_init(name, &init)?;
         self.bodies
             .push((name.to_string(), BodyKind::Particle { mass }, init));
+        self.modal_init.push((Vec::new(), Vec::new()));
+        Ok(BodyId(self.bodies.len() - 1))
+    }
+
+    /// Adds a modally reduced flexible body (floating frame of reference, see
+    /// [`crate::model::body`]): `init` places its reference frame (origin and orientation, speeds
+    /// of the origin [m/s, world] and of the frame [rad/s, body]); `a0` and `a_dot0` are the
+    /// initial modal coordinates and speeds (each of length `data.n_modes()`).
+    pub fn add_modal_body(
+        &mut self,
+        name: &str,
+        data: Arc<ModalBodyData>,
+        init: BodyInit,
+        a0: &[f64],
+        a_dot0: &[f64],
+    ) -> Result<BodyId, String> {
+        let n = data.n_modes();
+        if a0.len() != n || a_dot0.len() != n {
+            return Err(format!(
+                "modal body '{name}': initial modal coordinates have length {} and speeds {}, the body has {n} modes",
+                a0.len(),
+                a_dot0.len()
+            ));
+        }
+        if !a0.iter().chain(a_dot0).all(|x| x.is_finite()) {
+            return Err(format!(
+                "modal body '{name}': initial modal coordinates or speeds are not finite"
+            ));
+        }
+        Self::check_init(name, &init)?;
+        self.bodies
+            .push((name.to_string(), BodyKind::Modal { data }, init));
+        self.modal_init.push((a0.to_vec(), a_dot0.to_vec()));
         Ok(BodyId(self.bodies.len() - 1))
     }
 
@@ -120,7 +159,9 @@ impl ModelBuilder {
 
     /// Switches gravity on with acceleration `g` [m/s^2] (world frame), or off with `None`.
     pub fn set_gravity(&mut self, g: Option<Vec3>) -> Result<(), String> {
-        if g.is_some_and(|g| !finite3(&g)) {
+        if let Some(g) = g
+            && !finite3(&g)
+        {
             return Err("gravity vector is not finite".into());
         }
         self.gravity = g;
@@ -146,6 +187,24 @@ impl ModelBuilder {
                     "{owner}: frame {which} is on particle '{bname}', which has no rotation"
                 ));
             }
+            if let Some(node) = f.node {
+                let Some(data) = kind.modal() else {
+                    return Err(format!(
+                        "{owner}: frame {which} refers to node {node} of '{bname}', which is not a modal (flexible) body"
+                    ));
+                };
+                if node >= data.n_nodes() {
+                    return Err(format!(
+                        "{owner}: frame {which} refers to node {node} of modal body '{bname}', which has {} nodes (0..{})",
+                        data.n_nodes(),
+                        data.n_nodes()
+                    ));
+                }
+            }
+        } else if f.node.is_some() {
+            return Err(format!(
+                "{owner}: frame {which} is on the ground and cannot refer to a node"
+            ));
         }
         if !finite3(&f.origin) || !f.axes.iter().all(|x| x.is_finite()) {
             return Err(format!(
@@ -162,11 +221,68 @@ impl ModelBuilder {
         Ok(())
     }
 
+    /// Checks a force element's frame; a node frame is replaced by a frame on the node body
+    /// (same offset and axes, relative to the node's frame).
+    fn force_frame(
+        &mut self,
+        owner: &str,
+        which: &str,
+        f: &Frame,
+        needs_rotation: bool,
+    ) -> Result<Frame, String> {
+        self.check_frame(owner, which, f, needs_rotation)?;
+        match f.node {
+            None => Ok(*f),
+            Some(node) => Ok(Frame {
+                body: self.node_body(f.body, node)?,
+                node: None,
+                ..*f
+            }),
+        }
+    }
+
+    /// The *node body* of node `node` of modal body `body`: a rigid frame riding on the node
+    /// (origin at the deformed node, rotated by the node's rotation), for force effects, including
+    /// custom ones ([`ModelBuilder::add_force_effect`]), that should act at the node; forces and
+    /// torques on it are carried over to the modal body. Force elements given a node frame
+    /// ([`Frame::on_node`]) use it automatically. A node body has no coordinates and cannot carry
+    /// joints (joints take node frames directly). Errors: `body` is not a modal body or has no such
+    /// node.
+    pub fn node_body(&mut self, body: BodyId, node: usize) -> Result<BodyId, String> {
+        let Some((bname, kind, _)) = body.index().and_then(|i| self.bodies.get(i)) else {
+            return Err(format!(
+                "node body: body {body:?} is not a body of the model (ground or unknown)"
+            ));
+        };
+        let Some(data) = kind.modal() else {
+            return Err(format!(
+                "node body: '{bname}' is not a modal (flexible) body and has no nodes"
+            ));
+        };
+        if node >= data.n_nodes() {
+            return Err(format!(
+                "node body: modal body '{bname}' has {} nodes, node {node} does not exist",
+                data.n_nodes()
+            ));
+        }
+        let nb = NodeBody { body, node };
+        let i = match self.node_bodies.iter().position(|x| *x == nb) {
+            Some(i) => i,
+            None => {
+                self.node_bodies.push(nb);
+                self.node_bodies.len() - 1
+            }
+        };
+        Ok(BodyId::node_body(i))
+    }
+
     fn check_profile(&self, owner: &str, p: &Profile) -> Result<(), String> {
         if !p.is_finite() {
             return Err(format!("{owner}: profile has non-finite coefficients"));
         }
-        if let Some(i) = p.input().filter(|&i| i >= self.inputs.len()) {
+        if let Some(i) = p.input()
+            && i >= self.inputs.len()
+        {
             return Err(format!(
                 "{owner}: profile reads input #{i}, but the model declares {} inputs",
                 self.inputs.len()
@@ -175,7 +291,11 @@ impl ModelBuilder {
         Ok(())
     }
 
-    /// Adds a joint between `frame_i` and `frame_j`.
+    /// Adds a joint between `frame_i` and `frame_j`. A frame may ride on a node of a modal body
+    /// ([`Frame::on_node`], e.g. a hinge at a panel's attachment node): revolute, spherical,
+    /// fixed, prismatic and translation-drive joints work there (not the angle drive). Errors
+    /// name the joint and the frame: a node the body does not have, a node on a rigid body or the
+    /// ground, a frame on a node body.
     pub fn add_joint(
         &mut self,
         name: &str,
@@ -189,8 +309,20 @@ impl ModelBuilder {
         if frame_i.body == frame_j.body {
             return Err(format!("{owner}: both frames are on the same body"));
         }
+        if frame_i.body.node_body_index().is_some() || frame_j.body.node_body_index().is_some() {
+            return Err(format!(
+                "{owner}: a joint frame cannot be on a node body; give the modal body and the node (Frame::on_node)"
+            ));
+        }
         if let JointKind::AngleDrive(p) | JointKind::TranslationDrive(p) = &kind {
             self.check_profile(&owner, p)?;
+        }
+        if matches!(kind, JointKind::AngleDrive(_))
+            && (frame_i.node.is_some() || frame_j.node.is_some())
+        {
+            return Err(format!(
+                "{owner}: an angle drive on a flexible-body node frame is not supported (put it on the body's reference frame)"
+            ));
         }
         self.joints.push(Joint {
             name: name.to_string(),
@@ -204,10 +336,14 @@ impl ModelBuilder {
     /// Adds a translational spring-damper.
     pub fn add_spring_damper(&mut self, e: SpringDamper) -> Result<(), String> {
         let owner = format!("spring-damper '{}'", e.name);
-        self.check_frame(&owner, "a", &e.a, false)?;
-        self.check_frame(&owner, "b", &e.b, false)?;
-        let all_finite = (e.stiffness + e.damping + e.free_length).is_finite();
-        if !all_finite || e.stiffness < 0.0 || e.damping < 0.0 || e.free_length < 0.0 {
+        let mut e = e;
+        e.a = self.force_frame(&owner, "a", &e.a, false)?;
+        e.b = self.force_frame(&owner, "b", &e.b, false)?;
+        if !(e.stiffness >= 0.0
+            && e.damping >= 0.0
+            && e.free_length >= 0.0
+            && (e.stiffness + e.damping + e.free_length).is_finite())
+        {
             return Err(format!(
                 "{owner}: stiffness, damping and free length must be finite and >= 0"
             ));
@@ -219,10 +355,13 @@ impl ModelBuilder {
     /// Adds a rotational spring-damper about the z axes of its frames.
     pub fn add_torsion_spring(&mut self, e: TorsionSpring) -> Result<(), String> {
         let owner = format!("torsion spring '{}'", e.name);
-        self.check_frame(&owner, "i", &e.frame_i, true)?;
-        self.check_frame(&owner, "j", &e.frame_j, true)?;
-        let all_finite = (e.stiffness + e.damping + e.free_angle + e.angle_offset).is_finite();
-        if !all_finite || e.stiffness < 0.0 || e.damping < 0.0 {
+        let mut e = e;
+        e.frame_i = self.force_frame(&owner, "i", &e.frame_i, true)?;
+        e.frame_j = self.force_frame(&owner, "j", &e.frame_j, true)?;
+        if !(e.stiffness >= 0.0
+            && e.damping >= 0.0
+            && (e.stiffness + e.damping + e.free_angle + e.angle_offset).is_finite())
+        {
             return Err(format!(
                 "{owner}: stiffness and damping must be finite and >= 0, angles finite"
             ));
@@ -234,7 +373,8 @@ impl ModelBuilder {
     /// Adds an applied force/torque.
     pub fn add_applied_load(&mut self, e: AppliedLoad) -> Result<(), String> {
         let owner = format!("load '{}'", e.name);
-        self.check_frame(&owner, "at", &e.at, false)?;
+        let mut e = e;
+        e.at = self.force_frame(&owner, "at", &e.at, false)?;
         self.check_profile(&owner, &e.force)?;
         self.check_profile(&owner, &e.torque)?;
         if !finite3(&e.force_direction) || !finite3(&e.torque_direction) {
@@ -247,8 +387,9 @@ impl ModelBuilder {
     /// Adds a torque between two bodies about a joint axis.
     pub fn add_joint_torque(&mut self, e: JointTorque) -> Result<(), String> {
         let owner = format!("joint torque '{}'", e.name);
-        self.check_frame(&owner, "i", &e.frame_i, true)?;
-        self.check_frame(&owner, "j", &e.frame_j, true)?;
+        let mut e = e;
+        e.frame_i = self.force_frame(&owner, "i", &e.frame_i, true)?;
+        e.frame_j = self.force_frame(&owner, "j", &e.frame_j, true)?;
         self.check_profile(&owner, &e.torque)?;
         self.joint_torques.push(e);
         Ok(())
@@ -283,11 +424,25 @@ impl ModelBuilder {
                 v0[b.v_offset + 3..b.v_offset + 6].copy_from_slice(init.omega.as_slice());
             }
         }
+        for (b, (a0, a_dot0)) in bodies.iter().zip(&self.modal_init) {
+            // only modal bodies have modal coordinates (a particle has no slots past its 3)
+            if matches!(b.kind, BodyKind::Modal { .. }) {
+                q0[b.q_offset + 7..b.q_offset + 7 + a0.len()].copy_from_slice(a0);
+                v0[b.v_offset + 6..b.v_offset + 6 + a_dot0.len()].copy_from_slice(a_dot0);
+            }
+        }
         let mut forces: Vec<Arc<dyn ForceEffect>> = Vec::new();
         if let Some(g) = self.gravity {
             forces.push(Arc::new(Gravity {
                 g,
-                masses: bodies.iter().map(|b| b.kind.mass()).collect(),
+                // modal bodies get their (configuration-dependent) gravity from the System
+                masses: bodies
+                    .iter()
+                    .map(|b| match b.kind {
+                        BodyKind::Modal { .. } => 0.0,
+                        _ => b.kind.mass(),
+                    })
+                    .collect(),
             }));
         }
         if !self.springs.is_empty() {
@@ -321,6 +476,7 @@ impl ModelBuilder {
             n_v,
             q0,
             v0,
+            node_bodies: self.node_bodies,
         })
     }
 }

@@ -6,13 +6,20 @@ use crate::math::{Mat3, Vec3};
 
 /// A frame attached to a body: origin [m] and axes (columns x, y, z) in the body frame.
 /// For the ground the frame is given in the world frame.
+///
+/// On a modal (flexible) body a frame may ride on node `k` ([`Frame::on_node`]): its origin is
+/// then `rho_k + Phi_k a + d + theta_k x d` and each axis `e + theta_k x e` (body frame), with
+/// `d = origin` the offset from the node, `e` the given axes and `theta_k = Psi_k a` the node's
+/// small rotation (see [`crate::model::body`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Frame {
     pub body: BodyId,
-    /// Origin in the body frame [m].
+    /// Origin in the body frame [m] (the offset from the node for a node frame).
     pub origin: Vec3,
     /// Orthonormal axes in the body frame (columns).
     pub axes: Mat3,
+    /// Node of a modal body the frame rides on (`None`: rigidly on the body frame).
+    pub node: Option<usize>,
 }
 
 impl Frame {
@@ -22,7 +29,20 @@ impl Frame {
             body,
             origin,
             axes: Mat3::identity(),
+            node: None,
         }
+    }
+
+    /// A frame at node `node` of modal body `body`, axes parallel to the body frame.
+    pub fn at_node(body: BodyId, node: usize) -> Self {
+        Frame::new(body, Vec3::zeros()).on_node(node)
+    }
+
+    /// Makes the frame ride on node `node` of its (modal) body; `origin` becomes the offset from
+    /// the node [m], body frame.
+    pub fn on_node(mut self, node: usize) -> Self {
+        self.node = Some(node);
+        self
     }
 
     /// A frame at `origin` whose z axis is `axis` (normalized here); x and y complete a
@@ -40,6 +60,7 @@ impl Frame {
             body,
             origin,
             axes: Mat3::from_columns(&[x, y, z]),
+            node: None,
         }
     }
 

@@ -107,11 +107,17 @@ pub fn evaluate(model: &Model, q: &[f64], v: &[f64], out: &mut Vec<BodyKin>) {
     }
 }
 
-/// The kinematics of `id` from an evaluated list (ground for [`BodyId::GROUND`]).
+/// The kinematics of `id` from an evaluated list (ground for [`BodyId::GROUND`]). The list the
+/// [`crate::dae::System`] keeps holds the bodies first, then the node bodies in reverse order
+/// (node body `j` last but `j`), so that node bodies are found without knowing the body count.
 #[inline]
 pub fn kin_of(kins: &[BodyKin], id: BodyId) -> &BodyKin {
-    match id.index() {
-        Some(i) => &kins[i],
-        None => &BodyKin::GROUND,
+    match (id.index(), id.node_body_index()) {
+        (Some(i), _) => &kins[i],
+        (None, Some(j)) => kins
+            .len()
+            .checked_sub(1 + j)
+            .map_or(&BodyKin::GROUND, |i| &kins[i]),
+        _ => &BodyKin::GROUND,
     }
 }

@@ -39,6 +39,20 @@ pub struct Model {
     /// Initial positions (length `n_q`) and speeds (length `n_v`), before projection.
     pub q0: Vec<f64>,
     pub v0: Vec<f64>,
+    /// Node frames of modal bodies that force effects act at: entry `j` is the *node body*
+    /// returned by [`ModelBuilder::node_body`], a kinematic frame (no coordinates of its own) that rides on
+    /// node `node` of `body` (see [`ModelBuilder::node_body`]).
+    pub node_bodies: Vec<NodeBody>,
+}
+
+/// A node frame of a modal body seen by force effects as a rigid frame: origin
+/// `r + A (rho_k + Phi_k a)`, rotation `A exp((Psi_k a)~)`, its velocity and body-frame angular
+/// velocity; its forces are mapped to the modal body's speeds by the transpose of its velocity
+/// map (see [`crate::dae`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NodeBody {
+    pub body: BodyId,
+    pub node: usize,
 }
 
 impl Model {
@@ -47,9 +61,9 @@ impl Model {
         self.input_names.len()
     }
 
-    /// The body with the given id (`None` for ground).
+    /// The body with the given id (`None` for ground and node bodies).
     pub fn body(&self, id: BodyId) -> Option<&Body> {
-        id.index().map(|i| &self.bodies[i])
+        id.index().and_then(|i| self.bodies.get(i))
     }
 
     /// Retraction: `out = q ⊕ dx`. Translations add in the world frame; rotations compose on the
@@ -65,6 +79,9 @@ impl Model {
                 let th = Vec3::new(dx[vo + 3], dx[vo + 4], dx[vo + 5]);
                 let rn = r * exp_so3(&th);
                 kinematics::put_quat(out, qo + 3, &rn);
+            }
+            for i in 0..b.kind.n_modes() {
+                out[qo + 7 + i] = q[qo + 7 + i] + dx[vo + 6 + i];
             }
         }
     }
@@ -83,6 +100,9 @@ impl Model {
                 let th = log_so3(&(r0.inverse() * r1));
                 dx[vo + 3..vo + 6].copy_from_slice(th.as_slice());
             }
+            for i in 0..b.kind.n_modes() {
+                dx[vo + 6 + i] = q[qo + 7 + i] - q_ref[qo + 7 + i];
+            }
         }
     }
 
@@ -97,11 +117,16 @@ impl Model {
                 let om = Vec3::new(v[vo + 3], v[vo + 4], v[vo + 5]);
                 out[vo + 3..vo + 6].copy_from_slice(dexp_inv(&th, &om).as_slice());
             }
+            let m = b.kind.n_modes();
+            if m > 0 {
+                out[vo + 6..vo + 6 + m].copy_from_slice(&v[vo + 6..vo + 6 + m]);
+            }
         }
     }
 
     /// Per-coordinate magnitude used for relative error weights: |r| for translations [m],
-    /// 1 rad for rotations, |v| for speeds.
+    /// 1 rad for rotations, |a_i| for modal coordinates (like translations: their units are
+    /// those of the body data), |v| for speeds.
     pub fn position_scale(&self, q: &[f64], out: &mut [f64]) {
         for b in &self.bodies {
             let (qo, vo) = (b.q_offset, b.v_offset);
@@ -110,6 +135,9 @@ impl Model {
             }
             if b.kind.has_rotation() {
                 out[vo + 3..vo + 6].fill(1.0);
+            }
+            for i in 0..b.kind.n_modes() {
+                out[vo + 6 + i] = q[qo + 7 + i].abs();
             }
         }
     }

@@ -1,6 +1,8 @@
 //! Shared builders for the integration tests.
 #![allow(dead_code)]
 
+pub mod flex;
+
 use mbcosim::math::{Mat3, Quat, Vec3};
 use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, Model, ModelBuilder};
 

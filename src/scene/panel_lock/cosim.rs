@@ -41,17 +41,16 @@ impl PanelLockModel {
 
     /// The scene parameters from the current port values.
     pub fn params(&self) -> Result<PanelLockParams, ModelError> {
-        let mut p = PanelLockParams::default();
-        p.n_panels = self.ports.get_integer(ivr::N_PANELS)? as usize;
-        p.integrator = integrator_of(self.ports.get_integer(ivr::INTEGRATOR)?);
-        p.contact_law = law_of(self.ports.get_integer(ivr::CONTACT_LAW)?);
-        p.latches = self.ports.get_boolean(bvr::LATCHES)?;
-        p.cable_loop = self.ports.get_boolean(bvr::CABLE_LOOP)?;
-        p.free_satellite = self.ports.get_boolean(bvr::FREE_SATELLITE)?;
-        p.gravity = if self.ports.get_boolean(bvr::GRAVITY_ON)? {
-            Some(9.81)
-        } else {
-            None
+        let gravity_on = self.ports.get_boolean(bvr::GRAVITY_ON)?;
+        let mut p = PanelLockParams {
+            n_panels: self.ports.get_integer(ivr::N_PANELS)? as usize,
+            integrator: integrator_of(self.ports.get_integer(ivr::INTEGRATOR)?),
+            contact_law: law_of(self.ports.get_integer(ivr::CONTACT_LAW)?),
+            latches: self.ports.get_boolean(bvr::LATCHES)?,
+            cable_loop: self.ports.get_boolean(bvr::CABLE_LOOP)?,
+            free_satellite: self.ports.get_boolean(bvr::FREE_SATELLITE)?,
+            gravity: gravity_on.then_some(9.81),
+            ..PanelLockParams::default()
         };
         for (i, rp) in REAL_PARAMS.iter().enumerate() {
             (rp.set)(&mut p, self.ports.get_real(i as ValueRef)?);
@@ -136,11 +135,9 @@ impl CoSimModel for PanelLockModel {
 
     fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError> {
         self.ports.set_real(vr, value)?;
-        if vr == vr_motor() {
-            if let Some(s) = self.scene.as_mut() {
-                s.set_motor_torque(value)
-                    .map_err(ModelError::InvalidValue)?;
-            }
+        if let Some(s) = self.scene.as_mut().filter(|_| vr == vr_motor()) {
+            s.set_motor_torque(value)
+                .map_err(ModelError::InvalidValue)?;
         }
         Ok(())
     }
