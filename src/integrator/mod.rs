@@ -75,7 +75,7 @@ impl Default for Settings {
             fixed_step: 0.0,
             rho_inf: 0.8,
             max_order: 5,
-            max_steps: 5_000_000,
+            max_steps: 200_000,
         }
     }
 }

@@ -22,6 +22,14 @@ HERE = pathlib.Path(__file__).resolve().parent
 
 # Per-model scenarios: start values, run length, and input signals u(t) for hand-driven loops.
 SCENARIOS = {
+    "PanelLock": dict(
+        values={"rtol": 1e-6, "atol": 1e-8},
+        stop=6.0,
+        step=0.05,
+        inputs={"root_motor_torque": lambda t: 0.02 * math.sin(2.0 * t)},
+        alt_values={"contact_stiffness": 1e8, "n_panels": 2},
+        fuzz_sequences=150,
+    ),
     "PidController": dict(
         values={"setpoint": 1.0, "kp": 2.0, "ki": 1.5, "kd": 0.1, "Tf": 0.05, "u_min": -1.5, "u_max": 1.5, "Tt": 0.05},
         stop=3.0,

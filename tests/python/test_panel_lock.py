@@ -1,0 +1,86 @@
+"""PanelLock through fmpy: every integrator equals the native run, results are independent of the
+communication step within the solver tolerance, and a PID FMU closes a loop around it."""
+
+import io
+
+import numpy as np
+import pytest
+from conftest import DIST, native
+from fmpy import read_model_description, simulate_fmu
+from fmpy.fmi2 import FMU2Slave
+from fmpy import extract
+
+PANEL = DIST / "PanelLock.fmu"
+PID = DIST / "PidController.fmu"
+INTEGRATORS = {1: "gen_alpha", 2: "bdf", 3: "dopri5"}
+
+
+def _native(stop, step, values):
+    args = ["simulate", "PanelLock", "--stop", repr(stop), "--step", repr(step)]
+    for k, v in values.items():
+        args += ["--set", f"{k}={float(v)!r}"]
+    return np.genfromtxt(io.StringIO(native(*args, timeout=600)), delimiter=",", names=True)
+
+
+@pytest.mark.parametrize("integrator", sorted(INTEGRATORS), ids=INTEGRATORS.values())
+def test_every_integrator_through_fmpy_equals_the_native_run(integrator):
+    values = {"integrator": integrator, "rtol": 1e-6, "atol": 1e-8}
+    res = simulate_fmu(str(PANEL), start_values=values, stop_time=6.0, output_interval=0.05)
+    ref = _native(6.0, 0.05, values)
+    for name in ["hinge0_angle", "hinge0_contact_force", "hinge3_angle", "tip_normal_velocity", "kinetic_energy"]:
+        assert np.array_equal(res[name], ref[name]), name
+    # the root hinge locks within the window, at the native scene's time
+    assert res["hinge0_latched"][-1]
+    assert 4.8 < res["hinge0_lock_time"][-1] < 5.1
+
+
+def test_lock_up_does_not_depend_on_the_communication_step():
+    values = {"rtol": 1e-8, "atol": 1e-10}
+    found = []
+    for h in [1e-3, 0.01, 0.1, 0.5]:
+        res = simulate_fmu(str(PANEL), start_values=values, stop_time=6.0, output_interval=h)
+        found.append((res["hinge0_lock_time"][-1], res["hinge0_peak_force"][-1]))
+    t0, f0 = found[0]
+    for t, f in found[1:]:
+        assert t == pytest.approx(t0, rel=1e-5)
+        assert f == pytest.approx(f0, rel=1e-3)
+
+
+def _slave(path, name):
+    md = read_model_description(str(path))
+    s = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(path)), modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+    s.instantiate()
+    return s, {v.name: v.valueReference for v in md.modelVariables}
+
+
+def test_pid_fmu_tracks_a_root_hinge_angle_set_point():
+    # one panel, springs and latches off: the PID-driven root motor alone positions the array
+    plant, pv = _slave(PANEL, "array")
+    ctrl, cv = _slave(PID, "pid")
+    plant.setupExperiment(startTime=0.0)
+    plant.enterInitializationMode()
+    plant.setInteger([pv["n_panels"]], [1])
+    plant.setBoolean([pv["latches"]], [False])
+    plant.setReal([pv[n] for n in ["root_spring_preload", "root_spring_stiffness", "panel_spring_preload", "panel_spring_stiffness", "hinge_damping"]], [0.0, 0.0, 0.0, 0.0, 0.5])
+    plant.exitInitializationMode()
+    ctrl.setupExperiment(startTime=0.0)
+    ctrl.enterInitializationMode()
+    set_point = 1.0
+    ctrl.setReal([cv[n] for n in ["kp", "ki", "kd", "Tf", "setpoint", "u_min", "u_max"]], [8.0, 1.0, 12.0, 0.05, set_point, -5.0, 5.0])
+    ctrl.exitInitializationMode()
+    h, t = 0.02, 0.0
+    errors = []
+    for _ in range(int(40.0 / h)):
+        angle = plant.getReal([pv["hinge0_angle"]])[0]
+        ctrl.setReal([cv["measurement"]], [angle])
+        ctrl.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+        plant.setReal([pv["root_motor_torque"]], [ctrl.getReal([cv["u"]])[0]])
+        plant.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+        t += h
+        errors.append(set_point - plant.getReal([pv["hinge0_angle"]])[0])
+    # the loop closes: the error settles to zero (integral action) and stays there
+    assert abs(errors[0]) > 0.9
+    assert max(abs(e) for e in errors[-250:]) < 2e-3, errors[-1]
+    for s in (plant, ctrl):
+        s.terminate()
+        s.freeInstance()
