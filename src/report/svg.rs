@@ -77,16 +77,18 @@ pub fn line_plot(title: &str, x_label: &str, y_label: &str, series: &[Series]) -
         let step = tick_step(hi - lo);
         let mut v = (lo / step).ceil() * step;
         while v <= hi {
+            // a tick at zero reached from below prints as -0: print it as 0
+            let tick = if v.abs() < 1e-9 * step { 0.0 } else { v };
             let label = if step >= 1.0 {
-                format!("{v:.0}")
+                format!("{tick:.0}")
             } else {
-                format!("{v:.*}", (-step.log10().floor()) as usize)
+                format!("{tick:.*}", (-step.log10().floor()) as usize)
             };
             if vertical {
                 let _ = write!(
                     s,
                     r##"<line x1="{0}" y1="{1}" x2="{0}" y2="{2}" stroke="#ddd"/><text x="{0}" y="{3}" text-anchor="middle">{label}</text>"##,
-                    sx(v),
+                    sx(tick),
                     t,
                     h - b,
                     h - b + 16.0
@@ -95,11 +97,11 @@ pub fn line_plot(title: &str, x_label: &str, y_label: &str, series: &[Series]) -
                 let _ = write!(
                     s,
                     r##"<line x1="{1}" y1="{0}" x2="{2}" y2="{0}" stroke="#ddd"/><text x="{3}" y="{4}" text-anchor="end">{label}</text>"##,
-                    sy(v),
+                    sy(tick),
                     l,
                     w - r,
                     l - 6.0,
-                    sy(v) + 4.0
+                    sy(tick) + 4.0
                 );
             }
             v += step;
