@@ -1,5 +1,5 @@
-//! The generalized-alpha step loop does not allocate once warmed up (dense and sparse Newton
-//! solves), measured with a counting global allocator.
+//! The step loops of all three integrators do not allocate once warmed up (dense and sparse
+//! Newton solves), measured with a counting global allocator.
 
 use mbcosim::integrator::{IntegratorKind, Settings};
 use mbcosim::math::{Mat3, Quat, Vec3};
@@ -59,19 +59,32 @@ fn chain(n: usize) -> Model {
 }
 
 #[test]
-fn generalized_alpha_steps_without_allocating() {
-    for n in [2, 20] {
-        // 2 bodies: 22 unknowns (dense LU); 20 bodies: 220 unknowns (sparse LU)
-        let s = Settings {
-            fixed_step: 1e-3,
-            ..Settings::default()
-        };
-        let mut sim = Simulation::new(chain(n), IntegratorKind::GenAlpha, s, 0.0).unwrap();
-        sim.advance_to(0.05).unwrap();
-        let before = ALLOCATIONS.load(Ordering::Relaxed);
-        sim.advance_to(0.15).unwrap();
-        let count = ALLOCATIONS.load(Ordering::Relaxed) - before;
-        assert_eq!(count, 0, "{n} bodies: {count} allocations in 100 steps");
-        assert!(sim.stats().steps >= 150);
+fn integrators_step_without_allocating() {
+    for kind in IntegratorKind::ALL {
+        for n in [2, 20] {
+            // 2 bodies: 22 unknowns (dense LU); 20 bodies: 220 unknowns (sparse LU)
+            let s = Settings {
+                rtol: 1e-6,
+                atol: 1e-8,
+                h_max: 1e-3,
+                ..Settings::default()
+            };
+            let mut sim = Simulation::new(chain(n), kind, s, 0.0).unwrap();
+            sim.advance_to(0.1).unwrap();
+            let (before, steps) = (ALLOCATIONS.load(Ordering::Relaxed), sim.stats().steps);
+            sim.advance_to(0.2).unwrap();
+            let count = ALLOCATIONS.load(Ordering::Relaxed) - before;
+            let taken = sim.stats().steps - steps;
+            assert!(taken >= 50, "{}: only {taken} steps", kind.name());
+            let st = sim.stats();
+            assert_eq!(
+                count,
+                0,
+                "{} with {n} bodies: {count} allocations in {taken} steps (newton failures {}, rejected {})",
+                kind.name(),
+                st.newton_failures,
+                st.rejected
+            );
+        }
     }
 }

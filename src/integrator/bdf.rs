@@ -68,6 +68,14 @@ pub struct Bdf {
     wx: Vec<f64>,
     wv: Vec<f64>,
     vdot: Vec<f64>,
+    /// Scratch (sized once): chart centre, G^T mu, G v, predictor, error and divided differences.
+    q0: Vec<f64>,
+    gtmu: Vec<f64>,
+    gv: Vec<f64>,
+    xp: Vec<f64>,
+    vp: Vec<f64>,
+    ex: Vec<f64>,
+    ev: Vec<f64>,
 }
 
 /// Weights `w` with `p(tau) = sum w_j y_j` for the polynomial through `(ts[j], y_j)`.
@@ -119,9 +127,23 @@ fn assemble(sys: &mut System, lin: &mut LinearSolver, t: f64, q: &[f64], v: &[f6
     sys.add_constraint_blocks(lin, 2 * nv + nc, nv, 1.0, Some((nv, 2 * nv, 1.0)));
 }
 
+/// Why a Newton iteration failed: a static reason and the time [s], formatted only when the
+/// integrator gives up (a retried failure allocates nothing).
+#[derive(Debug, Clone, Copy)]
+struct Failure {
+    reason: &'static str,
+    t: f64,
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} at t = {:.9e} s", self.reason, self.t)
+    }
+}
+
 enum Outcome {
     Converged,
-    Failed(String),
+    Failed(Failure),
 }
 
 impl Bdf {
@@ -152,6 +174,13 @@ impl Bdf {
             wx: Vec::new(),
             wv: Vec::new(),
             vdot: Vec::new(),
+            q0: Vec::new(),
+            gtmu: Vec::new(),
+            gv: Vec::new(),
+            xp: Vec::new(),
+            vp: Vec::new(),
+            ex: Vec::new(),
+            ev: Vec::new(),
         }
     }
 
@@ -166,6 +195,18 @@ impl Bdf {
             &mut self.vdot,
         ] {
             v.resize(nv, 0.0);
+            for v in [
+                &mut self.gtmu,
+                &mut self.xp,
+                &mut self.vp,
+                &mut self.ex,
+                &mut self.ev,
+            ] {
+                v.resize(nv, 0.0);
+            }
+            self.gv.resize(nc, 0.0);
+            self.q0.resize(nq, 0.0);
+            self.hist.reserve(8usize.saturating_sub(self.hist.len()));
         }
         self.lam.resize(nc, 0.0);
         self.mu.resize(nc, 0.0);
@@ -174,13 +215,27 @@ impl Bdf {
     }
 
     fn push_point(&mut self, st: &State) {
-        self.hist.push_front(Point {
-            t: st.t,
-            q: st.q.clone(),
-            v: st.v.clone(),
-            z: [st.energy_dissipated, st.work_input],
-        });
-        self.hist.truncate(7);
+        // recycle the oldest point's storage once the history is full (no allocation per step)
+        let mut p = if self.hist.len() >= 7 {
+            self.hist.pop_back().unwrap_or(Point {
+                t: 0.0,
+                q: Vec::new(),
+                v: Vec::new(),
+                z: [0.0; 2],
+            })
+        } else {
+            Point {
+                t: 0.0,
+                q: Vec::new(),
+                v: Vec::new(),
+                z: [0.0; 2],
+            }
+        };
+        p.t = st.t;
+        p.q.clone_from(&st.q);
+        p.v.clone_from(&st.v);
+        p.z = [st.energy_dissipated, st.work_input];
+        self.hist.push_front(p);
     }
 
     /// Chart coordinates of history points `0..m` relative to the newest.
@@ -204,10 +259,10 @@ impl Bdf {
         let (nv, nc) = (sys.n_v(), sys.n_c());
         let a0 = alpha[0];
         let n = 2 * nv + 2 * nc;
-        let q0 = self.hist[0].q.clone();
+        self.q0.clone_from(&self.hist[0].q);
         let mut prev = f64::INFINITY;
         for it in 0..10 {
-            sys.model.retract(&q0, &self.x, &mut self.q1);
+            sys.model.retract(&self.q0, &self.x, &mut self.q1);
             sys.forces(t1, &self.q1, &self.v, &mut self.f);
             sys.eval_constraints(t1, &self.q1, &self.v);
             self.stats.rhs_evaluations += 1;
@@ -221,12 +276,10 @@ impl Bdf {
                 }
                 self.rhs[i] = -(s - self.tmp[i]);
             }
-            {
-                let mut gtmu = vec![0.0; nv];
-                sys.gt_mul_add(&self.mu, &mut gtmu);
-                for (r, g) in self.rhs[..nv].iter_mut().zip(&gtmu) {
-                    *r -= g;
-                }
+            self.gtmu.fill(0.0);
+            sys.gt_mul_add(&self.mu, &mut self.gtmu);
+            for (r, g) in self.rhs[..nv].iter_mut().zip(&self.gtmu) {
+                *r -= g;
             }
             // v rows: -(M sum alpha v + G^T lambda - f)
             for i in 0..nv {
@@ -240,20 +293,22 @@ impl Bdf {
             for i in 0..nv {
                 self.rhs[nv + i] = self.f[i] - self.tmp[i];
             }
-            {
-                let neg: Vec<f64> = self.lam.iter().map(|l| -l).collect();
-                sys.gt_mul_add(&neg, &mut self.rhs[nv..2 * nv]);
-            }
+            self.lam.iter_mut().for_each(|l| *l = -*l);
+            sys.gt_mul_add(&self.lam, &mut self.rhs[nv..2 * nv]);
+            self.lam.iter_mut().for_each(|l| *l = -*l);
             let mut phi_max: f64 = 0.0;
-            let mut gv = vec![0.0; nc];
-            sys.g_mul(&self.v, &mut gv);
+            sys.g_mul(&self.v, &mut self.gv);
+            let gv = &self.gv;
             for (r, row) in sys.rows.iter().enumerate() {
                 self.rhs[2 * nv + r] = -a0 * row.phi;
                 self.rhs[2 * nv + nc + r] = -(gv[r] + row.phi_t);
                 phi_max = phi_max.max(row.phi.abs());
             }
             if self.rhs[..n].iter().any(|x| !x.is_finite()) {
-                return Outcome::Failed(format!("non-finite residual at t = {t1:.9e} s"));
+                return Outcome::Failed(Failure {
+                    reason: "non-finite Newton residual",
+                    t: t1,
+                });
             }
             let restored = if self.jac_valid {
                 None
@@ -287,15 +342,21 @@ impl Bdf {
                 self.jac_alpha0 = self.jac_point.as_ref().map_or(a0, |p| p.coefficient);
                 self.stats.jacobians += 1;
                 self.stats.factorizations += 1;
-                if let Err(e) = self.lin.factor() {
+                if self.lin.factor().is_err() {
                     self.jac_valid = false;
-                    return Outcome::Failed(e);
+                    return Outcome::Failed(Failure {
+                        reason: "singular Newton matrix",
+                        t: t1,
+                    });
                 }
                 self.jac_valid = true;
             }
-            if let Err(e) = self.lin.solve(&mut self.rhs[..n]) {
+            if self.lin.solve(&mut self.rhs[..n]).is_err() {
                 self.jac_valid = false;
-                return Outcome::Failed(e);
+                return Outcome::Failed(Failure {
+                    reason: "non-finite Newton solution",
+                    t: t1,
+                });
             }
             for i in 0..nv {
                 self.x[i] += self.rhs[i];
@@ -308,9 +369,10 @@ impl Bdf {
             let norm = wrms(&self.rhs[..nv], &self.wx).max(wrms(&self.rhs[nv..2 * nv], &self.wv));
             let rate = norm / prev;
             if it >= 2 && rate > 0.9 {
-                return Outcome::Failed(format!(
-                    "Newton iteration diverges at t = {t1:.9e} s (rate {rate:.2})"
-                ));
+                return Outcome::Failed(Failure {
+                    reason: "Newton iteration diverges",
+                    t: t1,
+                });
             }
             prev = norm;
             let est = if it == 0 {
@@ -319,7 +381,7 @@ impl Bdf {
                 norm * rate / (1.0 - rate).max(1e-3)
             };
             if (est <= 0.03 || norm <= 1e-12) && phi_max <= 10.0 * self.s.atol {
-                sys.model.retract(&q0, &self.x, &mut self.q1);
+                sys.model.retract(&self.q0, &self.x, &mut self.q1);
                 for i in 0..nv {
                     let mut s = a0 * self.v[i];
                     for j in 0..k {
@@ -330,14 +392,15 @@ impl Bdf {
                 return Outcome::Converged;
             }
         }
-        Outcome::Failed(format!(
-            "Newton iteration did not converge in 10 iterations at t = {t1:.9e} s"
-        ))
+        Outcome::Failed(Failure {
+            reason: "Newton iteration did not converge in 10 iterations",
+            t: t1,
+        })
     }
 
     /// Tries one step of size `h` at the current order. Returns the error estimates at orders
     /// (k-1, k, k+1) (NaN where unavailable) on convergence.
-    fn try_step(&mut self, sys: &mut System, h: f64) -> Result<[f64; 3], String> {
+    fn try_step(&mut self, sys: &mut System, h: f64) -> Result<[f64; 3], Failure> {
         let (nv, nc) = (sys.n_v(), sys.n_c());
         let k = self.order.min(self.hist.len());
         let t1 = self.hist[0].t + h;
@@ -345,33 +408,43 @@ impl Bdf {
         self.chart_history(sys, navail);
         // predictor through k+1 points if available (k otherwise)
         let np = (k + 1).min(navail);
-        let mut ts: Vec<f64> = self.hist.iter().take(np).map(|p| p.t).collect();
-        let mut wp = vec![0.0; np];
-        interp_weights(&ts, t1, &mut wp);
+        let mut ts = [0.0; 8];
+        for (slot, p) in ts.iter_mut().zip(self.hist.iter().take(np)) {
+            *slot = p.t;
+        }
+        let mut wp = [0.0; 8];
+        interp_weights(&ts[..np], t1, &mut wp[..np]);
         for i in 0..nv {
             let (mut sx, mut sv) = (0.0, 0.0);
-            for (j, w) in wp.iter().enumerate() {
+            for (j, w) in wp[..np].iter().enumerate() {
                 sx += w * self.xs[j][i];
                 sv += w * self.hist[j].v[i];
             }
             self.x[i] = sx;
             self.v[i] = sv;
         }
-        let (xp, vp) = (self.x.clone(), self.v.clone());
+        self.xp.copy_from_slice(&self.x);
+        self.vp.copy_from_slice(&self.v);
         self.mu.iter_mut().for_each(|m| *m = 0.0);
         if self.lam.len() != nc {
             self.lam.resize(nc, 0.0);
         }
         // corrector weights over t1, t_n, ..., t_{n-k+1}
-        ts.clear();
-        ts.push(t1);
-        ts.extend(self.hist.iter().take(k).map(|p| p.t));
-        let mut alpha = vec![0.0; k + 1];
-        derivative_weights(&ts, &mut alpha);
-        let h0 = &self.hist[0];
-        let (q0, v0) = (h0.q.clone(), h0.v.clone());
-        weights(sys, &q0, &v0, &self.s, &mut self.wx, &mut self.wv);
-        if let Outcome::Failed(e) = self.solve_step(sys, k, t1, &alpha) {
+        ts[0] = t1;
+        for (slot, p) in ts[1..].iter_mut().zip(self.hist.iter().take(k)) {
+            *slot = p.t;
+        }
+        let mut alpha = [0.0; 8];
+        derivative_weights(&ts[..k + 1], &mut alpha[..k + 1]);
+        weights(
+            sys,
+            &self.hist[0].q,
+            &self.hist[0].v,
+            &self.s,
+            &mut self.wx,
+            &mut self.wv,
+        );
+        if let Outcome::Failed(e) = self.solve_step(sys, k, t1, &alpha[..k + 1]) {
             return Err(e);
         }
         if self.s.fixed_step > 0.0 {
@@ -380,62 +453,58 @@ impl Bdf {
         // error at order k
         let span = t1 - self.hist[np - 1].t;
         let c = h / span;
-        let mut ex = vec![0.0; nv];
-        let mut ev = vec![0.0; nv];
         for i in 0..nv {
-            ex[i] = c * (self.x[i] - xp[i]);
-            ev[i] = c * (self.v[i] - vp[i]);
+            self.ex[i] = c * (self.x[i] - self.xp[i]);
+            self.ev[i] = c * (self.v[i] - self.vp[i]);
         }
         let combine = |a: f64, b: f64| ((a * a + b * b) * 0.5).sqrt();
-        let err_k = if np < k + 1 {
-            combine(wrms(&ex, &self.wx), wrms(&ev, &self.wv)).max(1e-300)
-        } else {
-            combine(wrms(&ex, &self.wx), wrms(&ev, &self.wv))
-        };
-        // scaled divided differences of order j over (t1, t_n, ...)
-        let dd = |j: usize, this: &Bdf| -> f64 {
-            if j + 1 > navail + 1 {
-                return f64::NAN;
-            }
-            let mut tsj = vec![t1];
-            tsj.extend(this.hist.iter().take(j).map(|p| p.t));
-            let mut fact = 1.0;
-            for m in 1..=j {
-                fact *= m as f64;
-            }
-            let scale = fact * h.powi(j as i32);
-            let mut cx = vec![0.0; nv];
-            let mut cv = vec![0.0; nv];
-            for i in 0..nv {
-                let mut vals_x: Vec<f64> = vec![this.x[i]];
-                let mut vals_v: Vec<f64> = vec![this.v[i]];
-                for m in 0..j {
-                    vals_x.push(this.xs[m][i]);
-                    vals_v.push(this.hist[m].v[i]);
-                }
-                for lvl in 1..=j {
-                    for m in 0..=(j - lvl) {
-                        let dt = tsj[m] - tsj[m + lvl];
-                        vals_x[m] = (vals_x[m] - vals_x[m + 1]) / dt;
-                        vals_v[m] = (vals_v[m] - vals_v[m + 1]) / dt;
-                    }
-                }
-                cx[i] = scale * vals_x[0];
-                cv[i] = scale * vals_v[0];
-            }
-            combine(wrms(&cx, &this.wx), wrms(&cv, &this.wv))
-        };
+        let err_k = combine(wrms(&self.ex, &self.wx), wrms(&self.ev, &self.wv));
+        let err_k = if np < k + 1 { err_k.max(1e-300) } else { err_k };
         let err_lo = if k >= 2 {
-            dd(k, self) / k as f64
+            self.scaled_divided_difference(k, t1, h, navail) / k as f64
         } else {
             f64::NAN
         };
         let err_hi = if k < self.s.max_order && navail >= k + 2 {
-            dd(k + 2, self) / (k + 2) as f64
+            self.scaled_divided_difference(k + 2, t1, h, navail) / (k + 2) as f64
         } else {
             f64::NAN
         };
         Ok([err_lo, err_k, err_hi])
+    }
+
+    /// Weighted norm of the scaled divided difference `j! h^j y[t1, t_n, ...]` of order `j` of the
+    /// new solution and the history (about `h^j y^(j)`); NaN when the history is too short.
+    fn scaled_divided_difference(&mut self, j: usize, t1: f64, h: f64, navail: usize) -> f64 {
+        if j > navail || j + 1 > 8 {
+            return f64::NAN;
+        }
+        let mut ts = [0.0; 8];
+        ts[0] = t1;
+        for (slot, p) in ts[1..].iter_mut().zip(self.hist.iter().take(j)) {
+            *slot = p.t;
+        }
+        let scale = (1..=j).map(|m| m as f64).product::<f64>() * h.powi(j as i32);
+        for i in 0..self.x.len() {
+            let (mut vx, mut vv) = ([0.0; 8], [0.0; 8]);
+            vx[0] = self.x[i];
+            vv[0] = self.v[i];
+            for m in 0..j {
+                vx[m + 1] = self.xs[m][i];
+                vv[m + 1] = self.hist[m].v[i];
+            }
+            for lvl in 1..=j {
+                for m in 0..=(j - lvl) {
+                    let dt = ts[m] - ts[m + lvl];
+                    vx[m] = (vx[m] - vx[m + 1]) / dt;
+                    vv[m] = (vv[m] - vv[m + 1]) / dt;
+                }
+            }
+            self.ex[i] = scale * vx[0];
+            self.ev[i] = scale * vv[0];
+        }
+        let (a, b) = (wrms(&self.ex, &self.wx), wrms(&self.ev, &self.wv));
+        ((a * a + b * b) * 0.5).sqrt()
     }
 
     fn accept(&mut self, sys: &mut System, st: &mut State, h: f64, alpha0_k: usize) {
@@ -450,10 +519,13 @@ impl Bdf {
         let (pd, pi) = sys.powers(t1, &self.q1, &self.v);
         let pi = pi + drive;
         let k = alpha0_k;
-        let mut ts = vec![t1];
-        ts.extend(self.hist.iter().take(k).map(|p| p.t));
-        let mut alpha = vec![0.0; k + 1];
-        derivative_weights(&ts, &mut alpha);
+        let mut ts = [0.0; 8];
+        ts[0] = t1;
+        for (slot, p) in ts[1..].iter_mut().zip(self.hist.iter().take(k)) {
+            *slot = p.t;
+        }
+        let mut alpha = [0.0; 8];
+        derivative_weights(&ts[..k + 1], &mut alpha[..k + 1]);
         let mut z = [0.0; 2];
         for (c, p) in [pd, pi].into_iter().enumerate() {
             let mut s = 0.0;

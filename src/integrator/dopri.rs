@@ -6,7 +6,9 @@
 //! so the drift of the index-1 form never accumulates. For non-stiff scenes: its stability region
 //! bounds the step by the stiffest mode (contact, rope segments).
 
-use super::init::{accelerations, project_positions_reusing, project_velocities_reusing};
+use super::init::{
+    ProjectionScratch, accelerations, project_positions_reusing, project_velocities_reusing,
+};
 use super::{
     Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, kkt, time_eps,
     weights,
@@ -86,6 +88,8 @@ pub struct Dopri5 {
     wv: Vec<f64>,
     /// Stage 0 (derivative at the current state) is already in `kx[0]`, `kv[0]`, `pw[0]`.
     k1_valid: bool,
+    /// Buffers of the projections.
+    projection: ProjectionScratch,
 }
 
 impl Dopri5 {
@@ -108,6 +112,7 @@ impl Dopri5 {
             wx: Vec::new(),
             wv: Vec::new(),
             k1_valid: false,
+            projection: ProjectionScratch::default(),
         }
     }
 
@@ -204,8 +209,8 @@ impl Dopri5 {
         st.v.copy_from_slice(&self.vs);
         // the last stage formed [M G^T; G 0] at exactly this point: the projections reuse it
         let tol = 1e-3 * self.s.atol;
-        project_positions_reusing(sys, &mut self.lin, st, tol, true)?;
-        project_velocities_reusing(sys, &mut self.lin, st, true)?;
+        project_positions_reusing(sys, &mut self.lin, st, tol, true, &mut self.projection)?;
+        project_velocities_reusing(sys, &mut self.lin, st, true, &mut self.projection)?;
         // the derivative at the projected state: output accelerations and the next first stage
         self.x.fill(0.0);
         self.vs.copy_from_slice(&st.v);

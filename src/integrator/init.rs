@@ -6,6 +6,14 @@ use crate::dae::System;
 use crate::dae::linear::LinearSolver;
 use crate::state::State;
 
+/// Reusable buffers of the projections (so a caller's step loop does not allocate).
+#[derive(Debug, Clone, Default)]
+pub struct ProjectionScratch {
+    rhs: Vec<f64>,
+    qn: Vec<f64>,
+    gv: Vec<f64>,
+}
+
 /// Largest constraint residual and the name of the joint it belongs to.
 fn worst_row(sys: &System) -> (f64, usize) {
     sys.rows
@@ -22,7 +30,14 @@ pub fn project_positions(
     state: &mut State,
     tol: f64,
 ) -> Result<(), SolverError> {
-    project_positions_reusing(sys, lin, state, tol, false)
+    project_positions_reusing(
+        sys,
+        lin,
+        state,
+        tol,
+        false,
+        &mut ProjectionScratch::default(),
+    )
 }
 
 /// As [`project_positions`]; with `reuse` the first iteration uses the factorization already in
@@ -33,6 +48,7 @@ pub fn project_positions_reusing(
     state: &mut State,
     tol: f64,
     reuse: bool,
+    scratch: &mut ProjectionScratch,
 ) -> Result<(), SolverError> {
     let (nv, nc) = (sys.n_v(), sys.n_c());
     if nc == 0 {
@@ -40,8 +56,9 @@ pub fn project_positions_reusing(
     }
     // never ask for less than round-off allows on coordinates of order one
     let tol = tol.max(1e-13);
-    let mut rhs = vec![0.0; nv + nc];
-    let mut qn = state.q.clone();
+    let ProjectionScratch { rhs, qn, .. } = scratch;
+    rhs.resize(nv + nc, 0.0);
+    qn.clone_from(&state.q);
     for it in 0..50 {
         sys.eval_constraints(state.t, &state.q, &state.v);
         let (worst, _) = worst_row(sys);
@@ -61,9 +78,9 @@ pub fn project_positions_reusing(
         for (r, row) in sys.rows.iter().enumerate() {
             rhs[nv + r] = -row.phi;
         }
-        kkt::solve(lin, &mut rhs).map_err(SolverError)?;
-        sys.model.retract(&state.q, &rhs[..nv], &mut qn);
-        state.q.copy_from_slice(&qn);
+        kkt::solve(lin, rhs).map_err(SolverError)?;
+        sys.model.retract(&state.q, &rhs[..nv], qn);
+        state.q.copy_from_slice(qn);
     }
     sys.eval_constraints(state.t, &state.q, &state.v);
     let (worst, row) = worst_row(sys);
@@ -78,7 +95,7 @@ pub fn project_velocities(
     lin: &mut LinearSolver,
     state: &mut State,
 ) -> Result<(), SolverError> {
-    project_velocities_reusing(sys, lin, state, false)
+    project_velocities_reusing(sys, lin, state, false, &mut ProjectionScratch::default())
 }
 
 /// As [`project_velocities`]; with `reuse` the factorization already in `lin` (formed at a point
@@ -89,6 +106,7 @@ pub fn project_velocities_reusing(
     lin: &mut LinearSolver,
     state: &mut State,
     reuse: bool,
+    scratch: &mut ProjectionScratch,
 ) -> Result<(), SolverError> {
     let (nv, nc) = (sys.n_v(), sys.n_c());
     if nc == 0 {
@@ -99,13 +117,15 @@ pub fn project_velocities_reusing(
         kkt::factor(sys, lin, state.t, &state.q, &state.v)
             .map_err(|e| SolverError(format!("velocity projection failed: {e}")))?;
     }
-    let mut rhs = vec![0.0; nv + nc];
-    let mut gv = vec![0.0; nc];
-    sys.g_mul(&state.v, &mut gv);
+    let ProjectionScratch { rhs, gv, .. } = scratch;
+    rhs.resize(nv + nc, 0.0);
+    rhs[..nv].fill(0.0);
+    gv.resize(nc, 0.0);
+    sys.g_mul(&state.v, gv);
     for (r, row) in sys.rows.iter().enumerate() {
         rhs[nv + r] = -(gv[r] + row.phi_t);
     }
-    kkt::solve(lin, &mut rhs).map_err(SolverError)?;
+    kkt::solve(lin, rhs).map_err(SolverError)?;
     for (v, dv) in state.v.iter_mut().zip(&rhs[..nv]) {
         *v += dv;
     }
