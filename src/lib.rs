@@ -25,6 +25,7 @@ pub mod effect;
 pub mod integrator;
 pub mod math;
 pub mod model;
+pub mod rope;
 pub mod scene;
 pub mod sim;
 pub mod state;

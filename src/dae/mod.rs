@@ -117,9 +117,17 @@ impl System {
     /// Positions in `lambda` (active rows) of the rows of joint `joint` (index in
     /// `model.joints`); rows dropped as redundant are absent.
     pub fn joint_multiplier_rows(&self, joint: usize) -> Vec<usize> {
-        let start: usize = self.model.joints[..joint].iter().map(|j| j.kind.n_rows()).sum();
+        let start: usize = self.model.joints[..joint]
+            .iter()
+            .map(|j| j.kind.n_rows())
+            .sum();
         let end = start + self.model.joints[joint].kind.n_rows();
-        self.active.iter().enumerate().filter(|(_, r)| (start..end).contains(*r)).map(|(i, _)| i).collect()
+        self.active
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| (start..end).contains(*r))
+            .map(|(i, _)| i)
+            .collect()
     }
 
     /// Number of constraint rows dropped as redundant.

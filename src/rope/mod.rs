@@ -1,0 +1,17 @@
+//! Lumped-mass wire rope with contact nodes on the plate edges of a rigid block (seed 001).
+//!
+//! Filled in with the mechanics decisions below.
+
+pub mod assemble;
+pub mod bending;
+pub mod drag;
+pub mod effect;
+pub mod layout;
+pub mod props;
+pub mod run;
+pub mod segment;
+pub mod slip;
+
+pub use effect::{CONTACT_MEM, HOOK_MEM, RopeEffect};
+pub use layout::{ContactInit, HookInit, LayoutPoint, LayoutRope, PointAt, SlipMode};
+pub use props::RopeProps;

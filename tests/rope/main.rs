@@ -1,0 +1,3 @@
+//! RopeBlock physics tests against independent references (one test binary for build speed).
+
+mod jacobian;
