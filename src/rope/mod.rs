@@ -10,6 +10,7 @@ pub mod layout;
 pub mod props;
 pub mod run;
 pub mod segment;
+pub mod shell;
 pub mod slip;
 
 pub use effect::{CONTACT_MEM, HOOK_MEM, RopeEffect};
