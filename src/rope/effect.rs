@@ -38,7 +38,6 @@ pub(crate) struct Seg {
     pub elastic: f64,
     pub l: f64,
     pub ldot: f64,
-    pub u: Vec3,
     /// Force on the first point [N] (the second gets the opposite).
     pub force: Vec3,
     /// `dF/dd`, `dF/dd_dot` with `d = p_b - p_a`.
@@ -46,13 +45,15 @@ pub(crate) struct Seg {
     pub cd: Mat3,
 }
 
-/// Evaluates the tension-only law between two points.
+/// Evaluates the tension-only law between two points; `rest_rate` [m/s] is the rate at which the
+/// rest length grows (winch pay-out), which enters the strain rate `l_dot/L - l L_dot/L^2`.
 pub(crate) fn plain_segment(
     pa: &Vec3,
     pb: &Vec3,
     va: &Vec3,
     vb: &Vec3,
     rest: f64,
+    rest_rate: f64,
     props: &RopeProps,
 ) -> Seg {
     let d = pb - pa;
@@ -60,7 +61,7 @@ pub(crate) fn plain_segment(
     let l = d.norm().max(1e-12);
     let u = d / l;
     let ldot = u.dot(&dd);
-    let law = segment::tension(props.ea, props.axial_damping, l, ldot, rest);
+    let law = segment::tension(props.ea, props.axial_damping, l, ldot, rest, rest_rate);
     let elastic = if l > rest {
         props.ea * (l - rest) / rest
     } else {
@@ -81,7 +82,6 @@ pub(crate) fn plain_segment(
         elastic,
         l,
         ldot,
-        u,
         force: u * law.t,
         kd,
         cd,
@@ -385,18 +385,27 @@ impl RopeEffect {
         }
     }
 
+    /// Rate of change [m/s] of the material coordinate of point `i` that is explicit in time
+    /// (hook pay-out; zero elsewhere).
+    #[inline]
+    pub(crate) fn sigma_rate_at(&self, ctx: &EvalCtx, i: usize) -> f64 {
+        self.hook_sign[i] * self.payout_rate_at(ctx, i)
+    }
+
     /// Evaluates the plain segment starting at point `i`.
     #[inline]
     pub(crate) fn eval_plain(&self, ctx: &EvalCtx, i: usize) -> Seg {
         let (pa, va) = self.point_state(ctx, i);
         let (pb, vb) = self.point_state(ctx, i + 1);
         let rest = self.sigma_at(ctx, i + 1) - self.sigma_at(ctx, i);
+        let rate = self.sigma_rate_at(ctx, i + 1) - self.sigma_rate_at(ctx, i);
         plain_segment(
             &pa,
             &pb,
             &va,
             &vb,
             rest,
+            rate,
             &self.props[self.rope_of[i] as usize],
         )
     }
@@ -640,5 +649,65 @@ impl ForceEffect for RopeEffect {
         } else {
             MemoryChange::None
         }
+    }
+}
+
+/// The state of a contact node's two segments at one instant.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct NodeSegments {
+    /// Tension [N] of the segment towards the previous and the next point.
+    pub t_prev: f64,
+    pub t_next: f64,
+    /// Rest lengths [m] of those segments.
+    pub rest_prev: f64,
+    pub rest_next: f64,
+    /// Material coordinate [m] at the node and its rate [m/s] (negative while the rope slides
+    /// towards the next point).
+    pub sigma: f64,
+    pub sigma_rate: f64,
+}
+
+impl RopeEffect {
+    /// Segment states of every contact node (index = contact slot), evaluating each run once.
+    pub fn contact_segments(&self, ctx: &EvalCtx) -> Vec<NodeSegments> {
+        let mut out = vec![NodeSegments::default(); self.contact_point.len()];
+        for r in 0..self.runs.len() {
+            let ev = self.eval_run(ctx, r);
+            for k in 1..ev.points.len() - 1 {
+                if let Some(c) = self.contact_of(ev.points[k]) {
+                    out[c] = NodeSegments {
+                        t_prev: ev.tension[k - 1],
+                        t_next: ev.tension[k],
+                        rest_prev: ev.rest[k - 1],
+                        rest_next: ev.rest[k],
+                        sigma: ev.sigma[k],
+                        sigma_rate: ev.sigma_rate[k],
+                    };
+                }
+            }
+        }
+        out
+    }
+
+    /// Tension [N] and rest length [m] of every segment of rope `r`, in order.
+    pub fn rope_tensions(&self, ctx: &EvalCtx, r: usize) -> Vec<(f64, f64)> {
+        let (first, end) = self.ropes[r];
+        let mut out = vec![(0.0, 0.0); end - first - 1];
+        for i in first..end - 1 {
+            if self.contact[i] == NONE && self.contact[i + 1] == NONE {
+                let s = self.eval_plain(ctx, i);
+                out[i - first] = (s.law.t, self.sigma_at(ctx, i + 1) - self.sigma_at(ctx, i));
+            }
+        }
+        for (k, &(a, b)) in self.runs.iter().enumerate() {
+            if (a as usize) < first || (b as usize) >= end {
+                continue;
+            }
+            let ev = self.eval_run(ctx, k);
+            for j in 0..ev.tension.len() {
+                out[ev.points[j] - first] = (ev.tension[j], ev.rest[j]);
+            }
+        }
+        out
     }
 }

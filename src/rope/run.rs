@@ -82,7 +82,8 @@ pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32)) -> RunEval
         ev.sigma_rate[k0] = sdot0;
         ev.sigma[k1] = s1;
         if k1 - k0 == 1 {
-            let s = plain_segment(&pos[k0], &pos[k1], &vel[k0], &vel[k1], s1 - s0, props);
+            let rate = e.sigma_rate_at(ctx, a + k1) - sdot0;
+            let s = plain_segment(&pos[k0], &pos[k1], &vel[k0], &vel[k1], s1 - s0, rate, props);
             ev.tension[k0] = s.law.t;
             ev.rest[k0] = s1 - s0;
             ev.energy += segment::strain_energy(props.ea, s.l, s1 - s0);
@@ -108,14 +109,7 @@ pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32)) -> RunEval
                 }
             })
             .collect();
-        let ch = eval_chain(
-            &pos[k0..=k1],
-            &vel[k0..=k1],
-            &nodes,
-            s1 - s0,
-            props.ea,
-            props.axial_damping,
-        );
+        let ch = eval_chain(&pos[k0..=k1], &vel[k0..=k1], &nodes, s1 - s0, props.ea);
         let m = k1 - k0;
         let mut sig = s0;
         let mut sdot = sdot0;
@@ -130,14 +124,12 @@ pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32)) -> RunEval
             sdot += ch.rest_rate[j];
         }
         ev.energy += ch.energy;
-        ev.damping_power += ch.damping_power;
         ev.friction_power += ch.friction_power;
         let mp = m + 1;
         for x in 0..mp {
             ev.force[k0 + x] += ch.force[x];
             for y in 0..mp {
                 ev.jac[(k0 + x) * np + k0 + y] += ch.jac[x * mp + y];
-                ev.damp[(k0 + x) * np + k0 + y] += ch.damp[x * mp + y];
             }
         }
     }

@@ -4,12 +4,14 @@
 //! `l_dot` [m/s], carries the tension
 //!
 //! ```text
-//! T = EA (l - L) / L + c l_dot / L      if l > L and that value is > 0,
-//! T = 0                                 otherwise (slack: no compression),
+//! T = EA (l - L) / L + c (l_dot / L - l L_dot / L^2)   if l > L and that value is > 0,
+//! T = 0                                                 otherwise (slack: no compression),
 //! ```
 //!
-//! with `EA` [N] the axial stiffness and `c` [N s] the axial (Kelvin-Voigt) damping. The
-//! derivatives returned are those of the clamped function (zero where it is clamped).
+//! with `EA` [N] the axial stiffness, `c` [N s] the axial (Kelvin-Voigt) damping on the strain
+//! rate, and `L_dot` [m/s] the rate at which the rest length changes (winch pay-out; 0 for a
+//! material segment). The derivatives returned are those of the clamped function (zero where it
+//! is clamped).
 
 /// Tension and its partial derivatives for one segment.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -24,22 +26,24 @@ pub struct Tension {
     pub dt_drest: f64,
 }
 
-/// Evaluates the axial law for stretched length `l`, rate `l_dot` and rest length `rest`.
+/// Evaluates the axial law for stretched length `l`, rate `l_dot`, rest length `rest` and its
+/// rate `rest_rate`.
 #[inline]
-pub fn tension(ea: f64, damping: f64, l: f64, l_dot: f64, rest: f64) -> Tension {
+pub fn tension(ea: f64, damping: f64, l: f64, l_dot: f64, rest: f64, rest_rate: f64) -> Tension {
     if l <= rest {
         return Tension::default();
     }
     let inv = 1.0 / rest;
-    let t = ea * (l - rest) * inv + damping * l_dot * inv;
+    let t = ea * (l - rest) * inv + damping * (l_dot - l * rest_rate * inv) * inv;
     if t <= 0.0 {
         return Tension::default();
     }
     Tension {
         t,
-        dt_dl: ea * inv,
+        dt_dl: (ea - damping * rest_rate * inv) * inv,
         dt_dldot: damping * inv,
-        dt_drest: -(ea * l + damping * l_dot) * inv * inv,
+        dt_drest: -(ea * l + damping * l_dot) * inv * inv
+            + 2.0 * damping * l * rest_rate * inv * inv * inv,
     }
 }
 

@@ -15,11 +15,14 @@
 //! linear law `L_j = l_j / (1 + T_j / EA)` the one unknown `T_0` solves
 //! `sum_j l_j / (1 + c_j T_0 / EA) = L_tot` (monotone and convex, Newton from `T_0 = 0` converges
 //! monotonically). The chain is slack (all tensions zero) when `sum_j l_j <= L_tot`.
-//! Axial damping adds `c l_dot_j / L_j` per segment; a negative total is clamped to zero.
+//! No axial (Kelvin-Voigt) damping acts in a slipping chain: that law damps the strain rate of
+//! *material* segments, while here the rest lengths flow with the rope, and damping on `l_dot / L`
+//! would resist the sliding like a viscous brake. Integrator damping and the damping of every
+//! material segment take care of the high axial modes.
 //!
-//! Every derivative (with respect to the point positions through the lengths, the directions and
-//! the turning angles, and with respect to the point velocities through the damping) is exact, so
-//! the Newton matrices of implicit integrators see the true Jacobian.
+//! Every derivative with respect to the point positions (through the lengths, the directions and
+//! the turning angles) is exact, so the Newton matrices of implicit integrators see the true
+//! Jacobian.
 
 use crate::math::{Mat3, Vec3};
 
@@ -39,10 +42,8 @@ pub const MAX_MU_TAN: f64 = 0.999;
 /// The result of evaluating a slipping chain.
 #[derive(Debug, Clone, Default)]
 pub struct ChainEval {
-    /// Tension of each segment [N] (elastic + damping, clamped at 0).
+    /// Tension of each segment [N].
     pub tension: Vec<f64>,
-    /// Elastic part of the tension [N].
-    pub elastic: Vec<f64>,
     /// Rest length of each segment [m].
     pub rest: Vec<f64>,
     /// Stretched length [m].
@@ -53,12 +54,8 @@ pub struct ChainEval {
     pub force: Vec<Vec3>,
     /// `dF_a/dp_b` [N/m], row-major `(m+1) x (m+1)`.
     pub jac: Vec<Mat3>,
-    /// `dF_a/dv_b` [N s/m], row-major `(m+1) x (m+1)`.
-    pub damp: Vec<Mat3>,
     /// Elastic energy [J].
     pub energy: f64,
-    /// Power dissipated by axial damping [W].
-    pub damping_power: f64,
     /// Power dissipated by friction at the slipping nodes [W].
     pub friction_power: f64,
 }
@@ -77,28 +74,25 @@ pub fn edge_ratio(mu: f64, theta: f64) -> (f64, f64) {
 }
 
 /// Evaluates a chain of `m = pos.len() - 1 >= 2` segments with the slipping interior nodes
-/// `nodes` (length `m - 1`), total rest length `rest_total` [m], axial stiffness `ea` [N] and
-/// damping `damping` [N s]. `vel` are the point velocities [m/s].
+/// `nodes` (length `m - 1`), total rest length `rest_total` [m] and axial stiffness `ea` [N].
+/// `vel` are the point velocities [m/s] (for the rate of material flow).
 pub fn eval_chain(
     pos: &[Vec3],
     vel: &[Vec3],
     nodes: &[SlipNode],
     rest_total: f64,
     ea: f64,
-    damping: f64,
 ) -> ChainEval {
     let np = pos.len();
     let m = np - 1;
     debug_assert!(m >= 2 && nodes.len() == m - 1 && vel.len() == np);
     let mut u = vec![Vec3::zeros(); m];
     let mut l = vec![0.0; m];
-    let mut ldot = vec![0.0; m];
     let mut proj = vec![Mat3::zeros(); m];
     for j in 0..m {
         let d = pos[j + 1] - pos[j];
         l[j] = d.norm().max(1e-12);
         u[j] = d / l[j];
-        ldot[j] = u[j].dot(&(vel[j + 1] - vel[j]));
         proj[j] = Mat3::identity() - u[j] * u[j].transpose();
     }
     // log-ratios and their gradients w.r.t. the three points around each node
@@ -125,13 +119,11 @@ pub fn eval_chain(
     let sum_l: f64 = l.iter().sum();
     let mut out = ChainEval {
         tension: vec![0.0; m],
-        elastic: vec![0.0; m],
         rest: vec![0.0; m],
         length: l.clone(),
         rest_rate: vec![0.0; m],
         force: vec![Vec3::zeros(); np],
         jac: vec![Mat3::zeros(); np * np],
-        damp: vec![Mat3::zeros(); np * np],
         ..Default::default()
     };
     if sum_l <= rest_total {
@@ -185,13 +177,11 @@ pub fn eval_chain(
     for j in 0..m {
         let te = cj[j] * t0;
         let rest = l[j] * w[j];
-        out.elastic[j] = te;
         out.rest[j] = rest;
         let eps = l[j] / rest - 1.0;
         out.energy += 0.5 * ea * eps * eps * rest;
         // dL_j/dp_a = w_j dl_j/dp_a - l_j w_j^2 / EA dTe_j/dp_a
         let mut lrate = 0.0;
-        let mut drest = vec![Vec3::zeros(); np];
         for a in 0..np {
             let mut g = -dte[j * np + a] * (l[j] * w[j] * w[j] / ea);
             if a == j + 1 {
@@ -200,30 +190,16 @@ pub fn eval_chain(
                 g -= u[j] * w[j];
             }
             lrate += g.dot(&vel[a]);
-            drest[a] = g;
         }
         out.rest_rate[j] = lrate;
         out.friction_power += te * (1.0 + 0.5 * eps) * lrate;
-        let td = damping * ldot[j] / rest;
-        let t = te + td;
+        let t = te;
         if t <= 0.0 {
-            // clamped: no force, the stored energy still changes at te * l_dot
-            out.damping_power -= te * ldot[j];
             continue;
         }
         out.tension[j] = t;
-        out.damping_power += td * ldot[j];
-        let h = proj[j] * (vel[j + 1] - vel[j]) / l[j];
-        let cu = damping / rest;
         for a in 0..np {
-            // dT_j/dp_a
-            let mut g = dte[j * np + a] - drest[a] * (damping * ldot[j] / (rest * rest));
-            if a == j + 1 {
-                g += h * cu;
-            } else if a == j {
-                g -= h * cu;
-            }
-            let blk = u[j] * g.transpose();
+            let blk = u[j] * dte[j * np + a].transpose();
             out.jac[j * np + a] += blk;
             out.jac[(j + 1) * np + a] -= blk;
         }
@@ -232,11 +208,6 @@ pub fn eval_chain(
         out.jac[j * np + j] -= geo;
         out.jac[(j + 1) * np + j + 1] -= geo;
         out.jac[(j + 1) * np + j] += geo;
-        let cblk = u[j] * u[j].transpose() * cu;
-        out.damp[j * np + j + 1] += cblk;
-        out.damp[j * np + j] -= cblk;
-        out.damp[(j + 1) * np + j + 1] -= cblk;
-        out.damp[(j + 1) * np + j] += cblk;
         out.force[j] += u[j] * t;
         out.force[j + 1] -= u[j] * t;
     }

@@ -6,6 +6,7 @@
 //! serialized to a versioned, pointer-free byte format.
 
 pub mod port;
+pub mod rope_block;
 
 use port::{ModelInfo, ValueRef};
 

@@ -84,3 +84,19 @@ pub fn segment_crossing(
     }
     best
 }
+
+/// Whether the straight segment `p q` [m, block frame] passes outside the wedge of `edge` near
+/// the edge (its point closest to the edge line is on or outside one of the two plate planes):
+/// the rope has left the edge.
+pub fn clears_edge(mesh: &ShellMesh, edge: usize, p: &Vec3, q: &Vec3) -> bool {
+    let e = &mesh.edges[edge];
+    let (gp, gq) = (to_g(p), to_g(q));
+    let (ga, gb) = (to_g(&e.a), to_g(&e.b));
+    let (l1, _) = closest_points_segment_segment_with_locations_nD((&gp, &gq), (&ga, &gb));
+    let x = match l1 {
+        SegmentPointLocation::OnVertex(0) => *p,
+        SegmentPointLocation::OnVertex(_) => *q,
+        SegmentPointLocation::OnEdge(w) => from_g(gp * w[0] + gq * w[1]),
+    };
+    !inside(&x, &e.a, &e.n1, &e.n2, 0.0)
+}
