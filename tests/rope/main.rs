@@ -1,6 +1,7 @@
 //! RopeBlock physics tests against independent references (one test binary for build speed).
 
 mod edge;
+mod friction;
 mod geometry;
 mod jacobian;
 mod rig;
