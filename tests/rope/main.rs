@@ -3,5 +3,6 @@
 mod edge;
 mod friction;
 mod geometry;
+mod hanging;
 mod jacobian;
 mod rig;

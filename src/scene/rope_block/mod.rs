@@ -12,6 +12,7 @@ pub mod build;
 pub mod edit;
 pub mod manager;
 pub mod runner;
+pub mod statics;
 pub mod structure;
 
 pub use manager::{ContactSettings, Counters, Edit, NodeReport};
