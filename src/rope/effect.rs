@@ -9,7 +9,8 @@
 //!
 //! Memory (see [`crate::effect::ForceEffect::n_memory`]): first [`HOOK_MEM`] values per hook
 //! (`x, y, z, vx, vy, vz, t0, payout, payout_rate`), then [`CONTACT_MEM`] per contact node
-//! (`sigma` [m], slip mode code, friction share `mu_rope`). A sticking node's `sigma` freezes the
+//! (`sigma` [m], slip mode code, friction share `mu_rope`, anchor `x, y, z` [m] in the block
+//! frame, read by the node's joint). A sticking node's `sigma` freezes the
 //! split of rope between its two segments; a slipping node's `sigma` is recomputed after every
 //! accepted step (it is not used while slipping).
 
@@ -28,7 +29,7 @@ use crate::model::kinematics::{BodyKin, kin_of};
 /// Memory values per hook.
 pub const HOOK_MEM: usize = 9;
 /// Memory values per contact node.
-pub const CONTACT_MEM: usize = 3;
+pub const CONTACT_MEM: usize = 6;
 pub(crate) const NONE: u32 = u32::MAX;
 
 /// One evaluated plain segment: tension, geometry and the two-point derivatives.
@@ -214,6 +215,9 @@ impl RopeEffect {
                                 "{owner}, point {i}: friction share must be finite and >= 0"
                             ));
                         }
+                        if !ci.anchor.iter().all(|x| x.is_finite()) {
+                            return Err(format!("{owner}, point {i}: anchor is not finite"));
+                        }
                         e.contact_point.push(e.body.len() as u32);
                         e.contact_init.push((p.sigma, ci));
                         (e.contact_point.len() - 1) as u32
@@ -355,8 +359,8 @@ impl RopeEffect {
         }
     }
 
-    /// Material coordinate [m] of point `i` (hooks include the pay-out, sticking contact nodes
-    /// read their memory).
+    /// Material coordinate [m] of point `i` (hooks include the pay-out, contact nodes read their
+    /// last accepted value from the memory).
     #[inline]
     pub fn sigma_at(&self, ctx: &EvalCtx, i: usize) -> f64 {
         if self.hook[i] != NONE {
@@ -369,7 +373,15 @@ impl RopeEffect {
         }
     }
 
-    /// Slip mode and friction share of contact slot `c` from the memory.
+    /// Anchor [m] (block frame) of contact slot `c` from the memory.
+    #[inline]
+    pub fn contact_anchor(&self, memory: &[f64], c: usize) -> Vec3 {
+        let o = self.contact_memory_offset(c);
+        Vec3::new(memory[o + 3], memory[o + 4], memory[o + 5])
+    }
+
+    /// Slip state of the last accepted step and friction share of contact slot `c` from the
+    /// memory.
     #[inline]
     pub fn contact_state(&self, memory: &[f64], c: usize) -> (SlipMode, f64) {
         let o = self.contact_memory_offset(c);
@@ -626,19 +638,22 @@ impl ForceEffect for RopeEffect {
             memory[o] = *sigma;
             memory[o + 1] = ci.mode.code();
             memory[o + 2] = ci.mu_rope;
+            memory[o + 3..o + 6].copy_from_slice(ci.anchor.as_slice());
         }
     }
 
     fn update_memory(&self, ctx: &EvalCtx, memory: &mut [f64]) -> MemoryChange {
-        // record the material coordinate of slipping nodes (not used while they slip)
+        // accept the sliding of this step: every node's material coordinate and slip state become
+        // the start of the next step's return mapping (the forces at this instant are unchanged)
         let mut changed = false;
         for r in 0..self.runs.len() {
             let ev = self.eval_run(ctx, r);
             for (k, &p) in ev.points.iter().enumerate() {
                 if let Some(c) = self.contact_of(p) {
-                    let (mode, _) = self.contact_state(memory, c);
-                    if mode != SlipMode::Stick {
-                        memory[self.contact_memory_offset(c)] = ev.sigma[k];
+                    let o = self.contact_memory_offset(c);
+                    if memory[o] != ev.sigma[k] || memory[o + 1] != ev.modes[k].code() {
+                        memory[o] = ev.sigma[k];
+                        memory[o + 1] = ev.modes[k].code();
                         changed = true;
                     }
                 }
@@ -706,6 +721,23 @@ impl RopeEffect {
             let ev = self.eval_run(ctx, k);
             for j in 0..ev.tension.len() {
                 out[ev.points[j] - first] = (ev.tension[j], ev.rest[j]);
+            }
+        }
+        out
+    }
+}
+
+impl RopeEffect {
+    /// Stick or slide of every contact node (index = contact slot) as the return mapping settles
+    /// it at `ctx` (the memory holds the state of the last accepted step).
+    pub fn contact_modes(&self, ctx: &EvalCtx) -> Vec<SlipMode> {
+        let mut out = vec![SlipMode::Stick; self.contact_point.len()];
+        for r in 0..self.runs.len() {
+            let ev = self.eval_run(ctx, r);
+            for (k, &p) in ev.points.iter().enumerate() {
+                if let Some(c) = self.contact_of(p) {
+                    out[c] = ev.modes[k];
+                }
             }
         }
         out

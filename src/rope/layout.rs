@@ -56,6 +56,10 @@ pub struct ContactInit {
     /// Friction coefficient available along the rope [-] (the Coulomb cone's share left by the
     /// load along the edge).
     pub mu_rope: f64,
+    /// Point of the plate edge holding the node [m], in the frame of the body it is tied to (read
+    /// by a [`crate::model::JointKind::SphericalAt`] joint, so the node can slide along the edge
+    /// without rebuilding the model).
+    pub anchor: Vec3,
 }
 
 /// One point of a rope.

@@ -99,6 +99,10 @@ fn setup(mode: SlipMode, props: RopeProps, contacts: bool) -> (Model, RopeEffect
     setup_with(mode, props, contacts, true)
 }
 
+/// `mode` selects the strain gradient along the rope (growing towards the hook for
+/// `SlipForward`, towards the lug for `SlipBackward`, flat for `Stick`) and the friction
+/// (0.05: the nodes slide; 5: they stick); `middle_sticks` gives the middle node mu = 0.9 so that
+/// it sticks between two sliding ones.
 fn setup_with(
     mode: SlipMode,
     props: RopeProps,
@@ -163,7 +167,12 @@ fn setup_with(
         .collect();
     for (i, w) in world.iter().enumerate() {
         if i > 0 {
-            sigma += (w - world[i - 1]).norm() * (1.0 - 0.003 * (1.0 + 0.3 * i as f64));
+            let grad = match mode {
+                SlipMode::SlipForward => i as f64,
+                SlipMode::SlipBackward => (8 - i) as f64,
+                SlipMode::Stick => 0.3 * i as f64,
+            };
+            sigma += (w - world[i - 1]).norm() * (1.0 - 0.003 * (1.0 + grad));
         }
         let at = if i == 0 {
             PointAt::Body {
@@ -178,13 +187,15 @@ fn setup_with(
                 local: Vec3::zeros(),
             }
         };
+        let mu = match mode {
+            SlipMode::Stick => 5.0,
+            _ if i == 4 && middle_sticks => 0.9,
+            _ => 0.05,
+        };
         let contact = (contacts && (3..=5).contains(&i)).then_some(ContactInit {
-            mode: if i == 4 && middle_sticks {
-                SlipMode::Stick
-            } else {
-                mode
-            },
-            mu_rope: 0.2,
+            mode,
+            mu_rope: mu,
+            anchor: Vec3::zeros(),
         });
         points.push(LayoutPoint { at, sigma, contact });
     }
@@ -225,9 +236,22 @@ fn plain_segments_match_finite_differences() {
     assert!(ek < 1e-6 && ed < 1e-6, "K {ek:.3e}, D {ed:.3e}");
 }
 
+fn modes(model: &Model, e: &RopeEffect, mem: &[f64]) -> Vec<SlipMode> {
+    let mut kins = Vec::new();
+    evaluate(model, &model.q0, &model.v0, &mut kins);
+    let ctx = EvalCtx {
+        t: 0.3,
+        kins: &kins,
+        inputs: &[],
+        memory: mem,
+    };
+    e.contact_modes(&ctx)
+}
+
 #[test]
 fn sticking_run_matches_finite_differences() {
     let (m, e, mem) = setup(SlipMode::Stick, props(), true);
+    assert_eq!(modes(&m, &e, &mem), vec![SlipMode::Stick; 3]);
     let (ek, ed) = check(&m, &e, &mem);
     println!("stick run: K rel err {ek:.2e}, D rel err {ed:.2e}");
     assert!(ek < 1e-6 && ed < 1e-6, "K {ek:.3e}, D {ed:.3e}");
@@ -238,6 +262,13 @@ fn slipping_run_matches_finite_differences() {
     for mode in [SlipMode::SlipForward, SlipMode::SlipBackward] {
         for middle_sticks in [true, false] {
             let (m, e, mem) = setup_with(mode, props(), true, middle_sticks);
+            let modes = modes(&m, &e, &mem);
+            let want = if middle_sticks {
+                vec![mode, SlipMode::Stick, mode]
+            } else {
+                vec![mode; 3]
+            };
+            assert_eq!(modes, want);
             let (ek, ed) = check(&m, &e, &mem);
             println!("slip run {mode:?} (middle sticks {middle_sticks}): K {ek:.2e}, D {ed:.2e}");
             assert!(ek < 1e-6 && ed < 1e-6, "{mode:?}: K {ek:.3e}, D {ed:.3e}");

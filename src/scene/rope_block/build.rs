@@ -97,6 +97,7 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
                 ContactInit {
                     mode: c.mode,
                     mu_rope: c.mu_rope,
+                    anchor: c.anchor,
                 }
             });
             pts.push(LayoutPoint {
@@ -120,11 +121,12 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
             points: pts,
         });
     }
+    // contact joints read their anchor from the rope effect's memory (index patched below)
     let mut contact_map = Vec::new();
     for (k, ((blk, anchor, id), (r, i))) in joints.iter().zip(&contacts).enumerate() {
         b.add_joint(
             &format!("{}.contact{k}", s.ropes[*r].name),
-            JointKind::Spherical,
+            JointKind::SphericalAt { memory: 0 },
             Frame::new(*blk, *anchor),
             Frame::new(*id, Vec3::zeros()),
         )?;
@@ -161,12 +163,17 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
     }
     let rope = Arc::new(RopeEffect::new(&layouts, &s.hooks)?);
     b.add_force_effect(rope.clone());
-    let model = b.build()?;
+    let mut model = b.build()?;
     let rope_effect = model.forces.len() - 1;
-    let rope_memory = model.forces[..rope_effect]
+    let rope_memory: usize = model.forces[..rope_effect]
         .iter()
         .map(|e| e.n_memory())
         .sum();
+    for (c, &(_, _, j)) in contact_map.iter().enumerate() {
+        model.joints[j].kind = JointKind::SphericalAt {
+            memory: rope_memory + rope.contact_memory_offset(c) + 3,
+        };
+    }
     Ok((
         model,
         BuildMap {
@@ -223,6 +230,7 @@ pub fn sync(s: &mut Structure, model: &Model, map: &BuildMap, state: &State) {
         if let Some(ct) = n.contact.as_mut() {
             ct.mode = SlipMode::from_code(mem[o + 1]);
             ct.mu_rope = mem[o + 2];
+            ct.anchor = Vec3::new(mem[o + 3], mem[o + 4], mem[o + 5]);
         }
     }
 }

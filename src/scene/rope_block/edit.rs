@@ -120,9 +120,7 @@ pub fn apply(s: &mut Structure, edits: &[Edit], counters: &mut Counters) {
     let key = |e: &Edit| -> (usize, f64) {
         match *e {
             Edit::Insert { rope, seg, .. } | Edit::Split { rope, seg } => (rope, seg as f64 + 0.5),
-            Edit::Remove { rope, node }
-            | Edit::Merge { rope, node }
-            | Edit::Relocate { rope, node, .. } => (rope, node as f64 + 1.0),
+            Edit::Remove { rope, node } | Edit::Merge { rope, node } => (rope, node as f64 + 1.0),
         }
     };
     let mut order: Vec<&Edit> = edits.iter().collect();
@@ -173,15 +171,6 @@ pub fn apply(s: &mut Structure, edits: &[Edit], counters: &mut Counters) {
             Edit::Merge { rope, node } => {
                 remove_node(s, rope, node);
                 counters.merged += 1;
-            }
-            Edit::Relocate { rope, node, anchor } => {
-                let nd = &mut s.ropes[rope].nodes[node];
-                if let Some(c) = nd.contact.as_mut() {
-                    c.anchor = anchor;
-                    let b = &s.blocks[c.block];
-                    nd.position = b.position + b.orientation * anchor;
-                    counters.relocated += 1;
-                }
             }
             Edit::Split { rope, seg } => {
                 let rs = &s.ropes[rope];

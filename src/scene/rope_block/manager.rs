@@ -12,10 +12,9 @@ use super::structure::Structure;
 use crate::dae::System;
 use crate::integrator::{SolverError, StepAction, StepHook};
 use crate::math::Vec3;
+use crate::rope::NodeSegments;
 use crate::rope::friction::{ContactFrame, Reaction};
 use crate::rope::shell::detect::{clears_edge, segment_crossing};
-use crate::rope::slip::{MAX_MU_TAN, edge_ratio};
-use crate::rope::{NodeSegments, SlipMode};
 use crate::state::State;
 
 /// Settings of contact detection and node management.
@@ -65,12 +64,6 @@ pub enum Edit {
     },
     /// Remove contact node `node` (interior index), returning its mass to its neighbours.
     Remove { rope: usize, node: usize },
-    /// Move contact node `node` along its edge to `anchor` [m, block frame].
-    Relocate {
-        rope: usize,
-        node: usize,
-        anchor: Vec3,
-    },
     /// Absorb material node `node` into its neighbours (it reached a contact node).
     Merge { rope: usize, node: usize },
     /// Split segment `seg` at its middle with a new material node.
@@ -85,8 +78,6 @@ pub struct Counters {
     pub relocated: u64,
     pub merged: u64,
     pub split: u64,
-    pub slip_starts: u64,
-    pub stick_starts: u64,
     pub rebuilds: u64,
 }
 
@@ -240,45 +231,20 @@ impl Manager<'_> {
                     }
                 }
             }
-            // sliding along the rope
+            // the friction left for sliding along the rope once the load along the edge is
+            // carried (the rope's own return mapping in the effect decides stick or slide)
             let o = base + rope.contact_memory_offset(c);
-            let (mode, _) = rope.contact_state(&st.memory[base..], c);
             let seg = rep.segments;
-            match mode {
-                SlipMode::Stick if n > 0.0 => {
-                    let mu_r = rep.reaction.rope_share(mu);
-                    let tan = (0.5 * rep.turn).tan();
-                    let coulomb = rep.reaction.friction() > mu * n;
-                    if mu_r * tan < MAX_MU_TAN && coulomb {
-                        let (ratio, _) = edge_ratio(mu_r, rep.turn);
-                        let dir = if seg.t_next > ratio * seg.t_prev {
-                            SlipMode::SlipForward
-                        } else if seg.t_prev > ratio * seg.t_next {
-                            SlipMode::SlipBackward
-                        } else {
-                            SlipMode::Stick
-                        };
-                        if dir != SlipMode::Stick {
-                            st.memory[o + 1] = dir.code();
-                            st.memory[o + 2] = mu_r;
-                            self.counters.slip_starts += 1;
-                            changed = true;
-                        }
-                    }
-                }
-                SlipMode::SlipForward | SlipMode::SlipBackward if mu > 0.0 => {
-                    // forward sliding makes sigma at the node decrease
-                    let flow = -seg.sigma_rate * mode.code();
-                    if flow < 0.0 {
-                        st.memory[o] = seg.sigma;
-                        st.memory[o + 1] = SlipMode::Stick.code();
-                        self.counters.stick_starts += 1;
-                        changed = true;
-                    }
-                }
-                _ => {}
+            let mu_r = if n > 0.0 {
+                rep.reaction.rope_share(mu)
+            } else {
+                mu
+            };
+            if (st.memory[o + 2] - mu_r).abs() > 1e-3 * mu.max(1e-12) {
+                st.memory[o + 2] = mu_r;
+                changed = true;
             }
-            // sliding along the edge
+            // sliding along the edge: move the anchor by the unbalanced share (return mapping)
             if n > 0.0 {
                 if let Some(m) = mesh {
                     let cap = rep.reaction.edge_capacity(mu);
@@ -295,7 +261,8 @@ impl Manager<'_> {
                         let du = -fe.signum() * (fe.abs() - cap) / k.max(1e-300);
                         if du.abs() > self.settings.min_edge_move {
                             let edge = &m.edges[ct.edge];
-                            let u = (ct.anchor - edge.a).dot(&edge.dir) + du;
+                            let anchor = rope.contact_anchor(&st.memory[base..], c);
+                            let u = (anchor - edge.a).dot(&edge.dir) + du;
                             if u <= 0.0 || u >= edge.length {
                                 self.edits.push(Edit::Remove {
                                     rope: rep.rope,
@@ -303,11 +270,16 @@ impl Manager<'_> {
                                 });
                                 continue;
                             }
-                            self.edits.push(Edit::Relocate {
-                                rope: rep.rope,
-                                node: rep.node,
-                                anchor: edge.a + edge.dir * u,
-                            });
+                            let new_anchor = edge.a + edge.dir * u;
+                            st.memory[o + 3..o + 6].copy_from_slice(new_anchor.as_slice());
+                            // the node moves with its anchor, so the joint stays closed
+                            let kin = sys.kin(self.map.blocks[ct.block]);
+                            let world = kin.point(&new_anchor);
+                            let body = self.map.nodes[rep.rope][rep.node];
+                            let qo = sys.model.bodies[body.index().unwrap_or(0)].q_offset;
+                            st.q[qo..qo + 3].copy_from_slice(world.as_slice());
+                            self.counters.relocated += 1;
+                            changed = true;
                         }
                     }
                 }
@@ -414,8 +386,10 @@ impl StepHook for Manager<'_> {
             return Ok(StepAction::Stop);
         }
         if changed {
+            // Slip-state switches happen where the two laws agree (the friction limit) and a node
+            // moves along its edge by micrometres to millimetres per step: the integrator goes on
+            // without a restart (a restart per switch would cost a factorization each).
             sys.memory.copy_from_slice(&st.memory);
-            return Ok(StepAction::Restart);
         }
         Ok(StepAction::Continue)
     }

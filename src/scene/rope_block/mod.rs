@@ -11,12 +11,17 @@
 pub mod build;
 pub mod edit;
 pub mod manager;
+pub mod params;
+pub mod rigging;
 pub mod runner;
+pub mod scene;
 pub mod statics;
 pub mod structure;
 
 pub use manager::{ContactSettings, Counters, Edit, NodeReport};
+pub use params::{RopeBlockParams, Route, SlingParams};
 pub use runner::RopeBlockSim;
+pub use scene::RopeBlockScene;
 pub use structure::{
     BlockSpec, BodyRef, EndSpec, ForceSpec, LoadSpec, NodeContact, NodeSpec, RopeSpec, Structure,
 };

@@ -67,19 +67,22 @@ pub fn solve(
             .add_dynamics_matrix(t, &q, &v, 1.0 / (tau * tau), 0.0, 1.0, &mut lin, 0);
         s.system
             .add_constraint_blocks(&mut lin, nv, 0, 1.0, Some((0, nv, 1.0)));
-        lin.factor()
-            .map_err(|e| format!("static equilibrium: {e}"))?;
         rhs[..nv].copy_from_slice(&f);
         for (r, row) in s.system.rows.iter().enumerate() {
             rhs[nv + r] = -row.phi;
         }
-        lin.solve(&mut rhs)
-            .map_err(|e| format!("static equilibrium: {e}"))?;
+        if lin.factor().and_then(|_| lin.solve(&mut rhs)).is_err() {
+            // singular without enough pseudo-mass (a slack rope): regularize more
+            tau *= 0.1;
+            if tau < 1e-9 {
+                break;
+            }
+            continue;
+        }
         // backtracking on the potential energy (the forces are conservative in statics) or on
         // the force imbalance, whichever improves first
         let e0 = s.system.energy(t, &q, &v).1;
         let mut accepted = false;
-        let mut alpha = 1.0;
         let mut dx = rhs[..nv].to_vec();
         for _ in 0..30 {
             s.system.model.retract(&q, &dx, &mut qn);
@@ -93,7 +96,6 @@ pub fn solve(
                 accepted = true;
                 break;
             }
-            alpha *= 0.5;
             dx.iter_mut().for_each(|x| *x *= 0.5);
         }
         if accepted {
