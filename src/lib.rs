@@ -34,6 +34,7 @@ pub mod integrator;
 pub mod math;
 pub mod model;
 pub mod report;
+pub mod rope;
 pub mod scene;
 pub mod sim;
 pub mod state;

@@ -81,9 +81,11 @@ impl Simulation {
             }
         }
         let mut state = integrator::init::initial_state(&system, t0);
+        // Effects whose forces depend on their memory (e.g. rope material coordinates) need it
+        // before the first force evaluation of the consistent initialization.
+        state.memory = system.init_memory(state.t, &state.q, &state.v);
         let tol = (1e-3 * settings.atol).max(1e-14);
         integrator::init::make_consistent(&mut system, &mut state, tol).map_err(|e| e.0)?;
-        state.memory = system.init_memory(state.t, &state.q, &state.v);
         let mut integrator = integrator::create(kind, settings);
         integrator.start(&mut system, &state).map_err(|e| e.0)?;
         Ok(Simulation {
@@ -153,9 +155,18 @@ impl Simulation {
 
     /// Replaces the system (after a structural change such as an inserted contact node) with
     /// `state` mapped onto it, and restarts the integrator there.
+    /// The state's effect memory is copied into the system before anything is evaluated.
     pub fn replace_system(&mut self, system: System, state: State) -> Result<(), SolverError> {
+        if state.memory.len() != system.n_memory() {
+            return Err(SolverError(format!(
+                "replace_system: state has {} memory values, the system needs {}",
+                state.memory.len(),
+                system.n_memory()
+            )));
+        }
         self.system = system;
         self.state = state;
+        self.system.memory.copy_from_slice(&self.state.memory);
         let mut lin = crate::dae::linear::LinearSolver::new();
         integrator::init::project_positions(
             &mut self.system,
@@ -164,6 +175,17 @@ impl Simulation {
             (1e-3 * self.settings.atol).max(1e-14),
         )?;
         integrator::init::project_velocities(&mut self.system, &mut lin, &mut self.state)?;
+        self.integrator.restart(&mut self.system, &mut self.state)
+    }
+
+    /// Restarts the integrator at the current state after a discontinuous change made from
+    /// outside (e.g. effect memory or inputs changed between steps): copies the state's memory
+    /// into the system, recomputes accelerations and multipliers, and drops the history.
+    pub fn restart(&mut self) -> Result<(), SolverError> {
+        if self.state.memory.len() != self.system.n_memory() {
+            return Err(SolverError("state memory does not match the system".into()));
+        }
+        self.system.memory.copy_from_slice(&self.state.memory);
         self.integrator.restart(&mut self.system, &mut self.state)
     }
 
@@ -217,6 +239,7 @@ impl Simulation {
         }
         self.system.memory.copy_from_slice(&state.memory);
         self.state = state;
+        self.system.memory.copy_from_slice(&self.state.memory);
         self.integrator.restore_memory(memory)
     }
 }

@@ -21,6 +21,7 @@ pub mod native;
 pub mod panel_lock;
 pub mod pid;
 pub mod port;
+pub mod rope_block;
 pub mod store;
 
 use port::{ModelInfo, ValueRef};

@@ -1,0 +1,745 @@
+//! All ropes of a scene as one struct-of-arrays force effect, O(N) per evaluation.
+//!
+//! Points are stored in flat arrays (body, offset, material coordinate, hook and contact flags),
+//! ropes as ranges of them. At build time the segments are sorted into lists by what they need:
+//! *plain* segments (no contact node at either end: the tension-only law, [`super::segment`]),
+//! *runs* (maximal sequences of consecutive contact nodes with their adjacent segments, evaluated
+//! together because slipping nodes couple their segments, [`super::slip`]), *bending* hinges and
+//! *drag* nodes (lists that stay empty when the effect is off, so it costs nothing).
+//!
+//! Memory (see [`crate::effect::ForceEffect::n_memory`]): first [`HOOK_MEM`] values per hook
+//! (`x, y, z, vx, vy, vz, t0, payout, payout_rate`), then [`CONTACT_MEM`] per contact node
+//! (`sigma` [m], slip mode code, friction share `mu_rope`, anchor `x, y, z` [m] in the block
+//! frame, read by the node's joint). A sticking node's `sigma` freezes the
+//! split of rope between its two segments; a slipping node's `sigma` is recomputed after every
+//! accepted step (it is not used while slipping).
+
+use super::bending;
+use super::drag;
+use super::layout::{ContactInit, HookInit, LayoutRope, PointAt, SlipMode};
+use super::props::RopeProps;
+use super::run::{self, RunEval};
+use super::segment::{self, Tension};
+use crate::effect::point_force::TwoPointForce;
+use crate::effect::{EvalCtx, ForceEffect, JacobianSink, MemoryChange};
+use crate::math::{Mat3, Vec3};
+use crate::model::BodyId;
+use crate::model::kinematics::{BodyKin, kin_of};
+
+/// Memory values per hook.
+pub const HOOK_MEM: usize = 9;
+/// Memory values per contact node.
+pub const CONTACT_MEM: usize = 6;
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// One evaluated plain segment: tension, geometry and the two-point derivatives.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Seg {
+    pub law: Tension,
+    pub elastic: f64,
+    pub l: f64,
+    pub ldot: f64,
+    /// Force on the first point [N] (the second gets the opposite).
+    pub force: Vec3,
+    /// `dF/dd`, `dF/dd_dot` with `d = p_b - p_a`.
+    pub kd: Mat3,
+    pub cd: Mat3,
+}
+
+/// Evaluates the tension-only law between two points; `rest_rate` [m/s] is the rate at which the
+/// rest length grows (winch pay-out), which enters the strain rate `l_dot/L - l L_dot/L^2`.
+pub(crate) fn plain_segment(
+    pa: &Vec3,
+    pb: &Vec3,
+    va: &Vec3,
+    vb: &Vec3,
+    rest: f64,
+    rest_rate: f64,
+    props: &RopeProps,
+) -> Seg {
+    let d = pb - pa;
+    let dd = vb - va;
+    let l = d.norm().max(1e-12);
+    let u = d / l;
+    let ldot = u.dot(&dd);
+    let law = segment::tension(props.ea, props.axial_damping, l, ldot, rest, rest_rate);
+    let elastic = if l > rest {
+        props.ea * (l - rest) / rest
+    } else {
+        0.0
+    };
+    let (kd, cd) = if law.t > 0.0 {
+        let proj = Mat3::identity() - u * u.transpose();
+        let h = proj * dd / l;
+        (
+            u * u.transpose() * law.dt_dl + proj * (law.t / l) + u * h.transpose() * law.dt_dldot,
+            u * u.transpose() * law.dt_dldot,
+        )
+    } else {
+        (Mat3::zeros(), Mat3::zeros())
+    };
+    Seg {
+        law,
+        elastic,
+        l,
+        ldot,
+        force: u * law.t,
+        kd,
+        cd,
+    }
+}
+
+/// All ropes of a scene.
+#[derive(Debug, Clone)]
+pub struct RopeEffect {
+    pub(crate) body: Vec<BodyId>,
+    pub(crate) local: Vec<Vec3>,
+    pub(crate) hook: Vec<u32>,
+    /// -1 at a rope's first point on a hook, +1 at its last, 0 elsewhere.
+    pub(crate) hook_sign: Vec<f64>,
+    pub(crate) contact: Vec<u32>,
+    pub(crate) sigma: Vec<f64>,
+    pub(crate) rope_of: Vec<u32>,
+    /// First point and one past the last point of each rope.
+    pub(crate) ropes: Vec<(usize, usize)>,
+    pub(crate) props: Vec<RopeProps>,
+    pub(crate) nominal: Vec<f64>,
+    pub(crate) plain: Vec<u32>,
+    pub(crate) runs: Vec<(u32, u32)>,
+    pub(crate) bend: Vec<(u32, f64)>,
+    pub(crate) drag: Vec<(u32, f64)>,
+    pub(crate) contact_point: Vec<u32>,
+    pub(crate) contact_init: Vec<(f64, ContactInit)>,
+    pub(crate) hooks: Vec<HookInit>,
+}
+
+impl RopeEffect {
+    /// Builds the effect from rope layouts and hooks; `Err` names the rope and point at fault.
+    pub fn new(ropes: &[LayoutRope], hooks: &[HookInit]) -> Result<Self, String> {
+        let mut e = RopeEffect {
+            body: Vec::new(),
+            local: Vec::new(),
+            hook: Vec::new(),
+            hook_sign: Vec::new(),
+            contact: Vec::new(),
+            sigma: Vec::new(),
+            rope_of: Vec::new(),
+            ropes: Vec::new(),
+            props: Vec::new(),
+            nominal: Vec::new(),
+            plain: Vec::new(),
+            runs: Vec::new(),
+            bend: Vec::new(),
+            drag: Vec::new(),
+            contact_point: Vec::new(),
+            contact_init: Vec::new(),
+            hooks: hooks.to_vec(),
+        };
+        for (k, h) in hooks.iter().enumerate() {
+            let vals = [h.t0, h.payout, h.payout_rate];
+            if !(h
+                .position
+                .iter()
+                .chain(h.velocity.iter())
+                .all(|x| x.is_finite())
+                && vals.iter().all(|x| x.is_finite()))
+            {
+                return Err(format!(
+                    "hook {k}: position, velocity or pay-out is not finite"
+                ));
+            }
+        }
+        for (r, rope) in ropes.iter().enumerate() {
+            let owner = format!("rope {r}");
+            rope.props.validate(&owner)?;
+            if !(rope.nominal_segment.is_finite() && rope.nominal_segment > 0.0) {
+                return Err(format!(
+                    "{owner}: nominal segment length must be finite and > 0, got {}",
+                    rope.nominal_segment
+                ));
+            }
+            let n = rope.points.len();
+            if n < 2 {
+                return Err(format!("{owner}: needs at least 2 points, has {n}"));
+            }
+            let first = e.body.len();
+            for (i, p) in rope.points.iter().enumerate() {
+                if !p.sigma.is_finite() {
+                    return Err(format!(
+                        "{owner}, point {i}: material coordinate is not finite"
+                    ));
+                }
+                if i > 0 && p.sigma <= rope.points[i - 1].sigma {
+                    return Err(format!(
+                        "{owner}, segment {}: rest length {} m must be > 0 (material coordinates must increase)",
+                        i - 1,
+                        p.sigma - rope.points[i - 1].sigma
+                    ));
+                }
+                let (body, local, hook) = match p.at {
+                    PointAt::Body { body, local } => {
+                        if !local.iter().all(|x| x.is_finite()) {
+                            return Err(format!("{owner}, point {i}: offset is not finite"));
+                        }
+                        (body, local, NONE)
+                    }
+                    PointAt::Hook(k) => {
+                        if k >= hooks.len() {
+                            return Err(format!(
+                                "{owner}, point {i}: hook {k} does not exist ({} hooks)",
+                                hooks.len()
+                            ));
+                        }
+                        if i != 0 && i != n - 1 {
+                            return Err(format!(
+                                "{owner}, point {i}: a hook can only be a rope end"
+                            ));
+                        }
+                        (BodyId::GROUND, Vec3::zeros(), k as u32)
+                    }
+                };
+                let contact = match p.contact {
+                    Some(ci) => {
+                        if i == 0 || i == n - 1 {
+                            return Err(format!(
+                                "{owner}, point {i}: a contact node cannot be a rope end"
+                            ));
+                        }
+                        if hook != NONE || body.is_ground() || local != Vec3::zeros() {
+                            return Err(format!(
+                                "{owner}, point {i}: a contact node must be a particle (offset 0)"
+                            ));
+                        }
+                        if !(ci.mu_rope.is_finite() && ci.mu_rope >= 0.0) {
+                            return Err(format!(
+                                "{owner}, point {i}: friction share must be finite and >= 0"
+                            ));
+                        }
+                        if !ci.anchor.iter().all(|x| x.is_finite()) {
+                            return Err(format!("{owner}, point {i}: anchor is not finite"));
+                        }
+                        e.contact_point.push(e.body.len() as u32);
+                        e.contact_init.push((p.sigma, ci));
+                        (e.contact_point.len() - 1) as u32
+                    }
+                    None => NONE,
+                };
+                e.body.push(body);
+                e.local.push(local);
+                e.hook.push(hook);
+                e.hook_sign.push(if hook == NONE {
+                    0.0
+                } else if i == 0 {
+                    -1.0
+                } else {
+                    1.0
+                });
+                e.contact.push(contact);
+                e.sigma.push(p.sigma);
+                e.rope_of.push(r as u32);
+            }
+            let end = e.body.len();
+            e.ropes.push((first, end));
+            e.props.push(rope.props);
+            e.nominal.push(rope.nominal_segment);
+            // classify segments
+            let mut i = first;
+            while i + 1 < end {
+                let (ca, cb) = (e.contact[i] != NONE, e.contact[i + 1] != NONE);
+                if !ca && !cb {
+                    e.plain.push(i as u32);
+                    i += 1;
+                } else if !ca && cb {
+                    let s = i + 1;
+                    let mut last = s;
+                    while e.contact[last + 1] != NONE {
+                        last += 1;
+                    }
+                    e.runs.push((s as u32, last as u32));
+                    i = last + 1;
+                } else {
+                    unreachable!("runs start at a material point");
+                }
+            }
+            let pr = rope.props;
+            for i in first + 1..end.saturating_sub(1) {
+                if e.contact[i] != NONE || e.hook[i] != NONE {
+                    continue;
+                }
+                if pr.bending_stiffness > 0.0 {
+                    e.bend
+                        .push((i as u32, pr.bending_stiffness / rope.nominal_segment));
+                }
+                if pr.drag_factor() > 0.0 && e.local[i] == Vec3::zeros() {
+                    e.drag
+                        .push((i as u32, pr.drag_factor() * rope.nominal_segment));
+                }
+            }
+        }
+        Ok(e)
+    }
+
+    /// Number of rope points (all ropes).
+    pub fn n_points(&self) -> usize {
+        self.body.len()
+    }
+
+    /// Number of contact nodes.
+    pub fn n_contacts(&self) -> usize {
+        self.contact_point.len()
+    }
+
+    /// Number of hooks.
+    pub fn n_hooks(&self) -> usize {
+        self.hooks.len()
+    }
+
+    /// Ranges of the ropes' points: `(first, one past last)`.
+    pub fn rope_ranges(&self) -> &[(usize, usize)] {
+        &self.ropes
+    }
+
+    /// Properties of rope `r`.
+    pub fn rope_props(&self, r: usize) -> &RopeProps {
+        &self.props[r]
+    }
+
+    /// Point index of contact slot `c`.
+    pub fn contact_point(&self, c: usize) -> usize {
+        self.contact_point[c] as usize
+    }
+
+    /// Contact slot of point `i`, if it is a contact node.
+    pub fn contact_of(&self, i: usize) -> Option<usize> {
+        (self.contact[i] != NONE).then_some(self.contact[i] as usize)
+    }
+
+    /// Offset of contact slot `c`'s memory within this effect's memory.
+    pub fn contact_memory_offset(&self, c: usize) -> usize {
+        HOOK_MEM * self.hooks.len() + CONTACT_MEM * c
+    }
+
+    /// Offset of hook `k`'s memory within this effect's memory.
+    pub fn hook_memory_offset(&self, k: usize) -> usize {
+        HOOK_MEM * k
+    }
+
+    /// Position [m] and velocity [m/s] (world) of hook `k` at time `t` given the effect memory.
+    pub fn hook_motion(&self, memory: &[f64], k: usize, t: f64) -> (Vec3, Vec3) {
+        let m = &memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
+        let v = Vec3::new(m[3], m[4], m[5]);
+        (Vec3::new(m[0], m[1], m[2]) + v * (t - m[6]), v)
+    }
+
+    /// Pay-out [m] and its rate [m/s] of hook `k` at time `t`.
+    pub fn hook_payout(&self, memory: &[f64], k: usize, t: f64) -> (f64, f64) {
+        let m = &memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
+        (m[7] + m[8] * (t - m[6]), m[8])
+    }
+
+    /// Kinematics of the body carrying point `i` (ground for hooks).
+    #[inline]
+    pub(crate) fn kin<'a>(&self, ctx: &'a EvalCtx, i: usize) -> &'a BodyKin {
+        if self.hook[i] != NONE {
+            &BodyKin::GROUND
+        } else {
+            kin_of(ctx.kins, self.body[i])
+        }
+    }
+
+    /// World position [m] and velocity [m/s] of point `i`.
+    #[inline]
+    pub fn point_state(&self, ctx: &EvalCtx, i: usize) -> (Vec3, Vec3) {
+        if self.hook[i] != NONE {
+            self.hook_motion(ctx.memory, self.hook[i] as usize, ctx.t)
+        } else {
+            let k = kin_of(ctx.kins, self.body[i]);
+            let s = &self.local[i];
+            (k.point(s), k.point_velocity(s))
+        }
+    }
+
+    /// Material coordinate [m] of point `i` (hooks include the pay-out, contact nodes read their
+    /// last accepted value from the memory).
+    #[inline]
+    pub fn sigma_at(&self, ctx: &EvalCtx, i: usize) -> f64 {
+        if self.hook[i] != NONE {
+            let (s, _) = self.hook_payout(ctx.memory, self.hook[i] as usize, ctx.t);
+            self.sigma[i] + self.hook_sign[i] * s
+        } else if self.contact[i] != NONE {
+            ctx.memory[self.contact_memory_offset(self.contact[i] as usize)]
+        } else {
+            self.sigma[i]
+        }
+    }
+
+    /// Anchor [m] (block frame) of contact slot `c` from the memory.
+    #[inline]
+    pub fn contact_anchor(&self, memory: &[f64], c: usize) -> Vec3 {
+        let o = self.contact_memory_offset(c);
+        Vec3::new(memory[o + 3], memory[o + 4], memory[o + 5])
+    }
+
+    /// Slip state of the last accepted step and friction share of contact slot `c` from the
+    /// memory.
+    #[inline]
+    pub fn contact_state(&self, memory: &[f64], c: usize) -> (SlipMode, f64) {
+        let o = self.contact_memory_offset(c);
+        (SlipMode::from_code(memory[o + 1]), memory[o + 2])
+    }
+
+    /// Rate [m/s] at which the rest length of a segment at a hook grows by pay-out.
+    fn payout_rate_at(&self, ctx: &EvalCtx, i: usize) -> f64 {
+        if self.hook[i] == NONE {
+            0.0
+        } else {
+            self.hook_payout(ctx.memory, self.hook[i] as usize, ctx.t).1
+        }
+    }
+
+    /// Rate of change [m/s] of the material coordinate of point `i` that is explicit in time
+    /// (hook pay-out; zero elsewhere).
+    #[inline]
+    pub(crate) fn sigma_rate_at(&self, ctx: &EvalCtx, i: usize) -> f64 {
+        self.hook_sign[i] * self.payout_rate_at(ctx, i)
+    }
+
+    /// Evaluates the plain segment starting at point `i`.
+    #[inline]
+    pub(crate) fn eval_plain(&self, ctx: &EvalCtx, i: usize) -> Seg {
+        let (pa, va) = self.point_state(ctx, i);
+        let (pb, vb) = self.point_state(ctx, i + 1);
+        let rest = self.sigma_at(ctx, i + 1) - self.sigma_at(ctx, i);
+        let rate = self.sigma_rate_at(ctx, i + 1) - self.sigma_rate_at(ctx, i);
+        plain_segment(
+            &pa,
+            &pb,
+            &va,
+            &vb,
+            rest,
+            rate,
+            &self.props[self.rope_of[i] as usize],
+        )
+    }
+
+    /// Evaluates run `r` (its points, forces, derivative blocks, tensions and material flow).
+    pub(crate) fn eval_run(&self, ctx: &EvalCtx, r: usize) -> RunEval {
+        run::eval(self, ctx, self.runs[r])
+    }
+}
+
+impl ForceEffect for RopeEffect {
+    fn name(&self) -> &str {
+        "rope"
+    }
+
+    fn add_forces(&self, ctx: &EvalCtx, f: &mut [f64]) {
+        for &i in &self.plain {
+            let i = i as usize;
+            let s = self.eval_plain(ctx, i);
+            crate::effect::point_force::add_point_force(
+                self.kin(ctx, i),
+                &self.local[i],
+                &s.force,
+                f,
+            );
+            crate::effect::point_force::add_point_force(
+                self.kin(ctx, i + 1),
+                &self.local[i + 1],
+                &(-s.force),
+                f,
+            );
+        }
+        for r in 0..self.runs.len() {
+            let ev = self.eval_run(ctx, r);
+            for (k, &p) in ev.points.iter().enumerate() {
+                crate::effect::point_force::add_point_force(
+                    self.kin(ctx, p),
+                    &self.local[p],
+                    &ev.force[k],
+                    f,
+                );
+            }
+        }
+        for &(i, k) in &self.bend {
+            let i = i as usize;
+            let p: [Vec3; 3] = std::array::from_fn(|a| self.point_state(ctx, i - 1 + a).0);
+            let h = bending::hinge(k, &p[0], &p[1], &p[2]);
+            for a in 0..3 {
+                let j = i - 1 + a;
+                crate::effect::point_force::add_point_force(
+                    self.kin(ctx, j),
+                    &self.local[j],
+                    &h.force[a],
+                    f,
+                );
+            }
+        }
+        for &(i, k) in &self.drag {
+            let i = i as usize;
+            let (_, v) = self.point_state(ctx, i);
+            let (force, _) = drag::drag(k, &v);
+            crate::effect::point_force::add_point_force(
+                self.kin(ctx, i),
+                &self.local[i],
+                &force,
+                f,
+            );
+        }
+    }
+
+    fn add_jacobian(&self, ctx: &EvalCtx, sink: &mut dyn JacobianSink) {
+        for &i in &self.plain {
+            let i = i as usize;
+            let s = self.eval_plain(ctx, i);
+            TwoPointForce {
+                a: self.kin(ctx, i),
+                s_a: self.local[i],
+                b: self.kin(ctx, i + 1),
+                s_b: self.local[i + 1],
+                force: s.force,
+                kd: s.kd,
+                cd: s.cd,
+            }
+            .add_jacobian(sink);
+        }
+        for r in 0..self.runs.len() {
+            let ev = self.eval_run(ctx, r);
+            run::emit(self, ctx, &ev, sink);
+        }
+        for &(i, k) in &self.bend {
+            let i = i as usize;
+            let p: [Vec3; 3] = std::array::from_fn(|a| self.point_state(ctx, i - 1 + a).0);
+            let h = bending::hinge(k, &p[0], &p[1], &p[2]);
+            let refs: [super::assemble::PointRef; 3] =
+                std::array::from_fn(|a| super::assemble::PointRef {
+                    kin: self.kin(ctx, i - 1 + a),
+                    s: self.local[i - 1 + a],
+                });
+            let zero = Mat3::zeros();
+            for a in 0..3 {
+                for b in 0..3 {
+                    let fa = (a == b).then_some(&h.force[a]);
+                    super::assemble::add_pair(&refs[a], &refs[b], &h.jac[a][b], &zero, fa, sink);
+                }
+            }
+        }
+        for &(i, k) in &self.drag {
+            let i = i as usize;
+            let (_, v) = self.point_state(ctx, i);
+            let (force, dfdv) = drag::drag(k, &v);
+            let pr = super::assemble::PointRef {
+                kin: self.kin(ctx, i),
+                s: self.local[i],
+            };
+            super::assemble::add_pair(&pr, &pr, &Mat3::zeros(), &dfdv, Some(&force), sink);
+        }
+    }
+
+    fn potential_energy(&self, ctx: &EvalCtx) -> f64 {
+        let mut e = 0.0;
+        for &i in &self.plain {
+            let i = i as usize;
+            let (pa, _) = self.point_state(ctx, i);
+            let (pb, _) = self.point_state(ctx, i + 1);
+            let rest = self.sigma_at(ctx, i + 1) - self.sigma_at(ctx, i);
+            e += segment::strain_energy(
+                self.props[self.rope_of[i] as usize].ea,
+                (pb - pa).norm(),
+                rest,
+            );
+        }
+        for r in 0..self.runs.len() {
+            e += self.eval_run(ctx, r).energy;
+        }
+        for &(i, k) in &self.bend {
+            let i = i as usize;
+            let p: [Vec3; 3] = std::array::from_fn(|a| self.point_state(ctx, i - 1 + a).0);
+            e += bending::hinge(k, &p[0], &p[1], &p[2]).energy;
+        }
+        e
+    }
+
+    fn dissipated_power(&self, ctx: &EvalCtx) -> f64 {
+        let mut p = 0.0;
+        for &i in &self.plain {
+            let s = self.eval_plain(ctx, i as usize);
+            p += (s.law.t - s.elastic) * s.ldot;
+        }
+        for r in 0..self.runs.len() {
+            let ev = self.eval_run(ctx, r);
+            p += ev.damping_power + ev.friction_power;
+        }
+        for &(i, k) in &self.drag {
+            let (_, v) = self.point_state(ctx, i as usize);
+            p -= drag::drag(k, &v).0.dot(&v);
+        }
+        p
+    }
+
+    fn input_power(&self, ctx: &EvalCtx) -> f64 {
+        if self.hooks.is_empty() {
+            return 0.0;
+        }
+        let mut p = 0.0;
+        for &i in &self.plain {
+            let i = i as usize;
+            let (ha, hb) = (self.hook[i] != NONE, self.hook[i + 1] != NONE);
+            if !ha && !hb {
+                continue;
+            }
+            let s = self.eval_plain(ctx, i);
+            if ha {
+                p -= s.force.dot(&self.point_state(ctx, i).1);
+            }
+            if hb {
+                p += s.force.dot(&self.point_state(ctx, i + 1).1);
+            }
+            let rate = self.payout_rate_at(ctx, i) + self.payout_rate_at(ctx, i + 1);
+            if rate != 0.0 {
+                let ea = self.props[self.rope_of[i] as usize].ea;
+                let rest = self.sigma_at(ctx, i + 1) - self.sigma_at(ctx, i);
+                p += segment::strain_energy_drest(ea, s.l, rest) * rate;
+            }
+        }
+        for r in 0..self.runs.len() {
+            let (a, b) = self.runs[r];
+            let (a, b) = (a as usize - 1, b as usize + 1);
+            if self.hook[a] == NONE && self.hook[b] == NONE {
+                continue;
+            }
+            let ev = self.eval_run(ctx, r);
+            let last = ev.points.len() - 1;
+            if self.hook[a] != NONE {
+                p -= ev.force[0].dot(&self.point_state(ctx, a).1);
+            }
+            if self.hook[b] != NONE {
+                p -= ev.force[last].dot(&self.point_state(ctx, b).1);
+            }
+        }
+        p
+    }
+
+    fn n_memory(&self) -> usize {
+        HOOK_MEM * self.hooks.len() + CONTACT_MEM * self.contact_point.len()
+    }
+
+    fn init_memory(&self, _ctx: &EvalCtx, memory: &mut [f64]) {
+        for (k, h) in self.hooks.iter().enumerate() {
+            let m = &mut memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
+            m[..3].copy_from_slice(h.position.as_slice());
+            m[3..6].copy_from_slice(h.velocity.as_slice());
+            m[6] = h.t0;
+            m[7] = h.payout;
+            m[8] = h.payout_rate;
+        }
+        for (c, (sigma, ci)) in self.contact_init.iter().enumerate() {
+            let o = self.contact_memory_offset(c);
+            memory[o] = *sigma;
+            memory[o + 1] = ci.mode.code();
+            memory[o + 2] = ci.mu_rope;
+            memory[o + 3..o + 6].copy_from_slice(ci.anchor.as_slice());
+        }
+    }
+
+    fn update_memory(&self, ctx: &EvalCtx, memory: &mut [f64]) -> MemoryChange {
+        // accept the sliding of this step: every node's material coordinate and slip state become
+        // the start of the next step's return mapping (the forces at this instant are unchanged)
+        let mut changed = false;
+        for r in 0..self.runs.len() {
+            let ev = self.eval_run(ctx, r);
+            for (k, &p) in ev.points.iter().enumerate() {
+                if let Some(c) = self.contact_of(p) {
+                    let o = self.contact_memory_offset(c);
+                    if memory[o] != ev.sigma[k] || memory[o + 1] != ev.modes[k].code() {
+                        memory[o] = ev.sigma[k];
+                        memory[o + 1] = ev.modes[k].code();
+                        changed = true;
+                    }
+                }
+            }
+        }
+        if changed {
+            MemoryChange::Smooth
+        } else {
+            MemoryChange::None
+        }
+    }
+}
+
+/// The state of a contact node's two segments at one instant.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct NodeSegments {
+    /// Tension [N] of the segment towards the previous and the next point.
+    pub t_prev: f64,
+    pub t_next: f64,
+    /// Rest lengths [m] of those segments.
+    pub rest_prev: f64,
+    pub rest_next: f64,
+    /// Material coordinate [m] at the node and its rate [m/s] (negative while the rope slides
+    /// towards the next point).
+    pub sigma: f64,
+    pub sigma_rate: f64,
+}
+
+impl RopeEffect {
+    /// Segment states of every contact node (index = contact slot), evaluating each run once.
+    pub fn contact_segments(&self, ctx: &EvalCtx) -> Vec<NodeSegments> {
+        let mut out = vec![NodeSegments::default(); self.contact_point.len()];
+        for r in 0..self.runs.len() {
+            let ev = self.eval_run(ctx, r);
+            for k in 1..ev.points.len() - 1 {
+                if let Some(c) = self.contact_of(ev.points[k]) {
+                    out[c] = NodeSegments {
+                        t_prev: ev.tension[k - 1],
+                        t_next: ev.tension[k],
+                        rest_prev: ev.rest[k - 1],
+                        rest_next: ev.rest[k],
+                        sigma: ev.sigma[k],
+                        sigma_rate: ev.sigma_rate[k],
+                    };
+                }
+            }
+        }
+        out
+    }
+
+    /// Tension [N] and rest length [m] of every segment of rope `r`, in order.
+    pub fn rope_tensions(&self, ctx: &EvalCtx, r: usize) -> Vec<(f64, f64)> {
+        let (first, end) = self.ropes[r];
+        let mut out = vec![(0.0, 0.0); end - first - 1];
+        for i in first..end - 1 {
+            if self.contact[i] == NONE && self.contact[i + 1] == NONE {
+                let s = self.eval_plain(ctx, i);
+                out[i - first] = (s.law.t, self.sigma_at(ctx, i + 1) - self.sigma_at(ctx, i));
+            }
+        }
+        for (k, &(a, b)) in self.runs.iter().enumerate() {
+            if (a as usize) < first || (b as usize) >= end {
+                continue;
+            }
+            let ev = self.eval_run(ctx, k);
+            for j in 0..ev.tension.len() {
+                out[ev.points[j] - first] = (ev.tension[j], ev.rest[j]);
+            }
+        }
+        out
+    }
+}
+
+impl RopeEffect {
+    /// Stick or slide of every contact node (index = contact slot) as the return mapping settles
+    /// it at `ctx` (the memory holds the state of the last accepted step).
+    pub fn contact_modes(&self, ctx: &EvalCtx) -> Vec<SlipMode> {
+        let mut out = vec![SlipMode::Stick; self.contact_point.len()];
+        for r in 0..self.runs.len() {
+            let ev = self.eval_run(ctx, r);
+            for (k, &p) in ev.points.iter().enumerate() {
+                if let Some(c) = self.contact_of(p) {
+                    out[c] = ev.modes[k];
+                }
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,20 @@
+//! Lumped-mass wire rope with contact nodes on the plate edges of a rigid block (seed 001).
+//!
+//! Filled in with the mechanics decisions below.
+
+pub mod assemble;
+pub mod bending;
+pub mod drag;
+pub mod effect;
+pub mod friction;
+pub mod layout;
+pub mod node;
+pub mod props;
+pub mod run;
+pub mod segment;
+pub mod shell;
+pub mod slip;
+
+pub use effect::{CONTACT_MEM, HOOK_MEM, NodeSegments, RopeEffect};
+pub use layout::{ContactInit, HookInit, LayoutPoint, LayoutRope, PointAt, SlipMode};
+pub use props::RopeProps;

@@ -1,0 +1,237 @@
+//! A run: consecutive contact nodes of one rope with the segments around them, evaluated together.
+//!
+//! The run's points are the material point before the first contact node, the contact nodes, and
+//! the material point after the last. Whether the rope slides through a node is decided inside
+//! every evaluation by a *return mapping* from the node's last accepted material coordinate
+//! `sigma_mem` (memory): the trial state has every node sticking (`sigma = sigma_mem`); a node
+//! whose neighbouring tensions leave the friction band `1/r <= T_next/T_prev <= r` slides in the
+//! direction of the larger tension, and a sliding node whose solved `sigma` moved against that
+//! direction sticks again; this repeats until nothing changes (the active set of a small
+//! complementarity problem, usually settled in one or two passes). Sticking nodes split the run
+//! into chains between points of fixed material coordinate; a chain of one segment follows the
+//! plain law, a longer one (whose interior nodes all slide) the friction-limited sliding of
+//! [`super::slip`]. The forces are thus a continuous, piecewise smooth function of the positions
+//! and the memory, and a node can never slide against its friction. Every pair of the run's points
+//! gets a Jacobian block at every evaluation (zero where uncoupled), so the sparsity pattern only
+//! changes when nodes are inserted or removed.
+
+use super::assemble::{PointRef, add_pair};
+use super::effect::{RopeEffect, plain_segment};
+use super::layout::SlipMode;
+use super::segment;
+use super::slip::{MAX_MU_TAN, SlipNode, edge_ratio, eval_chain};
+use crate::effect::{EvalCtx, JacobianSink};
+use crate::math::{Mat3, Vec3};
+
+/// The evaluated run.
+#[derive(Debug, Clone, Default)]
+pub struct RunEval {
+    /// Global point indices, in rope order.
+    pub points: Vec<usize>,
+    /// Force on each point [N] (world).
+    pub force: Vec<Vec3>,
+    /// `dF_a/dp_b`, `dF_a/dv_b`, row-major over the run's points.
+    pub jac: Vec<Mat3>,
+    pub damp: Vec<Mat3>,
+    /// Tension [N] and rest length [m] of each segment (one fewer than points).
+    pub tension: Vec<f64>,
+    pub rest: Vec<f64>,
+    /// Material coordinate [m] and its rate [m/s] at each point.
+    pub sigma: Vec<f64>,
+    pub sigma_rate: Vec<f64>,
+    /// Stick or slide at each point (material points: stick).
+    pub modes: Vec<SlipMode>,
+    /// Elastic energy [J], damping and friction power [W].
+    pub energy: f64,
+    pub damping_power: f64,
+    pub friction_power: f64,
+}
+
+/// Evaluates the run whose contact nodes are the points `first ..= last`, settling which nodes
+/// slide (see the module documentation).
+pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32)) -> RunEval {
+    let (a, b) = (first as usize - 1, last as usize + 1);
+    let np = b - a + 1;
+    let mut pos = Vec::with_capacity(np);
+    let mut vel = Vec::with_capacity(np);
+    let mut sigma_mem = Vec::with_capacity(np);
+    for i in a..=b {
+        let (p, v) = e.point_state(ctx, i);
+        pos.push(p);
+        vel.push(v);
+        sigma_mem.push(e.sigma_at(ctx, i));
+    }
+    let mut modes = vec![SlipMode::Stick; np];
+    let mut ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes);
+    for _ in 0..4 * np {
+        let mut changed = false;
+        for k in 1..np - 1 {
+            let c = e.contact[a + k] as usize;
+            let (_, mu) = e.contact_state(ctx.memory, c);
+            let (tp, tn) = (ev.tension[k - 1], ev.tension[k]);
+            match modes[k] {
+                SlipMode::Stick => {
+                    let turn = turn_angle(&pos[k - 1], &pos[k], &pos[k + 1]);
+                    if mu * (0.5 * turn).tan() >= MAX_MU_TAN {
+                        continue;
+                    }
+                    let (r, _) = edge_ratio(mu, turn);
+                    if tn > r * tp {
+                        modes[k] = SlipMode::SlipForward;
+                        changed = true;
+                    } else if tp > r * tn {
+                        modes[k] = SlipMode::SlipBackward;
+                        changed = true;
+                    }
+                }
+                m => {
+                    // sliding forward brings material from the previous side: sigma decreases
+                    let moved = ev.sigma[k] - sigma_mem[k];
+                    if moved * m.code() > 0.0 {
+                        modes[k] = SlipMode::Stick;
+                        changed = true;
+                    }
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes);
+    }
+    ev
+}
+
+/// Turning angle [rad] of the rope at `p1` between `p0` and `p2`.
+fn turn_angle(p0: &Vec3, p1: &Vec3, p2: &Vec3) -> f64 {
+    let (u, w) = (p1 - p0, p2 - p1);
+    let d = u.norm() * w.norm();
+    if d <= 0.0 {
+        return 0.0;
+    }
+    (u.dot(&w) / d).clamp(-1.0, 1.0).acos()
+}
+
+/// Evaluates the run for given slip modes of its nodes.
+fn eval_modes(
+    e: &RopeEffect,
+    ctx: &EvalCtx,
+    a: usize,
+    pos: &[Vec3],
+    vel: &[Vec3],
+    sigma_mem: &[f64],
+    modes: &[SlipMode],
+) -> RunEval {
+    let np = pos.len();
+    let props = &e.props[e.rope_of[a] as usize];
+    let mut ev = RunEval {
+        points: (a..a + np).collect(),
+        force: vec![Vec3::zeros(); np],
+        jac: vec![Mat3::zeros(); np * np],
+        damp: vec![Mat3::zeros(); np * np],
+        tension: vec![0.0; np - 1],
+        rest: vec![0.0; np - 1],
+        sigma: vec![0.0; np],
+        sigma_rate: vec![0.0; np],
+        modes: modes.to_vec(),
+        ..Default::default()
+    };
+    // chain boundaries: run ends and sticking nodes
+    let mut bounds = vec![0usize];
+    for (k, m) in modes.iter().enumerate().take(np - 1).skip(1) {
+        if *m == SlipMode::Stick {
+            bounds.push(k);
+        }
+    }
+    bounds.push(np - 1);
+    for w in bounds.windows(2) {
+        let (k0, k1) = (w[0], w[1]);
+        let (s0, s1) = (sigma_mem[k0], sigma_mem[k1]);
+        let sdot0 = if e.hook[a + k0] != super::effect::NONE {
+            e.hook_sign[a + k0] * e.hook_payout(ctx.memory, e.hook[a + k0] as usize, ctx.t).1
+        } else {
+            0.0
+        };
+        ev.sigma[k0] = s0;
+        ev.sigma_rate[k0] = sdot0;
+        ev.sigma[k1] = s1;
+        if k1 - k0 == 1 {
+            let rate = e.sigma_rate_at(ctx, a + k1) - sdot0;
+            let s = plain_segment(&pos[k0], &pos[k1], &vel[k0], &vel[k1], s1 - s0, rate, props);
+            ev.tension[k0] = s.law.t;
+            ev.rest[k0] = s1 - s0;
+            ev.energy += segment::strain_energy(props.ea, s.l, s1 - s0);
+            ev.damping_power += (s.law.t - s.elastic) * s.ldot;
+            ev.force[k0] += s.force;
+            ev.force[k1] -= s.force;
+            ev.jac[k0 * np + k0] -= s.kd;
+            ev.jac[k0 * np + k1] += s.kd;
+            ev.jac[k1 * np + k0] += s.kd;
+            ev.jac[k1 * np + k1] -= s.kd;
+            ev.damp[k0 * np + k0] -= s.cd;
+            ev.damp[k0 * np + k1] += s.cd;
+            ev.damp[k1 * np + k0] += s.cd;
+            ev.damp[k1 * np + k1] -= s.cd;
+            continue;
+        }
+        let nodes: Vec<SlipNode> = (k0 + 1..k1)
+            .map(|k| {
+                let (_, mu) = e.contact_state(ctx.memory, e.contact[a + k] as usize);
+                SlipNode {
+                    direction: modes[k].code(),
+                    mu,
+                }
+            })
+            .collect();
+        let ch = eval_chain(&pos[k0..=k1], &vel[k0..=k1], &nodes, s1 - s0, props.ea);
+        let m = k1 - k0;
+        let mut sig = s0;
+        let mut sdot = sdot0;
+        for j in 0..m {
+            ev.tension[k0 + j] = ch.tension[j];
+            ev.rest[k0 + j] = ch.rest[j];
+            if j > 0 {
+                ev.sigma[k0 + j] = sig;
+                ev.sigma_rate[k0 + j] = sdot;
+            }
+            sig += ch.rest[j];
+            sdot += ch.rest_rate[j];
+        }
+        ev.energy += ch.energy;
+        ev.friction_power += ch.friction_power;
+        let mp = m + 1;
+        for x in 0..mp {
+            ev.force[k0 + x] += ch.force[x];
+            for y in 0..mp {
+                ev.jac[(k0 + x) * np + k0 + y] += ch.jac[x * mp + y];
+            }
+        }
+    }
+    ev
+}
+
+/// Emits every block of an evaluated run.
+pub fn emit(e: &RopeEffect, ctx: &EvalCtx, ev: &RunEval, sink: &mut dyn JacobianSink) {
+    let np = ev.points.len();
+    let refs: Vec<PointRef> = ev
+        .points
+        .iter()
+        .map(|&p| PointRef {
+            kin: e.kin(ctx, p),
+            s: e.local[p],
+        })
+        .collect();
+    for x in 0..np {
+        for y in 0..np {
+            let fa = (x == y).then_some(&ev.force[x]);
+            add_pair(
+                &refs[x],
+                &refs[y],
+                &ev.jac[x * np + y],
+                &ev.damp[x * np + y],
+                fa,
+                sink,
+            );
+        }
+    }
+}

@@ -1,0 +1,396 @@
+//! The contact manager: runs after every accepted step and decides, for every contact node, from
+//! the joint's Lagrange multipliers and the rope's tensions, whether the rope starts or stops
+//! sliding through it, slides it along its edge, or leaves the edge; finds new crossings of rope
+//! segments with plate edges; and asks for re-meshing when sliding has made a segment next to a
+//! contact node too short or too long.
+//!
+//! Changes of the slip state are written into the rope effect's memory (the integrator restarts);
+//! structural changes are returned as [`Edit`]s (the integrator stops, the scene rebuilds).
+
+use super::build::{BuildMap, rope_ctx};
+use super::structure::Structure;
+use crate::dae::System;
+use crate::integrator::{SolverError, StepAction, StepHook};
+use crate::math::Vec3;
+use crate::rope::NodeSegments;
+use crate::rope::friction::{ContactFrame, Reaction};
+use crate::rope::shell::detect::{clears_edge, segment_crossing};
+use crate::state::State;
+
+/// Settings of contact detection and node management.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactSettings {
+    /// Detect new crossings and insert contact nodes (existing nodes are always managed).
+    pub detect: bool,
+    /// A segment must cut this far into an edge's wedge to count as crossing it [m].
+    pub tolerance: f64,
+    /// Deepest cut still taken as a crossing (the wedge test is local) [m].
+    pub max_depth: f64,
+    /// A material node next to a contact node is absorbed when the segment between them falls
+    /// below this fraction of the nominal segment length [-].
+    pub merge_below: f64,
+    /// A segment next to a contact node is split when it grows beyond this multiple of the nominal
+    /// segment length [-].
+    pub split_above: f64,
+    /// Smallest move of a node along its edge worth a rebuild [m].
+    pub min_edge_move: f64,
+}
+
+impl Default for ContactSettings {
+    fn default() -> Self {
+        ContactSettings {
+            detect: true,
+            tolerance: 1e-6,
+            max_depth: 0.5,
+            merge_below: 0.25,
+            split_above: 2.5,
+            min_edge_move: 1e-6,
+        }
+    }
+}
+
+/// A structural change of a rope. Positions are rope point indices: 0 is the start, `i + 1` is
+/// interior node `i`, `n + 1` the end.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Edit {
+    /// Insert a contact node where segment `seg` (points `seg`, `seg + 1`) crosses plate edge
+    /// `edge` of `block` at `point` [m, block frame].
+    Insert {
+        rope: usize,
+        seg: usize,
+        block: usize,
+        edge: usize,
+        point: Vec3,
+    },
+    /// Remove contact node `node` (interior index), returning its mass to its neighbours.
+    Remove { rope: usize, node: usize },
+    /// Absorb material node `node` into its neighbours (it reached a contact node).
+    Merge { rope: usize, node: usize },
+    /// Split segment `seg` at its middle with a new material node.
+    Split { rope: usize, seg: usize },
+}
+
+/// Counts of what the manager did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counters {
+    pub inserted: u64,
+    pub removed: u64,
+    pub relocated: u64,
+    pub merged: u64,
+    pub split: u64,
+    pub rebuilds: u64,
+}
+
+/// The step hook.
+pub struct Manager<'a> {
+    pub structure: &'a Structure,
+    pub map: &'a BuildMap,
+    pub settings: &'a ContactSettings,
+    pub counters: &'a mut Counters,
+    pub edits: Vec<Edit>,
+    scratch: Vec<usize>,
+}
+
+impl<'a> Manager<'a> {
+    /// A manager for the current build.
+    pub fn new(
+        structure: &'a Structure,
+        map: &'a BuildMap,
+        settings: &'a ContactSettings,
+        counters: &'a mut Counters,
+    ) -> Self {
+        Manager {
+            structure,
+            map,
+            settings,
+            counters,
+            edits: Vec::new(),
+            scratch: Vec::new(),
+        }
+    }
+}
+
+/// Geometry and forces of one contact node at the end of a step.
+#[derive(Debug, Clone, Copy)]
+pub struct NodeReport {
+    /// Contact slot of the rope effect.
+    pub slot: usize,
+    /// Rope and interior node index.
+    pub rope: usize,
+    pub node: usize,
+    pub frame: ContactFrame,
+    pub reaction: Reaction,
+    pub segments: NodeSegments,
+    /// Turning angle of the rope at the node [rad].
+    pub turn: f64,
+    /// Unit vectors from the node towards its previous and next rope points (world).
+    pub e_prev: Vec3,
+    pub e_next: Vec3,
+    pub l_prev: f64,
+    pub l_next: f64,
+    /// Positions of the previous and next rope points [m], world.
+    pub p_prev: Vec3,
+    pub p_next: Vec3,
+}
+
+/// Evaluates every contact node of the current build at `state`.
+pub fn node_reports(
+    sys: &mut System,
+    map: &BuildMap,
+    s: &Structure,
+    st: &State,
+) -> Vec<NodeReport> {
+    let rows = contact_rows(sys, map);
+    sys.update_kinematics(&st.q, &st.v);
+    let ctx = rope_ctx(map, sys.kins(), &sys.inputs, st);
+    let rope = &map.rope;
+    let segs = rope.contact_segments(&ctx);
+    let mut out = Vec::with_capacity(segs.len());
+    for (c, &(r, i, _)) in map.contacts.iter().enumerate() {
+        let pi = rope.contact_point(c);
+        let (x, _) = rope.point_state(&ctx, pi);
+        let (pp, _) = rope.point_state(&ctx, pi - 1);
+        let (pn, _) = rope.point_state(&ctx, pi + 1);
+        let Some(ct) = s.ropes[r].nodes[i].contact else {
+            continue;
+        };
+        let kin = sys.kin(map.blocks[ct.block]);
+        let Some(mesh) = s.blocks[ct.block].mesh.as_ref() else {
+            continue;
+        };
+        let edge = &mesh.edges[ct.edge];
+        let (l_prev, l_next) = ((pp - x).norm().max(1e-300), (pn - x).norm().max(1e-300));
+        let (e_prev, e_next) = ((pp - x) / l_prev, (pn - x) / l_next);
+        let frame = ContactFrame::new(
+            &(kin.rot * edge.dir),
+            &(kin.rot * edge.mean_normal()),
+            &e_prev,
+            &e_next,
+        );
+        let rr = rows[c];
+        let lam = Vec3::new(st.lambda[rr[0]], st.lambda[rr[1]], st.lambda[rr[2]]);
+        let turn = std::f64::consts::PI - e_prev.dot(&e_next).clamp(-1.0, 1.0).acos();
+        out.push(NodeReport {
+            slot: c,
+            rope: r,
+            node: i,
+            frame,
+            reaction: Reaction::new(&lam, &frame),
+            segments: segs[c],
+            turn,
+            e_prev,
+            e_next,
+            l_prev,
+            l_next,
+            p_prev: pp,
+            p_next: pn,
+        });
+    }
+    out
+}
+
+/// Multiplier rows of each contact slot's spherical joint.
+pub fn contact_rows(sys: &System, map: &BuildMap) -> Vec<[usize; 3]> {
+    map.contacts
+        .iter()
+        .map(|&(_, _, j)| {
+            let r = sys.joint_multiplier_rows(j);
+            [r[0], r[1], r[2]]
+        })
+        .collect()
+}
+
+impl Manager<'_> {
+    /// Decides the slip state and structural changes of every contact node; returns whether the
+    /// memory changed.
+    fn manage_nodes(&mut self, sys: &mut System, st: &mut State) -> bool {
+        let reports = node_reports(sys, self.map, self.structure, st);
+        let rope = &self.map.rope;
+        let base = self.map.rope_memory;
+        let mut changed = false;
+        for rep in &reports {
+            let c = rep.slot;
+            let spec = &self.structure.ropes[rep.rope];
+            let Some(ct) = spec.nodes[rep.node].contact else {
+                continue;
+            };
+            let mu = spec.props.friction;
+            let n = rep.reaction.normal;
+            let mesh = self.structure.blocks[ct.block].mesh.as_ref();
+            // leaving the edge: the plate would have to pull and the straight rope clears it
+            if n < 0.0 {
+                let kin = sys.kin(self.map.blocks[ct.block]);
+                let to_local = |p: &Vec3| kin.rot.transpose() * (p - kin.r);
+                if let Some(m) = mesh
+                    && clears_edge(m, ct.edge, &to_local(&rep.p_prev), &to_local(&rep.p_next))
+                {
+                    self.edits.push(Edit::Remove {
+                        rope: rep.rope,
+                        node: rep.node,
+                    });
+                    continue;
+                }
+            }
+            // the friction left for sliding along the rope once the load along the edge is
+            // carried (the rope's own return mapping in the effect decides stick or slide)
+            let o = base + rope.contact_memory_offset(c);
+            let seg = rep.segments;
+            let mu_r = if n > 0.0 {
+                rep.reaction.rope_share(mu)
+            } else {
+                mu
+            };
+            if (st.memory[o + 2] - mu_r).abs() > 1e-3 * mu.max(1e-12) {
+                st.memory[o + 2] = mu_r;
+                changed = true;
+            }
+            // sliding along the edge: move the anchor by the unbalanced share (return mapping)
+            if n > 0.0
+                && let Some(m) = mesh
+            {
+                let cap = rep.reaction.edge_capacity(mu);
+                let fe = rep.reaction.along_edge;
+                if fe.abs() > cap {
+                    let p = &spec.props;
+                    let e = &rep.frame.edge;
+                    let stiff = |t: f64, rest: f64, l: f64, u: &Vec3| {
+                        let c2 = u.dot(e).powi(2);
+                        p.ea / rest.max(1e-12) * c2 + t / l * (1.0 - c2)
+                    };
+                    let k = stiff(seg.t_prev, seg.rest_prev, rep.l_prev, &rep.e_prev)
+                        + stiff(seg.t_next, seg.rest_next, rep.l_next, &rep.e_next);
+                    let du = -fe.signum() * (fe.abs() - cap) / k.max(1e-300);
+                    if du.abs() > self.settings.min_edge_move {
+                        let edge = &m.edges[ct.edge];
+                        let anchor = rope.contact_anchor(&st.memory[base..], c);
+                        let u = (anchor - edge.a).dot(&edge.dir) + du;
+                        if u <= 0.0 || u >= edge.length {
+                            self.edits.push(Edit::Remove {
+                                rope: rep.rope,
+                                node: rep.node,
+                            });
+                            continue;
+                        }
+                        let new_anchor = edge.a + edge.dir * u;
+                        st.memory[o + 3..o + 6].copy_from_slice(new_anchor.as_slice());
+                        // the node moves with its anchor, so the joint stays closed
+                        let kin = sys.kin(self.map.blocks[ct.block]);
+                        let world = kin.point(&new_anchor);
+                        let body = self.map.nodes[rep.rope][rep.node];
+                        let qo = sys.model.bodies[body.index().unwrap_or(0)].q_offset;
+                        st.q[qo..qo + 3].copy_from_slice(world.as_slice());
+                        self.counters.relocated += 1;
+                        changed = true;
+                    }
+                }
+            }
+            // re-meshing around the node
+            let nominal = spec.nominal_segment;
+            let nn = spec.nodes.len();
+            let material = |k: usize| k < nn && spec.nodes[k].contact.is_none();
+            if seg.rest_prev < self.settings.merge_below * nominal
+                && rep.node > 0
+                && material(rep.node - 1)
+            {
+                self.edits.push(Edit::Merge {
+                    rope: rep.rope,
+                    node: rep.node - 1,
+                });
+            } else if seg.rest_next < self.settings.merge_below * nominal && material(rep.node + 1)
+            {
+                self.edits.push(Edit::Merge {
+                    rope: rep.rope,
+                    node: rep.node + 1,
+                });
+            } else if seg.rest_prev > self.settings.split_above * nominal {
+                self.edits.push(Edit::Split {
+                    rope: rep.rope,
+                    seg: rep.node,
+                });
+            } else if seg.rest_next > self.settings.split_above * nominal {
+                self.edits.push(Edit::Split {
+                    rope: rep.rope,
+                    seg: rep.node + 1,
+                });
+            }
+        }
+        changed
+    }
+
+    /// Finds segments newly crossing plate edges.
+    fn detect(&mut self, sys: &mut System, st: &State) {
+        let s = self.structure;
+        if !s.blocks.iter().any(|b| b.mesh.is_some()) {
+            return;
+        }
+        sys.update_kinematics(&st.q, &st.v);
+        let ctx = rope_ctx(self.map, sys.kins(), &sys.inputs, st);
+        let rope = &self.map.rope;
+        for (r, spec) in s.ropes.iter().enumerate() {
+            let (first, end) = rope.rope_ranges()[r];
+            for i in first..end - 1 {
+                let (p, _) = rope.point_state(&ctx, i);
+                let (q, _) = rope.point_state(&ctx, i + 1);
+                for (b, blk) in s.blocks.iter().enumerate() {
+                    let Some(mesh) = blk.mesh.as_ref() else {
+                        continue;
+                    };
+                    let mut skip = [usize::MAX; 2];
+                    for (k, node) in [i - first, i + 1 - first].into_iter().enumerate() {
+                        if node >= 1
+                            && node <= spec.nodes.len()
+                            && let Some(c) = spec.nodes[node - 1].contact
+                            && c.block == b
+                        {
+                            skip[k] = c.edge;
+                        }
+                    }
+                    let kin = sys.kin(self.map.blocks[b]);
+                    let pl = kin.rot.transpose() * (p - kin.r);
+                    let ql = kin.rot.transpose() * (q - kin.r);
+                    if let Some(c) = segment_crossing(
+                        mesh,
+                        &pl,
+                        &ql,
+                        &skip,
+                        self.settings.tolerance,
+                        self.settings.max_depth,
+                        &mut self.scratch,
+                    ) {
+                        self.edits.push(Edit::Insert {
+                            rope: r,
+                            seg: i - first,
+                            block: b,
+                            edge: c.edge,
+                            point: c.point,
+                        });
+                        break;
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl StepHook for Manager<'_> {
+    fn after_step(&mut self, sys: &mut System, st: &mut State) -> Result<StepAction, SolverError> {
+        let changed = if self.map.contacts.is_empty() {
+            false
+        } else {
+            self.manage_nodes(sys, st)
+        };
+        if self.settings.detect {
+            self.detect(sys, st);
+        }
+        if !self.edits.is_empty() {
+            return Ok(StepAction::Stop);
+        }
+        if changed {
+            // Slip-state switches happen where the two laws agree (the friction limit) and a node
+            // moves along its edge by micrometres to millimetres per step: the integrator goes on
+            // without a restart (a restart per switch would cost a factorization each).
+            sys.memory.copy_from_slice(&st.memory);
+        }
+        Ok(StepAction::Continue)
+    }
+}

@@ -1,0 +1,27 @@
+//! The RopeBlock scene: wire ropes (lumped masses) lifting a ship block, contacting its shell plate
+//! edges through contact nodes.
+//!
+//! - [`structure`]: the scene as plain data (blocks, loads, hooks, ropes and their nodes);
+//! - [`build`]: the multibody model assembled from it, and the state carried back into it;
+//! - [`manager`]: the contact manager after every step (stick/slip, leaving the edge, sliding
+//!   along it, new crossings, re-meshing);
+//! - [`edit`]: structural edits that conserve mass, momentum and rope length;
+//! - [`runner`]: the running simulation with rebuilds.
+
+pub mod build;
+pub mod edit;
+pub mod manager;
+pub mod params;
+pub mod rigging;
+pub mod runner;
+pub mod scene;
+pub mod statics;
+pub mod structure;
+
+pub use manager::{ContactSettings, Counters, Edit, NodeReport};
+pub use params::{RopeBlockParams, Route, SlingParams};
+pub use runner::RopeBlockSim;
+pub use scene::RopeBlockScene;
+pub use structure::{
+    BlockSpec, BodyRef, EndSpec, ForceSpec, LoadSpec, NodeContact, NodeSpec, RopeSpec, Structure,
+};

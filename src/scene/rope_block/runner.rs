@@ -1,0 +1,198 @@
+//! A running rope-and-block simulation: the multibody [`Simulation`] plus the structure it was
+//! built from, the contact manager after every step, and rebuilds on structural changes.
+
+use super::build::{BuildMap, build, rope_ctx, sync};
+use super::edit::{apply, insert_initial_contacts};
+use super::manager::{ContactSettings, Counters, Manager, NodeReport, node_reports};
+use super::structure::Structure;
+use crate::dae::System;
+use crate::effect::ForceEffect;
+use crate::integrator::{IntegratorKind, Settings};
+use crate::math::Vec3;
+use crate::rope::SlipMode;
+use crate::sim::Simulation;
+use crate::state::State;
+use std::sync::Arc;
+
+/// A rope-and-block simulation.
+#[derive(Debug)]
+pub struct RopeBlockSim {
+    /// The structure of the current build (positions as of the last rebuild).
+    pub structure: Structure,
+    pub sim: Simulation,
+    pub map: BuildMap,
+    pub contact: ContactSettings,
+    /// What the contact manager did so far.
+    pub counters: Counters,
+    /// Change of kinetic + potential energy at structural events [J] (inelastic insertion
+    /// impulses and node moves; negative is a loss).
+    pub event_energy: f64,
+    /// Bound on rebuilds within one `advance_to` call.
+    pub max_rebuilds_per_call: u64,
+}
+
+impl RopeBlockSim {
+    /// Inserts contact nodes at every initial crossing, builds the model and finds consistent
+    /// initial conditions at `t0` [s].
+    pub fn new(
+        mut structure: Structure,
+        kind: IntegratorKind,
+        settings: Settings,
+        contact: ContactSettings,
+        t0: f64,
+    ) -> Result<Self, String> {
+        structure.validate()?;
+        for h in &mut structure.hooks {
+            h.t0 = t0;
+        }
+        if contact.detect {
+            insert_initial_contacts(&mut structure, contact.tolerance, contact.max_depth, 100);
+        }
+        let (model, map) = build(&structure)?;
+        let sim = Simulation::new(model, kind, settings, t0)?;
+        Ok(RopeBlockSim {
+            structure,
+            sim,
+            map,
+            contact,
+            counters: Counters::default(),
+            event_energy: 0.0,
+            max_rebuilds_per_call: 100_000,
+        })
+    }
+
+    /// Current time [s].
+    pub fn time(&self) -> f64 {
+        self.sim.state.t
+    }
+
+    /// Advances to `t_end` [s], managing contact nodes after every step.
+    pub fn advance_to(&mut self, t_end: f64) -> Result<(), String> {
+        let mut rebuilds = 0;
+        loop {
+            let mut mgr = Manager::new(
+                &self.structure,
+                &self.map,
+                &self.contact,
+                &mut self.counters,
+            );
+            self.sim.advance_with(t_end, &mut mgr).map_err(|e| e.0)?;
+            let edits = std::mem::take(&mut mgr.edits);
+            if edits.is_empty() {
+                return Ok(());
+            }
+            rebuilds += 1;
+            if rebuilds > self.max_rebuilds_per_call {
+                return Err(format!(
+                    "more than {} contact-node rebuilds in one call at t = {:.6} s: contact keeps changing (check friction, node spacing or the tolerances)",
+                    self.max_rebuilds_per_call,
+                    self.time()
+                ));
+            }
+            self.sync();
+            apply(&mut self.structure, &edits, &mut self.counters);
+            self.rebuild()?;
+        }
+    }
+
+    /// Copies the running state into the structure.
+    pub fn sync(&mut self) {
+        let model = self.sim.system.model.clone();
+        sync(&mut self.structure, &model, &self.map, &self.sim.state);
+    }
+
+    /// Rebuilds the model from the structure and continues from its positions and velocities.
+    pub fn rebuild(&mut self) -> Result<(), String> {
+        let before = self.sim.energy();
+        let (model, map) = build(&self.structure)?;
+        let mut sys = System::new(Arc::new(model))?;
+        let old = &self.sim.state;
+        let mut state = State {
+            t: old.t,
+            q: sys.model.q0.clone(),
+            v: sys.model.v0.clone(),
+            vdot: vec![0.0; sys.n_v()],
+            lambda: vec![0.0; sys.n_c()],
+            energy_dissipated: old.energy_dissipated,
+            work_input: old.work_input,
+            memory: Vec::new(),
+        };
+        state.memory = sys.init_memory(state.t, &state.q, &state.v);
+        self.map = map;
+        self.sim.replace_system(sys, state).map_err(|e| e.0)?;
+        self.counters.rebuilds += 1;
+        let after = self.sim.energy();
+        self.event_energy +=
+            (after.kinetic + after.potential) - (before.kinetic + before.potential);
+        Ok(())
+    }
+
+    /// Reports (geometry, tensions, reaction) of every contact node at the current state.
+    pub fn contact_reports(&mut self) -> Vec<NodeReport> {
+        let st = self.sim.state.clone();
+        node_reports(&mut self.sim.system, &self.map, &self.structure, &st)
+    }
+
+    /// Tension [N] and rest length [m] of every segment of rope `r` at the current state.
+    pub fn rope_tensions(&mut self, r: usize) -> Vec<(f64, f64)> {
+        let st = &self.sim.state;
+        let sys = &mut self.sim.system;
+        sys.update_kinematics(&st.q, &st.v);
+        let ctx = rope_ctx(&self.map, sys.kins(), &sys.inputs, st);
+        self.map.rope.rope_tensions(&ctx, r)
+    }
+
+    /// World positions [m] of every point of rope `r` (ends included).
+    pub fn rope_points(&mut self, r: usize) -> Vec<Vec3> {
+        let st = &self.sim.state;
+        let sys = &mut self.sim.system;
+        sys.update_kinematics(&st.q, &st.v);
+        let ctx = rope_ctx(&self.map, sys.kins(), &sys.inputs, st);
+        let (a, b) = self.map.rope.rope_ranges()[r];
+        (a..b)
+            .map(|i| self.map.rope.point_state(&ctx, i).0)
+            .collect()
+    }
+
+    /// Slip mode of every contact node (index = contact slot).
+    pub fn slip_modes(&self) -> Vec<SlipMode> {
+        let mem = &self.sim.state.memory[self.map.rope_memory..];
+        (0..self.map.rope.n_contacts())
+            .map(|c| self.map.rope.contact_state(mem, c).0)
+            .collect()
+    }
+
+    /// Sets hook `k`'s velocity [m/s] and pay-out rate [m/s] from now on (continuous position).
+    pub fn set_hook_rates(
+        &mut self,
+        k: usize,
+        velocity: Vec3,
+        payout_rate: f64,
+    ) -> Result<(), String> {
+        if k >= self.map.rope.n_hooks() {
+            return Err(format!(
+                "hook {k} does not exist ({} hooks)",
+                self.map.rope.n_hooks()
+            ));
+        }
+        if !(velocity.iter().all(|x| x.is_finite()) && payout_rate.is_finite()) {
+            return Err(format!(
+                "hook {k}: velocity and pay-out rate must be finite"
+            ));
+        }
+        let t = self.sim.state.t;
+        let base = self.map.rope_memory;
+        let n = self.map.rope.n_memory();
+        let mem = &self.sim.state.memory[base..base + n];
+        let (x, _) = self.map.rope.hook_motion(mem, k, t);
+        let (p, _) = self.map.rope.hook_payout(mem, k, t);
+        let o = base + self.map.rope.hook_memory_offset(k);
+        let m = &mut self.sim.state.memory[o..o + crate::rope::HOOK_MEM];
+        m[..3].copy_from_slice(x.as_slice());
+        m[3..6].copy_from_slice(velocity.as_slice());
+        m[6] = t;
+        m[7] = p;
+        m[8] = payout_rate;
+        self.sim.restart().map_err(|e| e.0)
+    }
+}

@@ -1,0 +1,222 @@
+//! The RopeBlock scene as a co-simulation model would see it: built from [`RopeBlockParams`],
+//! driven through hook rates, read through named outputs.
+//!
+//! Inputs (per hook `k`): velocity [m/s] (world) and winch pay-out rate [m/s], held constant until
+//! changed, so the hook position stays continuous. Outputs (SI, see [`RopeBlockScene::output_names`]):
+//!
+//! | name | meaning |
+//! |------|---------|
+//! | `time` | simulation time [s] |
+//! | `hook{k}.x/y/z` | hook position [m], world |
+//! | `hook{k}.load`, `hook{k}.fz` | magnitude and vertical component of the ropes' pull on the hook [N] |
+//! | `sling{r}.tension_hook`, `sling{r}.tension_lug` | tension of the sling's first and last segment [N] |
+//! | `contact.count` | number of contact nodes |
+//! | `contact{i}.normal`, `contact{i}.friction` | normal force `N` and friction `|F|` at contact slot `i` [N] |
+//! | `contact{i}.x/y/z` | node position [m] in the block's design frame |
+//! | `contact{i}.sling`, `contact{i}.slip` | sling index (-1: empty slot), slip state (0 stick, +-1 sliding) |
+//! | `block.x/y/z` | centre of mass [m], world |
+//! | `block.qw/qx/qy/qz` | orientation quaternion (block to world) |
+//! | `block.vx/vy/vz` | velocity of the centre of mass [m/s], world |
+//! | `block.wx/wy/wz` | angular velocity [rad/s], block frame |
+//! | `energy.kinetic/potential/dissipated/input/events` | energy bookkeeping [J] |
+//!
+//! Contact slots are filled in rope order each time outputs are read; beyond
+//! `params.contact_outputs` nodes are counted but not reported.
+
+use super::params::RopeBlockParams;
+use super::runner::RopeBlockSim;
+use super::statics;
+use super::structure::EndSpec;
+use super::{ContactSettings, NodeReport};
+use crate::integrator::Settings;
+use crate::math::Vec3;
+use crate::rope::SlipMode;
+use crate::rope::shell::mass::shell_mass_properties;
+
+/// Static equilibrium with the rope sliding freely over every contact node (equal tensions on
+/// both sides, as when a sling is loaded slowly), then every node sticking where it is.
+/// `weight` [N] scales the force tolerance.
+pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
+    let base = sim.map.rope_memory;
+    let n = sim.map.rope.n_contacts();
+    let mut saved = Vec::with_capacity(n);
+    for c in 0..n {
+        let o = base + sim.map.rope.contact_memory_offset(c);
+        let m = &mut sim.sim.state.memory;
+        saved.push((m[o + 1], m[o + 2]));
+        m[o + 1] = SlipMode::SlipForward.code();
+        m[o + 2] = 0.0;
+    }
+    sim.sim.restart().map_err(|e| e.0)?;
+    statics::solve(sim, 1e-9 * weight, 300)?;
+    // freeze the split of rope at each node where the free sliding left it
+    sim.sim.system.update_memory(
+        sim.sim.state.t,
+        &sim.sim.state.q.clone(),
+        &sim.sim.state.v.clone(),
+        &mut sim.sim.state.memory,
+    );
+    for (c, (mode, mu)) in saved.into_iter().enumerate() {
+        let o = base + sim.map.rope.contact_memory_offset(c);
+        let m = &mut sim.sim.state.memory;
+        m[o + 1] = mode;
+        m[o + 2] = mu;
+    }
+    sim.sim.restart().map_err(|e| e.0)
+}
+
+/// A RopeBlock scene.
+#[derive(Debug)]
+pub struct RopeBlockScene {
+    pub params: RopeBlockParams,
+    pub sim: RopeBlockSim,
+    names: Vec<String>,
+    /// Centre of mass in the design frame [m] (to report positions in the design frame).
+    com: Vec3,
+}
+
+impl RopeBlockScene {
+    /// Builds the scene (and settles it in static equilibrium if `params.settle`).
+    pub fn new(params: RopeBlockParams) -> Result<Self, String> {
+        let structure = params.structure()?;
+        let (com, _) = shell_mass_properties(&params.design_mesh()?, params.block_mass);
+        let settings = Settings {
+            rtol: params.rtol,
+            atol: params.atol,
+            h_max: params.h_max,
+            ..Settings::default()
+        };
+        let contact = ContactSettings {
+            detect: params.contact,
+            ..ContactSettings::default()
+        };
+        let mut sim = RopeBlockSim::new(structure, params.integrator, settings, contact, 0.0)?;
+        if params.settle {
+            settle(&mut sim, params.block_mass * params.gravity.max(1.0))?;
+        }
+        let mut names: Vec<String> = vec!["time".into()];
+        for k in 0..params.hooks.len() {
+            for c in ["x", "y", "z", "load", "fz"] {
+                names.push(format!("hook{k}.{c}"));
+            }
+        }
+        for r in 0..params.slings.len() {
+            names.push(format!("sling{r}.tension_hook"));
+            names.push(format!("sling{r}.tension_lug"));
+        }
+        names.push("contact.count".into());
+        for i in 0..params.contact_outputs {
+            for c in ["normal", "friction", "x", "y", "z", "sling", "slip"] {
+                names.push(format!("contact{i}.{c}"));
+            }
+        }
+        for c in [
+            "x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz",
+        ] {
+            names.push(format!("block.{c}"));
+        }
+        for c in ["kinetic", "potential", "dissipated", "input", "events"] {
+            names.push(format!("energy.{c}"));
+        }
+        Ok(RopeBlockScene {
+            params,
+            sim,
+            names,
+            com,
+        })
+    }
+
+    /// Names of the outputs, in the order of [`RopeBlockScene::outputs`].
+    pub fn output_names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// Sets hook `k`'s velocity [m/s] (world) and pay-out rate [m/s] from now on.
+    pub fn set_hook(&mut self, k: usize, velocity: Vec3, payout_rate: f64) -> Result<(), String> {
+        self.sim.set_hook_rates(k, velocity, payout_rate)
+    }
+
+    /// Advances by `h` [s].
+    pub fn step(&mut self, h: f64) -> Result<(), String> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!("step must be finite and > 0 s, got {h}"));
+        }
+        let t = self.sim.time() + h;
+        self.sim.advance_to(t)
+    }
+
+    /// All outputs at the current state, in the order of [`RopeBlockScene::output_names`].
+    pub fn outputs(&mut self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.names.len());
+        let sim = &mut self.sim;
+        out.push(sim.time());
+        let nh = self.params.hooks.len();
+        let mut pull = vec![Vec3::zeros(); nh];
+        let mut ends = Vec::new();
+        for r in 0..sim.structure.ropes.len() {
+            let ten = sim.rope_tensions(r);
+            let pts = sim.rope_points(r);
+            let n = pts.len();
+            let (first, last) = (ten[0].0, ten[ten.len() - 1].0);
+            ends.push((first, last));
+            let rope = &sim.structure.ropes[r];
+            if let EndSpec::Hook(k) = rope.start {
+                pull[k] += (pts[1] - pts[0]).normalize() * first;
+            }
+            if let EndSpec::Hook(k) = rope.end {
+                pull[k] += (pts[n - 2] - pts[n - 1]).normalize() * last;
+            }
+        }
+        let mem = &sim.sim.state.memory[sim.map.rope_memory..];
+        for (k, p) in pull.iter().enumerate() {
+            let (x, _) = sim.map.rope.hook_motion(mem, k, sim.sim.state.t);
+            out.extend([x.x, x.y, x.z, p.norm(), p.z]);
+        }
+        for (a, b) in ends {
+            out.extend([a, b]);
+        }
+        let reports: Vec<NodeReport> = sim.contact_reports();
+        let modes = sim.slip_modes();
+        out.push(reports.len() as f64);
+        for i in 0..self.params.contact_outputs {
+            match reports.get(i) {
+                Some(r) => {
+                    let c = sim.structure.ropes[r.rope].nodes[r.node]
+                        .contact
+                        .map(|c| c.anchor + self.com)
+                        .unwrap_or_default();
+                    out.extend([
+                        r.reaction.normal,
+                        r.reaction.friction(),
+                        c.x,
+                        c.y,
+                        c.z,
+                        r.rope as f64,
+                        modes[r.slot].code(),
+                    ]);
+                }
+                None => out.extend([0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0]),
+            }
+        }
+        let st = &sim.sim.state;
+        let b = &sim.sim.system.model.bodies[sim.map.blocks[0].index().unwrap_or(0)];
+        let (qo, vo) = (b.q_offset, b.v_offset);
+        out.extend_from_slice(&st.q[qo..qo + 7]);
+        out.extend_from_slice(&st.v[vo..vo + 6]);
+        let e = sim.sim.energy();
+        out.extend([
+            e.kinetic,
+            e.potential,
+            e.dissipated,
+            e.input,
+            sim.event_energy,
+        ]);
+        out
+    }
+
+    /// One output by name.
+    pub fn output(&mut self, name: &str) -> Option<f64> {
+        let i = self.names.iter().position(|n| n == name)?;
+        Some(self.outputs()[i])
+    }
+}

@@ -1,0 +1,113 @@
+//! Static equilibrium of a rope-and-block scene at the current time: the positions where the
+//! forces balance the joint reactions, with all speeds zero.
+//!
+//! Newton's method on `f(q) - G^T lambda = 0`, `Phi(q) = 0` with the analytic stiffness
+//! `K = -df/dx`: `[K + M/tau^2, G^T; G, 0] [dx; lambda] = [f; -Phi]`. The mass term is a pseudo-time
+//! regularization (it keeps the matrix regular where a slack rope or a free body has no stiffness);
+//! `tau` [s] grows tenfold after every step that lowers the residual and shrinks otherwise, so the
+//! iteration turns into plain Newton near the solution. Contact nodes keep their current
+//! stick/slip state (a sliding node slides without friction losses in statics).
+
+use super::runner::RopeBlockSim;
+use crate::dae::linear::LinearSolver;
+
+/// Result of a static solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StaticReport {
+    /// Newton iterations taken.
+    pub iterations: usize,
+    /// Largest remaining force imbalance [N] (generalized forces, torques in N m).
+    pub residual: f64,
+}
+
+/// Moves `sim` to the static equilibrium near its current positions; `Err` when no equilibrium is
+/// found within `max_iter` iterations (the message gives the remaining force imbalance).
+pub fn solve(
+    sim: &mut RopeBlockSim,
+    force_tol: f64,
+    max_iter: usize,
+) -> Result<StaticReport, String> {
+    let s = &mut sim.sim;
+    let (nv, nc) = (s.system.n_v(), s.system.n_c());
+    let t = s.state.t;
+    s.state.v.fill(0.0);
+    let mut lin = LinearSolver::new();
+    let mut f = vec![0.0; nv];
+    let mut rhs = vec![0.0; nv + nc];
+    let mut qn = s.state.q.clone();
+    let mut tau = 1e-2;
+    let residual =
+        |sys: &mut crate::dae::System, q: &[f64], v: &[f64], lam: &[f64], f: &mut [f64]| {
+            sys.forces(t, q, v, f);
+            sys.eval_constraints(t, q, v);
+            let neg: Vec<f64> = lam.iter().map(|x| -x).collect();
+            sys.gt_mul_add(&neg, f);
+            let fmax = f.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            let pmax = sys.rows.iter().fold(0.0f64, |a, r| a.max(r.phi.abs()));
+            (fmax, pmax)
+        };
+    let mut lam = s.state.lambda.clone();
+    let (mut fmax, _) = residual(&mut s.system, &s.state.q, &s.state.v, &lam, &mut f);
+    for it in 0..max_iter {
+        if fmax <= force_tol {
+            s.state.vdot.fill(0.0);
+            s.state.lambda.copy_from_slice(&lam);
+            s.restart().map_err(|e| e.0)?;
+            return Ok(StaticReport {
+                iterations: it,
+                residual: fmax,
+            });
+        }
+        let q = s.state.q.clone();
+        let v = s.state.v.clone();
+        s.system.forces(t, &q, &v, &mut f);
+        s.system.eval_constraints(t, &q, &v);
+        lin.begin(nv + nc);
+        s.system
+            .add_dynamics_matrix(t, &q, &v, 1.0 / (tau * tau), 0.0, 1.0, &mut lin, 0);
+        s.system
+            .add_constraint_blocks(&mut lin, nv, 0, 1.0, Some((0, nv, 1.0)));
+        rhs[..nv].copy_from_slice(&f);
+        for (r, row) in s.system.rows.iter().enumerate() {
+            rhs[nv + r] = -row.phi;
+        }
+        if lin.factor().and_then(|_| lin.solve(&mut rhs)).is_err() {
+            // singular without enough pseudo-mass (a slack rope): regularize more
+            tau *= 0.1;
+            if tau < 1e-9 {
+                break;
+            }
+            continue;
+        }
+        // backtracking on the potential energy (the forces are conservative in statics) or on
+        // the force imbalance, whichever improves first
+        let e0 = s.system.energy(t, &q, &v).1;
+        let mut accepted = false;
+        let mut dx = rhs[..nv].to_vec();
+        for _ in 0..30 {
+            s.system.model.retract(&q, &dx, &mut qn);
+            let lam_try = rhs[nv..].to_vec();
+            let (fnew, _) = residual(&mut s.system, &qn, &v, &lam_try, &mut f);
+            let e1 = s.system.energy(t, &qn, &v).1;
+            if fnew.is_finite() && (fnew < fmax || e1 < e0) {
+                s.state.q.copy_from_slice(&qn);
+                lam = lam_try;
+                fmax = fnew;
+                accepted = true;
+                break;
+            }
+            dx.iter_mut().for_each(|x| *x *= 0.5);
+        }
+        if accepted {
+            tau = (tau * 10.0).min(1e8);
+        } else {
+            tau *= 0.1;
+            if tau < 1e-9 {
+                break;
+            }
+        }
+    }
+    Err(format!(
+        "no static equilibrium found in {max_iter} iterations: largest force imbalance {fmax:.3e} N (is the scene statically stable? free bodies need supports)"
+    ))
+}

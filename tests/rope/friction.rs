@@ -1,0 +1,182 @@
+//! Coulomb friction at contact nodes against the sharp-edge and polygon references:
+//! a single edge turning the rope by theta slips at T2/T1 = (1 + mu tan(theta/2)) / (1 - mu
+//! tan(theta/2)) (1.500 for mu = 0.2, theta = 90 deg, not the capstan 1.369); k edges of theta/k
+//! each at that ratio to the power k (1.9431, 1.8905, 1.8784 for k = 4, 8, 16, theta = 180 deg),
+//! and at the inverse ratio when pulled the other way; at 10 kN and 1 MN, on a welded block and on
+//! a free 100 t block (block-to-node mass ratio above 1e4).
+
+use crate::rig::*;
+use mbcosim::math::Vec3;
+use mbcosim::model::Profile;
+use mbcosim::rope::{RopeProps, SlipMode};
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+const MU: f64 = 0.2;
+
+fn ratio(theta: f64) -> f64 {
+    let x = MU * (0.5 * theta).tan();
+    (1.0 + x) / (1.0 - x)
+}
+
+fn props() -> RopeProps {
+    RopeProps {
+        friction: MU,
+        ..RopeProps::default()
+    }
+}
+
+/// Whether a rope over one 90 degree edge at rest with tensions `t1`, `q t1` slides within
+/// `duration` [s], and how far the pulled end moved [m].
+fn single_edge(q: f64, t1: f64, hold: Hold, duration: f64) -> (bool, f64) {
+    let g = 0.25 * PI;
+    let rig = Wrap {
+        mesh: Arc::new(wedge(0.5 * PI)),
+        vertices: vec![Vec3::zeros()],
+        e1: Vec3::new(-g.sin(), -g.cos(), 0.0),
+        e2: Vec3::new(g.sin(), -g.cos(), 0.0),
+        strand: 2.0,
+        nodes: 3,
+        props: props(),
+        t_init: vec![t1, q * t1],
+        end_mass: 100.0,
+        f1: Profile::constant(t1),
+        f2: Profile::constant(q * t1),
+        hold,
+        gravity: None,
+        mode: SlipMode::Stick,
+        grad: [0.0; 2],
+        contact_mass: 1.0,
+    };
+    let mut sim = rig.sim(settings(1e-3));
+    let x0 = sim.structure.loads[1].position;
+    sim.advance_to(duration).unwrap();
+    sim.sync();
+    let moved = (sim.structure.loads[1].position - x0).norm();
+    (sim.slip_modes()[0] != SlipMode::Stick, moved)
+}
+
+fn single_edge_slides(q: f64, t1: f64, hold: Hold) -> bool {
+    single_edge(q, t1, hold, 0.01).0
+}
+
+/// Bisection on T2/T1 for the slip threshold.
+fn single_edge_threshold(t1: f64, hold: Hold) -> f64 {
+    let (mut lo, mut hi) = (1.0, 2.0);
+    assert!(!single_edge_slides(lo + 1e-3, t1, hold) && single_edge_slides(hi, t1, hold));
+    while hi - lo > 2e-4 {
+        let mid = 0.5 * (lo + hi);
+        if single_edge_slides(mid, t1, hold) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[test]
+fn single_edge_slip_threshold_is_not_capstan() {
+    let reference = ratio(0.5 * PI);
+    let capstan = (MU * 0.5 * PI).exp();
+    assert!((reference - 1.5).abs() < 1e-12);
+    for (t1, hold) in [
+        (1e4, Hold::Fixed),
+        (1e6, Hold::Fixed),
+        (1e4, Hold::Free(1e5)),
+        (1e6, Hold::Free(1e5)),
+    ] {
+        let q = single_edge_threshold(t1, hold);
+        let rel = (q - reference) / reference;
+        println!(
+            "single edge, T1 = {t1:.0e} N, {hold:?}: threshold {q:.4} (reference {reference:.4}, capstan {capstan:.4}), rel err {rel:.1e}"
+        );
+        assert!(rel.abs() < 0.01, "threshold {q}");
+        // a capstan-law model would already slide at 1.40
+        assert!(!single_edge_slides(1.40, t1, hold));
+        // 1 % below the reference nothing moves, 1 % above the rope runs
+        let (s_lo, x_lo) = single_edge(0.99 * reference, t1, hold, 0.2);
+        let (s_hi, x_hi) = single_edge(1.01 * reference, t1, hold, 0.2);
+        println!(
+            "  0.99 x reference: slip {s_lo}, end moved {x_lo:.2e} m; 1.01 x: slip {s_hi}, moved {x_hi:.2e} m"
+        );
+        assert!(!s_lo && x_lo < 1e-9 && s_hi && x_hi > 1e-3);
+    }
+}
+
+/// Ramps one end's pull slowly from `t1` and returns T2/T1 (applied forces) when every contact
+/// node of a `k`-edge polygonal wrap over 180 degrees slides.
+fn polygon_gross_slip(k: usize, t1: f64, hold: Hold, reverse: bool) -> f64 {
+    let d = PI / k as f64;
+    let r = 1.0;
+    let vertices: Vec<Vec3> = (1..=k)
+        .map(|j| {
+            let a = 0.5 * PI + (k as f64 + 1.0 - 2.0 * j as f64) * 0.5 * d;
+            Vec3::new(r * a.cos(), r * a.sin(), 0.0)
+        })
+        .collect();
+    let duration = 2.0;
+    let rate = 1.2 * t1 / duration;
+    let (f1, f2) = if reverse {
+        (Profile::linear(t1, rate), Profile::constant(t1))
+    } else {
+        (Profile::constant(t1), Profile::linear(t1, rate))
+    };
+    let rig = Wrap {
+        mesh: Arc::new(polygon(2 * k, r)),
+        vertices,
+        e1: Vec3::new(0.0, -1.0, 0.0),
+        e2: Vec3::new(0.0, -1.0, 0.0),
+        strand: 1.5,
+        nodes: 2,
+        props: props(),
+        t_init: vec![t1; k + 1],
+        end_mass: 100.0,
+        f1,
+        f2,
+        hold,
+        gravity: None,
+        mode: SlipMode::Stick,
+        grad: [0.0; 2],
+        contact_mass: 1.0,
+    };
+    let mut sim = rig.sim(settings(1e-3));
+    let dt = 1e-3;
+    let mut t = 0.0;
+    while t < duration {
+        t += dt;
+        sim.advance_to(t).unwrap();
+        let modes = sim.slip_modes();
+        if modes.iter().all(|m| *m != SlipMode::Stick) {
+            let want = if reverse {
+                SlipMode::SlipBackward
+            } else {
+                SlipMode::SlipForward
+            };
+            assert!(modes.iter().all(|m| *m == want), "{modes:?}");
+            let (a, b) = (f1.eval(t, &[]).0, f2.eval(t, &[]).0);
+            return b / a;
+        }
+    }
+    panic!("no gross slip within the ramp (k = {k})");
+}
+
+#[test]
+fn polygon_of_k_edges_approaches_capstan() {
+    let expected = [(4, 1.9431), (8, 1.8905), (16, 1.8784)];
+    for (k, value) in expected {
+        let reference = ratio(PI / k as f64).powi(k as i32);
+        assert!((reference - value).abs() < 1e-4);
+        for (t1, hold) in [(1e4, Hold::Fixed), (1e6, Hold::Free(1e5))] {
+            for reverse in [false, true] {
+                let q = polygon_gross_slip(k, t1, hold, reverse);
+                let want = if reverse { 1.0 / reference } else { reference };
+                let rel = (q - want) / want;
+                println!(
+                    "k = {k:2}, T1 = {t1:.0e} N, {hold:?}, reverse {reverse}: T2/T1 = {q:.4} (reference {want:.4}), rel err {rel:.1e}"
+                );
+                assert!(rel.abs() < 0.005, "k = {k}: {q} vs {want}");
+            }
+        }
+    }
+}

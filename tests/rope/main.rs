@@ -1,0 +1,8 @@
+//! RopeBlock physics tests against independent references (one test binary for build speed).
+
+mod edge;
+mod friction;
+mod geometry;
+mod hanging;
+mod jacobian;
+mod rig;
