@@ -15,7 +15,8 @@ fn main() -> Result<(), String> {
         (Demo::Turnover, "rope_turnover.csv", 40.0),
     ] {
         let path = dir.join(file);
-        let f = File::create(&path).map_err(|e| format!("cannot create {}: {e}", path.display()))?;
+        let f =
+            File::create(&path).map_err(|e| format!("cannot create {}: {e}", path.display()))?;
         let s = run(demo, None, duration, 0.05, &mut BufWriter::new(f))?;
         println!(
             "{demo:?}: {} rows to {}, peak hook load {:.1} kN, peak sling tension {:.1} kN, up to {} contact nodes, {:.1} s simulated in {:.2} s ({:.0}x real time)",

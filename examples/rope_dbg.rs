@@ -15,9 +15,7 @@ fn main() {
         p.rope.axial_damping = c.parse().unwrap();
     }
     let mut scene = RopeBlockScene::new(p).unwrap();
-    if std::env::var("NOREL").is_ok() {
-        scene.sim.contact.min_edge_move = 1e9;
-    }
+    if std::env::var("NOREL").is_ok() {}
     let dt: f64 = std::env::var("DT")
         .map(|s| s.parse().unwrap())
         .unwrap_or(0.005);

@@ -13,7 +13,16 @@ fn main() {
         scene.step(0.05).unwrap();
         let s = scene.sim.sim.stats();
         if s.steps - last.0 > 20 || k % 10 == 0 {
-            println!("t {:.2} wall {:.2} steps +{} fails +{} h {:.2e} counters {:?} contacts {}", scene.sim.time(), t0.elapsed().as_secs_f64(), s.steps - last.0, s.newton_failures - last.1, s.last_step, scene.sim.counters, scene.sim.structure.n_contacts());
+            println!(
+                "t {:.2} wall {:.2} steps +{} fails +{} h {:.2e} counters {:?} contacts {}",
+                scene.sim.time(),
+                t0.elapsed().as_secs_f64(),
+                s.steps - last.0,
+                s.newton_failures - last.1,
+                s.last_step,
+                scene.sim.counters,
+                scene.sim.structure.n_contacts()
+            );
         }
         last = (s.steps, s.newton_failures);
     }

@@ -45,7 +45,9 @@ fn main() {
     show(&mut scene);
     let t1 = Instant::now();
     scene.set_hook(0, Vec3::new(0.0, 0.0, 0.2), 0.0).unwrap();
-    let n_out: usize = std::env::var("NOUT").map(|s| s.parse().unwrap()).unwrap_or(4);
+    let n_out: usize = std::env::var("NOUT")
+        .map(|s| s.parse().unwrap())
+        .unwrap_or(4);
     for _ in 0..n_out {
         scene.step(0.5).unwrap();
         show(&mut scene);

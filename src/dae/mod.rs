@@ -81,17 +81,6 @@ impl System {
             memory_offsets.push(memory_offsets.last().copied().unwrap_or(0) + e.n_memory());
         }
         let n_mem = *memory_offsets.last().unwrap_or(&0);
-        for j in &model.joints {
-            if let crate::model::JointKind::SphericalAt { memory } = j.kind {
-                if memory + 3 > n_mem {
-                    return Err(format!(
-                        "joint '{}': reads its origin from memory values {memory}..{}, but the effects keep only {n_mem}",
-                        j.name,
-                        memory + 3
-                    ));
-                }
-            }
-        }
         let mut sys = System {
             memory_offsets,
             memory: vec![0.0; n_mem],
@@ -321,14 +310,7 @@ impl System {
         self.update_kinematics(q, v);
         self.rows_full.clear();
         for j in &self.model.joints {
-            joint_rows(
-                j,
-                &self.kins,
-                t,
-                &self.inputs,
-                &self.memory,
-                &mut self.rows_full,
-            );
+            joint_rows(j, &self.kins, t, &self.inputs, &mut self.rows_full);
         }
         self.rows.clear();
         for &r in &self.active {

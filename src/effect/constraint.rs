@@ -98,16 +98,8 @@ fn dot2_row(ki: &BodyKin, fi: &Frame, a_i: Vec3, kj: &BodyKin, fj: &Frame) -> Ro
     )
 }
 
-/// Evaluates all rows of `joint` at time `t` and appends them to `out`; `memory` is the system's
-/// effect memory (read by [`JointKind::SphericalAt`]).
-pub fn joint_rows(
-    joint: &Joint,
-    kins: &[BodyKin],
-    t: f64,
-    inputs: &[f64],
-    memory: &[f64],
-    out: &mut Vec<RowEval>,
-) {
+/// Evaluates all rows of `joint` at time `t` and appends them to `out`.
+pub fn joint_rows(joint: &Joint, kins: &[BodyKin], t: f64, inputs: &[f64], out: &mut Vec<RowEval>) {
     let (fi, fj) = (&joint.frame_i, &joint.frame_j);
     let ki = kin_of(kins, fi.body);
     let kj = kin_of(kins, fj.body);
@@ -119,12 +111,9 @@ pub fn joint_rows(
     let (xj, yj) = (fj.axes.column(0).into(), fj.axes.column(1).into());
     match joint.kind {
         JointKind::Spherical => point_rows(ki, fi, kj, fj, out),
-        JointKind::SphericalAt { memory: m } => {
-            let mut at = *fi;
-            if let Some(o) = memory.get(m..m + 3) {
-                at.origin = Vec3::new(o[0], o[1], o[2]);
-            }
-            point_rows(ki, &at, kj, fj, out)
+        JointKind::PointOnLine => {
+            out.push(dot2_row(ki, fi, xi, kj, fj));
+            out.push(dot2_row(ki, fi, yi, kj, fj));
         }
         JointKind::Revolute => {
             point_rows(ki, fi, kj, fj, out);

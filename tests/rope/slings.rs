@@ -34,7 +34,10 @@ fn sling_legs_carry_weight_over_n_cos_beta() {
             ..RopeProps::default()
         },
         segments: 40,
-        hooks: vec![Vec3::new(6.0, 0.0, h + 15.0), Vec3::new(-6.0, 0.0, h + 15.0)],
+        hooks: vec![
+            Vec3::new(6.0, 0.0, h + 15.0),
+            Vec3::new(-6.0, 0.0, h + 15.0),
+        ],
         slings: vec![
             sling(0, 1.0, 1.0),
             sling(0, 1.0, -1.0),
@@ -68,7 +71,10 @@ fn sling_legs_carry_weight_over_n_cos_beta() {
             cos_beta.acos().to_degrees()
         );
         assert!(rel.abs() < 1e-4, "sling {r}: {th} vs {t_ref}");
-        assert!((th - tl).abs() < 1e-6 * th, "frictionless edge: equal tensions");
+        assert!(
+            (th - tl).abs() < 1e-6 * th,
+            "frictionless edge: equal tensions"
+        );
     }
     // the hooks carry the weight
     let load = get("hook0.fz") + get("hook1.fz");
