@@ -94,17 +94,6 @@ impl System {
         let n_mem = *memory_offsets.last().unwrap_or(&0);
         let nodes = node_body_terms(&model, &modal, &modal_of);
         let f_ext = vec![0.0; model.n_v + 6 * nodes.len()];
-        for j in &model.joints {
-            if let crate::model::JointKind::SphericalAt { memory } = j.kind
-                && memory + 3 > n_mem
-            {
-                return Err(format!(
-                    "joint '{}': reads its origin from memory values {memory}..{}, but the effects keep only {n_mem}",
-                    j.name,
-                    memory + 3
-                ));
-            }
-        }
         let mut sys = System {
             memory_offsets,
             memory: vec![0.0; n_mem],

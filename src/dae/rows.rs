@@ -32,15 +32,7 @@ impl System {
                 self.node_kin(j.frame_i.body, j.frame_i.node),
                 self.node_kin(j.frame_j.body, j.frame_j.node),
             ];
-            joint_rows(
-                j,
-                &self.kins,
-                nodes,
-                t,
-                &self.inputs,
-                &self.memory,
-                &mut self.rows_full,
-            );
+            joint_rows(j, &self.kins, nodes, t, &self.inputs, &mut self.rows_full);
         }
         // modal columns of node frames: Phi_k^T gn_t + Psi_k^T gn_r
         self.row_modal.clear();

@@ -232,16 +232,13 @@ fn dot2_row(si: &Side, ci: usize, sj: &Side) -> RowEval {
 }
 
 /// Evaluates all rows of `joint` at time `t` and appends them to `out`; `nodes` holds the node
-/// motion of frames i and j when they ride on a flexible-body node; `memory` is the system's
-/// effect memory (read by [`JointKind::SphericalAt`]).
-#[allow(clippy::too_many_arguments)]
+/// motion of frames i and j when they ride on a flexible-body node.
 pub fn joint_rows(
     joint: &Joint,
     kins: &[BodyKin],
     nodes: [Option<NodeKin>; 2],
     t: f64,
     inputs: &[f64],
-    memory: &[f64],
     out: &mut Vec<RowEval>,
 ) {
     let (fi, fj) = (&joint.frame_i, &joint.frame_j);
@@ -260,17 +257,9 @@ pub fn joint_rows(
     let (x, y, z) = (0, 1, 2);
     match joint.kind {
         JointKind::Spherical => point_rows(&si, &sj, out),
-        JointKind::SphericalAt { memory: m } => {
-            let mut at = *fi;
-            if let Some(o) = memory.get(m..m + 3) {
-                at.origin = Vec3::new(o[0], o[1], o[2]);
-            }
-            let si_at = Side {
-                k: ki,
-                f: &at,
-                node: nodes[0],
-            };
-            point_rows(&si_at, &sj, out)
+        JointKind::PointOnLine => {
+            out.push(dot2_row(&si, x, &sj));
+            out.push(dot2_row(&si, y, &sj));
         }
         JointKind::Revolute => {
             point_rows(&si, &sj, out);

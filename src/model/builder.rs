@@ -304,7 +304,7 @@ impl ModelBuilder {
         frame_j: Frame,
     ) -> Result<(), String> {
         let owner = format!("joint '{name}'");
-        self.check_frame(&owner, "i", &frame_i, kind.needs_rotation())?;
+        self.check_frame(&owner, "i", &frame_i, kind.needs_rotation_i())?;
         self.check_frame(&owner, "j", &frame_j, kind.needs_rotation())?;
         if frame_i.body == frame_j.body {
             return Err(format!("{owner}: both frames are on the same body"));

@@ -78,11 +78,9 @@ pub enum JointKind {
     Revolute,
     /// Origins coincide: 3 constraints.
     Spherical,
-    /// Origins coincide, with the origin of frame i read at every evaluation from the effect
-    /// memory of the system at indices `memory .. memory + 3` (body-i frame [m]) instead of from
-    /// the frame: 3 constraints whose attachment point can move between steps without rebuilding
-    /// the model (a rope's contact node sliding along a plate edge).
-    SphericalAt { memory: usize },
+    /// Origin of frame j on the z axis of frame i: 2 constraints (translation along z and every
+    /// rotation free; frame j may be on a particle), e.g. a rope's contact node on a plate edge.
+    PointOnLine,
     /// Origins coincide, axes aligned: 6 constraints.
     Fixed,
     /// Axes aligned, origin of j on the z axis of i: 5 constraints, translation along z free.
@@ -100,7 +98,8 @@ impl JointKind {
     pub fn n_rows(&self) -> usize {
         match self {
             JointKind::Revolute | JointKind::Prismatic => 5,
-            JointKind::Spherical | JointKind::SphericalAt { .. } => 3,
+            JointKind::Spherical => 3,
+            JointKind::PointOnLine => 2,
             JointKind::Fixed => 6,
             JointKind::AngleDrive(_) | JointKind::TranslationDrive(_) => 1,
         }
@@ -108,7 +107,12 @@ impl JointKind {
 
     /// Whether the joint needs rotational coordinates on both sides.
     pub fn needs_rotation(&self) -> bool {
-        !matches!(self, JointKind::Spherical | JointKind::SphericalAt { .. })
+        !matches!(self, JointKind::Spherical | JointKind::PointOnLine)
+    }
+
+    /// Whether frame i's body needs rotational coordinates.
+    pub fn needs_rotation_i(&self) -> bool {
+        self.needs_rotation() || matches!(self, JointKind::PointOnLine)
     }
 }
 

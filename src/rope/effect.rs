@@ -8,15 +8,18 @@
 //! *drag* nodes (lists that stay empty when the effect is off, so it costs nothing).
 //!
 //! Memory (see [`crate::effect::ForceEffect::n_memory`]): first [`HOOK_MEM`] values per hook
-//! (`x, y, z, vx, vy, vz, t0, payout, payout_rate`), then [`CONTACT_MEM`] per contact node
-//! (`sigma` [m], slip mode code, friction share `mu_rope`, anchor `x, y, z` [m] in the block
-//! frame, read by the node's joint). A sticking node's `sigma` freezes the
+//! (position at `t0`, velocity at `t0` and target velocity, `t0`, pay-out at `t0`, its rate and
+//! target rate, ramp time; see [`HookInit`]), then [`CONTACT_MEM`] per contact node:
+//! `sigma` [m] and the slip state along the rope of the last accepted step, the friction share
+//! `mu_rope` [-] for sliding along the rope, and for the friction along the edge
+//! ([`super::edge_hold`]) the anchor `u0` [m], the capacity `cap` [N] and the sliding state. A sticking node's `sigma` freezes the
 //! split of rope between its two segments; a slipping node's `sigma` is recomputed after every
 //! accepted step (it is not used while slipping).
 
 use super::bending;
 use super::drag;
-use super::layout::{ContactInit, HookInit, LayoutRope, PointAt, SlipMode};
+use super::edge_hold;
+use super::layout::{ContactInit, EdgeHold, HookInit, LayoutRope, PointAt, SlipMode, ramped};
 use super::props::RopeProps;
 use super::run::{self, RunEval};
 use super::segment::{self, Tension};
@@ -27,7 +30,7 @@ use crate::model::BodyId;
 use crate::model::kinematics::{BodyKin, kin_of};
 
 /// Memory values per hook.
-pub const HOOK_MEM: usize = 9;
+pub const HOOK_MEM: usize = 14;
 /// Memory values per contact node.
 pub const CONTACT_MEM: usize = 6;
 pub(crate) const NONE: u32 = u32::MAX;
@@ -110,6 +113,8 @@ pub struct RopeEffect {
     pub(crate) drag: Vec<(u32, f64)>,
     pub(crate) contact_point: Vec<u32>,
     pub(crate) contact_init: Vec<(f64, ContactInit)>,
+    /// Edge friction of each contact slot with its stiffness [N/m] and damping [N s/m].
+    pub(crate) holds: Vec<Option<(EdgeHold, f64, f64)>>,
     pub(crate) hooks: Vec<HookInit>,
 }
 
@@ -133,19 +138,25 @@ impl RopeEffect {
             drag: Vec::new(),
             contact_point: Vec::new(),
             contact_init: Vec::new(),
+            holds: Vec::new(),
             hooks: hooks.to_vec(),
         };
         for (k, h) in hooks.iter().enumerate() {
-            let vals = [h.t0, h.payout, h.payout_rate];
-            if !(h
+            let vals = [h.t0, h.payout, h.payout_rate, h.target_payout_rate, h.ramp];
+            let vecs = h
                 .position
                 .iter()
                 .chain(h.velocity.iter())
-                .all(|x| x.is_finite())
-                && vals.iter().all(|x| x.is_finite()))
-            {
+                .chain(h.target_velocity.iter());
+            if !(vecs.into_iter().all(|x| x.is_finite()) && vals.iter().all(|x| x.is_finite())) {
                 return Err(format!(
                     "hook {k}: position, velocity or pay-out is not finite"
+                ));
+            }
+            if h.ramp < 0.0 {
+                return Err(format!(
+                    "hook {k}: ramp time must be >= 0 s, got {}",
+                    h.ramp
                 ));
             }
         }
@@ -215,11 +226,23 @@ impl RopeEffect {
                                 "{owner}, point {i}: friction share must be finite and >= 0"
                             ));
                         }
-                        if !ci.anchor.iter().all(|x| x.is_finite()) {
-                            return Err(format!("{owner}, point {i}: anchor is not finite"));
+                        if let Some(h) = ci.hold {
+                            let ok = [h.u0, h.cap].iter().all(|x| x.is_finite())
+                                && h.point.iter().chain(h.dir.iter()).all(|x| x.is_finite())
+                                && (h.dir.norm() - 1.0).abs() < 1e-9
+                                && h.cap >= 0.0;
+                            if !ok {
+                                return Err(format!(
+                                    "{owner}, point {i}: edge hold needs a finite point, a unit direction and a finite capacity >= 0"
+                                ));
+                            }
                         }
                         e.contact_point.push(e.body.len() as u32);
                         e.contact_init.push((p.sigma, ci));
+                        // stick stiffness along the edge: ten times a nominal segment's axial
+                        // stiffness; damping with a 0.1 ms time constant
+                        let k = 10.0 * rope.props.ea / rope.nominal_segment;
+                        e.holds.push(ci.hold.map(|h| (h, k, 1e-4 * k)));
                         (e.contact_point.len() - 1) as u32
                     }
                     None => NONE,
@@ -327,14 +350,38 @@ impl RopeEffect {
     /// Position [m] and velocity [m/s] (world) of hook `k` at time `t` given the effect memory.
     pub fn hook_motion(&self, memory: &[f64], k: usize, t: f64) -> (Vec3, Vec3) {
         let m = &memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
-        let v = Vec3::new(m[3], m[4], m[5]);
-        (Vec3::new(m[0], m[1], m[2]) + v * (t - m[6]), v)
+        let tau = t - m[9];
+        let mut x = Vec3::zeros();
+        let mut v = Vec3::zeros();
+        for i in 0..3 {
+            (x[i], v[i]) = ramped(m[i], m[3 + i], m[6 + i], m[13], tau);
+        }
+        (x, v)
+    }
+
+    /// Target velocity [m/s] of hook `k` and its target pay-out rate [m/s].
+    pub fn hook_targets(&self, memory: &[f64], k: usize) -> (Vec3, f64) {
+        let m = &memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
+        (Vec3::new(m[6], m[7], m[8]), m[12])
     }
 
     /// Pay-out [m] and its rate [m/s] of hook `k` at time `t`.
     pub fn hook_payout(&self, memory: &[f64], k: usize, t: f64) -> (f64, f64) {
         let m = &memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
-        (m[7] + m[8] * (t - m[6]), m[8])
+        ramped(m[10], m[11], m[12], m[13], t - m[9])
+    }
+
+    /// Writes hook `k`'s state into the memory (see [`HookInit`]).
+    pub fn write_hook(memory: &mut [f64], k: usize, h: &HookInit) {
+        let m = &mut memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
+        m[..3].copy_from_slice(h.position.as_slice());
+        m[3..6].copy_from_slice(h.velocity.as_slice());
+        m[6..9].copy_from_slice(h.target_velocity.as_slice());
+        m[9] = h.t0;
+        m[10] = h.payout;
+        m[11] = h.payout_rate;
+        m[12] = h.target_payout_rate;
+        m[13] = h.ramp;
     }
 
     /// Kinematics of the body carrying point `i` (ground for hooks).
@@ -373,11 +420,26 @@ impl RopeEffect {
         }
     }
 
-    /// Anchor [m] (block frame) of contact slot `c` from the memory.
-    #[inline]
-    pub fn contact_anchor(&self, memory: &[f64], c: usize) -> Vec3 {
+    /// Evaluates the edge friction of contact slot `c` (`None` without one).
+    pub fn edge_hold(&self, ctx: &EvalCtx, c: usize) -> Option<edge_hold::Hold> {
+        let (h, k, damp) = self.holds[c]?;
         let o = self.contact_memory_offset(c);
-        Vec3::new(memory[o + 3], memory[o + 4], memory[o + 5])
+        let node = kin_of(ctx.kins, self.body[self.contact_point[c] as usize]);
+        let block = kin_of(ctx.kins, h.block);
+        Some(edge_hold::eval(
+            node,
+            block,
+            &h.point,
+            &h.dir,
+            ctx.memory[o + 3],
+            k,
+            damp,
+        ))
+    }
+
+    /// The edge (block, point, direction) of contact slot `c`, if it has edge friction.
+    pub fn contact_edge(&self, c: usize) -> Option<EdgeHold> {
+        self.holds[c].map(|h| h.0)
     }
 
     /// Slip state of the last accepted step and friction share of contact slot `c` from the
@@ -486,6 +548,12 @@ impl ForceEffect for RopeEffect {
                 f,
             );
         }
+        for c in 0..self.holds.len() {
+            if let (Some(h), Some((eh, _, _))) = (self.edge_hold(ctx, c), self.holds[c]) {
+                let node = kin_of(ctx.kins, self.body[self.contact_point[c] as usize]);
+                edge_hold::add_forces(&h, node, kin_of(ctx.kins, eh.block), &eh.dir, f);
+            }
+        }
     }
 
     fn add_jacobian(&self, ctx: &EvalCtx, sink: &mut dyn JacobianSink) {
@@ -534,6 +602,12 @@ impl ForceEffect for RopeEffect {
             };
             super::assemble::add_pair(&pr, &pr, &Mat3::zeros(), &dfdv, Some(&force), sink);
         }
+        for c in 0..self.holds.len() {
+            if let (Some(h), Some((eh, _, _))) = (self.edge_hold(ctx, c), self.holds[c]) {
+                let node = kin_of(ctx.kins, self.body[self.contact_point[c] as usize]);
+                edge_hold::add_jacobian(&h, node, kin_of(ctx.kins, eh.block), &eh.dir, sink);
+            }
+        }
     }
 
     fn potential_energy(&self, ctx: &EvalCtx) -> f64 {
@@ -557,6 +631,12 @@ impl ForceEffect for RopeEffect {
             let p: [Vec3; 3] = std::array::from_fn(|a| self.point_state(ctx, i - 1 + a).0);
             e += bending::hinge(k, &p[0], &p[1], &p[2]).energy;
         }
+        for c in 0..self.holds.len() {
+            if let (Some(h), Some((_, k, _))) = (self.edge_hold(ctx, c), self.holds[c]) {
+                let u0 = ctx.memory[self.contact_memory_offset(c) + 3];
+                e += 0.5 * k * (h.u - u0) * (h.u - u0);
+            }
+        }
         e
     }
 
@@ -573,6 +653,13 @@ impl ForceEffect for RopeEffect {
         for &(i, k) in &self.drag {
             let (_, v) = self.point_state(ctx, i as usize);
             p -= drag::drag(k, &v).0.dot(&v);
+        }
+        for c in 0..self.holds.len() {
+            if let (Some(h), Some((_, k, _))) = (self.edge_hold(ctx, c), self.holds[c]) {
+                // the force's work rate beyond the stored spring energy's rate
+                let u0 = ctx.memory[self.contact_memory_offset(c) + 3];
+                p -= (h.force + k * (h.u - u0)) * h.u_dot;
+            }
         }
         p
     }
@@ -626,19 +713,18 @@ impl ForceEffect for RopeEffect {
 
     fn init_memory(&self, _ctx: &EvalCtx, memory: &mut [f64]) {
         for (k, h) in self.hooks.iter().enumerate() {
-            let m = &mut memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
-            m[..3].copy_from_slice(h.position.as_slice());
-            m[3..6].copy_from_slice(h.velocity.as_slice());
-            m[6] = h.t0;
-            m[7] = h.payout;
-            m[8] = h.payout_rate;
+            Self::write_hook(memory, k, h);
         }
         for (c, (sigma, ci)) in self.contact_init.iter().enumerate() {
             let o = self.contact_memory_offset(c);
             memory[o] = *sigma;
             memory[o + 1] = ci.mode.code();
             memory[o + 2] = ci.mu_rope;
-            memory[o + 3..o + 6].copy_from_slice(ci.anchor.as_slice());
+            if let Some(h) = ci.hold {
+                memory[o + 3] = h.u0;
+                memory[o + 4] = h.cap;
+            }
+            memory[o + 5] = 0.0;
         }
     }
 

@@ -56,10 +56,24 @@ pub struct ContactInit {
     /// Friction coefficient available along the rope [-] (the Coulomb cone's share left by the
     /// load along the edge).
     pub mu_rope: f64,
-    /// Point of the plate edge holding the node [m], in the frame of the body it is tied to (read
-    /// by a [`crate::model::JointKind::SphericalAt`] joint, so the node can slide along the edge
-    /// without rebuilding the model).
-    pub anchor: Vec3,
+    /// Friction along the plate edge (the node is held on the edge line by a joint of the scene);
+    /// `None`: no element along the edge.
+    pub hold: Option<EdgeHold>,
+}
+
+/// The plate edge a contact node sits on and the initial state of its friction along the edge
+/// (see [`super::edge_hold`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeHold {
+    /// The block carrying the edge.
+    pub block: BodyId,
+    /// A point of the edge [m] and its unit direction, block frame.
+    pub point: Vec3,
+    pub dir: Vec3,
+    /// Anchor coordinate along the edge [m] from `point`.
+    pub u0: f64,
+    /// Friction capacity along the edge [N].
+    pub cap: f64,
 }
 
 /// One point of a rope.
@@ -82,16 +96,21 @@ pub struct LayoutRope {
     pub points: Vec<LayoutPoint>,
 }
 
-/// A prescribed hook point, moving linearly in time between updates by the scene:
-/// `x(t) = position + velocity (t - t0)` [m, world], and a winch pay-out
-/// `s(t) = payout + payout_rate (t - t0)` [m] that lengthens the segment at the hook.
+/// A prescribed hook point. Its velocity changes linearly from `velocity` to `target_velocity`
+/// over `ramp` [s] starting at `t0` [s] and stays there (a crane accelerating smoothly, so that a
+/// new command does not hit the rope with a velocity jump); the position `position` [m] (world)
+/// at `t0` integrates it. The winch pay-out [m] (lengthening the segment at the hook) changes the
+/// same way from rate `payout_rate` to `target_payout_rate` [m/s].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HookInit {
     pub position: Vec3,
     pub velocity: Vec3,
+    pub target_velocity: Vec3,
     pub t0: f64,
     pub payout: f64,
     pub payout_rate: f64,
+    pub target_payout_rate: f64,
+    pub ramp: f64,
 }
 
 impl HookInit {
@@ -100,9 +119,27 @@ impl HookInit {
         HookInit {
             position,
             velocity: Vec3::zeros(),
+            target_velocity: Vec3::zeros(),
             t0: 0.0,
             payout: 0.0,
             payout_rate: 0.0,
+            target_payout_rate: 0.0,
+            ramp: 0.0,
         }
+    }
+}
+
+/// Value and rate at `tau` [s] of a quantity starting at `x0` with rate `r0`, its rate moving
+/// linearly to `r1` over `ramp` [s].
+#[inline]
+pub fn ramped(x0: f64, r0: f64, r1: f64, ramp: f64, tau: f64) -> (f64, f64) {
+    if tau < ramp {
+        let f = tau / ramp;
+        (
+            x0 + r0 * tau + (r1 - r0) * tau * f * 0.5,
+            r0 + (r1 - r0) * f,
+        )
+    } else {
+        (x0 + 0.5 * (r0 + r1) * ramp + r1 * (tau - ramp), r1)
     }
 }

@@ -5,6 +5,7 @@
 pub mod assemble;
 pub mod bending;
 pub mod drag;
+pub mod edge_hold;
 pub mod effect;
 pub mod friction;
 pub mod layout;
@@ -16,5 +17,5 @@ pub mod shell;
 pub mod slip;
 
 pub use effect::{CONTACT_MEM, HOOK_MEM, NodeSegments, RopeEffect};
-pub use layout::{ContactInit, HookInit, LayoutPoint, LayoutRope, PointAt, SlipMode};
+pub use layout::{ContactInit, EdgeHold, HookInit, LayoutPoint, LayoutRope, PointAt, SlipMode};
 pub use props::RopeProps;

@@ -132,9 +132,11 @@ pub fn eval_chain(
         }
         return out;
     }
-    // T0 by Newton from zero (monotone for this convex decreasing function)
+    // T0 by Newton from zero (monotone for this convex decreasing function); the residual is
+    // resolved to round-off of the lengths, which the Newton steps reach in a few iterations
     let mut t0 = 0.0;
-    for _ in 0..100 {
+    let floor = 4.0 * f64::EPSILON * sum_l;
+    for _ in 0..60 {
         let mut f = -rest_total;
         let mut df = 0.0;
         for j in 0..m {
@@ -142,11 +144,10 @@ pub fn eval_chain(
             f += l[j] * w;
             df -= l[j] * cj[j] / ea * w * w;
         }
-        let step = -f / df;
-        t0 += step;
-        if step.abs() <= 1e-15 * (t0.abs() + 1e-300) + 1e-300 {
+        if f.abs() <= floor {
             break;
         }
+        t0 -= f / df;
     }
     let w: Vec<f64> = (0..m).map(|j| 1.0 / (1.0 + cj[j] * t0 / ea)).collect();
     let dd: f64 = (0..m).map(|j| l[j] * cj[j] * w[j] * w[j] / ea).sum();

@@ -6,3 +6,4 @@ mod geometry;
 mod hanging;
 mod jacobian;
 mod rig;
+mod slings;

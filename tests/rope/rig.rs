@@ -180,6 +180,7 @@ impl Wrap {
                     anchor: pts[i].0,
                     mode: self.mode,
                     mu_rope: self.props.friction,
+                    cap: mbcosim::scene::rope_block::structure::INITIAL_EDGE_CAPACITY,
                 }),
             });
         }

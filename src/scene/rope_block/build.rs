@@ -2,8 +2,9 @@
 //! the structure.
 //!
 //! Body order: blocks, loads, then every rope's interior nodes in rope order. Joints: one
-//! spherical joint per contact node (block edge point to node particle: the paper's fixed joint
-//! for a point mass, three Lagrange multipliers), then one fixed joint per welded block. Force
+//! point-on-line joint per contact node (the node on its plate edge's line, two Lagrange
+//! multipliers: the paper's fixed joint across the edge, while along the edge the rope effect's
+//! elastic-plastic friction element holds it), then one fixed joint per welded block. Force
 //! effects: gravity, constant applied forces, and the one rope effect.
 
 use super::structure::{BodyRef, EndSpec, Structure};
@@ -11,7 +12,7 @@ use crate::effect::{EvalCtx, ForceEffect};
 use crate::math::Vec3;
 use crate::model::kinematics::{BodyKin, evaluate, quat_at};
 use crate::model::{AppliedLoad, BodyId, BodyInit, Frame, JointKind, Model, ModelBuilder, Profile};
-use crate::rope::{ContactInit, LayoutPoint, LayoutRope, PointAt, RopeEffect, SlipMode};
+use crate::rope::{ContactInit, EdgeHold, LayoutPoint, LayoutRope, PointAt, RopeEffect, SlipMode};
 use crate::state::State;
 use std::sync::Arc;
 
@@ -91,15 +92,28 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
                 n.velocity,
             )?;
             ids.push(id);
-            let contact = n.contact.map(|c| {
-                contacts.push((r, i));
-                joints.push((blocks[c.block], c.anchor, id));
-                ContactInit {
-                    mode: c.mode,
-                    mu_rope: c.mu_rope,
-                    anchor: c.anchor,
+            let contact = match n.contact {
+                Some(c) => {
+                    let mesh = s.blocks[c.block].mesh.as_ref().ok_or_else(|| {
+                        format!("rope '{}': contact on a block without mesh", rope.name)
+                    })?;
+                    let edge = mesh.edges[c.edge];
+                    contacts.push((r, i));
+                    joints.push((blocks[c.block], edge.a, edge.dir, id));
+                    Some(ContactInit {
+                        mode: c.mode,
+                        mu_rope: c.mu_rope,
+                        hold: Some(EdgeHold {
+                            block: blocks[c.block],
+                            point: edge.a,
+                            dir: edge.dir,
+                            u0: (c.anchor - edge.a).dot(&edge.dir),
+                            cap: c.cap,
+                        }),
+                    })
                 }
-            });
+                None => None,
+            };
             pts.push(LayoutPoint {
                 at: PointAt::Body {
                     body: id,
@@ -121,13 +135,14 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
             points: pts,
         });
     }
-    // contact joints read their anchor from the rope effect's memory (index patched below)
+    // contact nodes: held on their edge line by two multipliers (friction along the edge is an
+    // elastic-plastic element of the rope effect)
     let mut contact_map = Vec::new();
-    for (k, ((blk, anchor, id), (r, i))) in joints.iter().zip(&contacts).enumerate() {
+    for (k, ((blk, a, dir, id), (r, i))) in joints.iter().zip(&contacts).enumerate() {
         b.add_joint(
             &format!("{}.contact{k}", s.ropes[*r].name),
-            JointKind::SphericalAt { memory: 0 },
-            Frame::new(*blk, *anchor),
+            JointKind::PointOnLine,
+            Frame::with_z(*blk, *a, *dir),
             Frame::new(*id, Vec3::zeros()),
         )?;
         contact_map.push((*r, *i, k));
@@ -163,17 +178,12 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
     }
     let rope = Arc::new(RopeEffect::new(&layouts, &s.hooks)?);
     b.add_force_effect(rope.clone());
-    let mut model = b.build()?;
+    let model = b.build()?;
     let rope_effect = model.forces.len() - 1;
     let rope_memory: usize = model.forces[..rope_effect]
         .iter()
         .map(|e| e.n_memory())
         .sum();
-    for (c, &(_, _, j)) in contact_map.iter().enumerate() {
-        model.joints[j].kind = JointKind::SphericalAt {
-            memory: rope_memory + rope.contact_memory_offset(c) + 3,
-        };
-    }
     Ok((
         model,
         BuildMap {
@@ -208,13 +218,20 @@ pub fn sync(s: &mut Structure, model: &Model, map: &BuildMap, state: &State) {
     }
     let mem = &state.memory[map.rope_memory..map.rope_memory + map.rope.n_memory()];
     for (k, h) in s.hooks.iter_mut().enumerate() {
+        let o = map.rope.hook_memory_offset(k);
+        let (t0, ramp) = (mem[o + 9], mem[o + 13]);
         let (x, v) = map.rope.hook_motion(mem, k, state.t);
         let (p, rate) = map.rope.hook_payout(mem, k, state.t);
+        let (v1, r1) = map.rope.hook_targets(mem, k);
         h.position = x;
         h.velocity = v;
+        h.target_velocity = v1;
         h.t0 = state.t;
         h.payout = p;
         h.payout_rate = rate;
+        h.target_payout_rate = r1;
+        // the rest of the ramp continues on the same line
+        h.ramp = (ramp - (state.t - t0)).max(0.0);
     }
     for (r, rope) in s.ropes.iter_mut().enumerate() {
         for (n, id) in rope.nodes.iter_mut().zip(&map.nodes[r]) {
@@ -227,10 +244,11 @@ pub fn sync(s: &mut Structure, model: &Model, map: &BuildMap, state: &State) {
         let o = map.rope.contact_memory_offset(c);
         let n = &mut s.ropes[r].nodes[i];
         n.sigma = mem[o];
-        if let Some(ct) = n.contact.as_mut() {
+        if let (Some(ct), Some(h)) = (n.contact.as_mut(), map.rope.contact_edge(c)) {
             ct.mode = SlipMode::from_code(mem[o + 1]);
             ct.mu_rope = mem[o + 2];
-            ct.anchor = Vec3::new(mem[o + 3], mem[o + 4], mem[o + 5]);
+            ct.anchor = h.point + h.dir * mem[o + 3];
+            ct.cap = mem[o + 4];
         }
     }
 }

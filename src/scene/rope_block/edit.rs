@@ -2,7 +2,9 @@
 //! [`Structure`], conserving mass, linear momentum and rope length (see [`crate::rope::node`]).
 
 use super::manager::{Counters, Edit};
-use super::structure::{EndSpec, NodeContact, NodeSpec, RopeSpec, Structure};
+use super::structure::{
+    EndSpec, INITIAL_EDGE_CAPACITY, NodeContact, NodeSpec, RopeSpec, Structure,
+};
 use crate::math::Vec3;
 use crate::rope::SlipMode;
 use crate::rope::node::{insertion, removal_shares};
@@ -159,6 +161,7 @@ pub fn apply(s: &mut Structure, edits: &[Edit], counters: &mut Counters) {
                         SlipMode::SlipForward
                     },
                     mu_rope: mu,
+                    cap: INITIAL_EDGE_CAPACITY,
                 };
                 if insert_node(s, rope, seg, world, Some(contact)) {
                     counters.inserted += 1;

@@ -32,8 +32,6 @@ pub struct ContactSettings {
     /// A segment next to a contact node is split when it grows beyond this multiple of the nominal
     /// segment length [-].
     pub split_above: f64,
-    /// Smallest move of a node along its edge worth a rebuild [m].
-    pub min_edge_move: f64,
 }
 
 impl Default for ContactSettings {
@@ -44,7 +42,6 @@ impl Default for ContactSettings {
             max_depth: 0.5,
             merge_below: 0.25,
             split_above: 2.5,
-            min_edge_move: 1e-6,
         }
     }
 }
@@ -74,8 +71,9 @@ pub enum Edit {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Counters {
     pub inserted: u64,
+    /// Steps in which a node moved along its edge (friction exceeded).
+    pub edge_slides: u64,
     pub removed: u64,
-    pub relocated: u64,
     pub merged: u64,
     pub split: u64,
     pub rebuilds: u64,
@@ -131,6 +129,13 @@ pub struct NodeReport {
     /// Positions of the previous and next rope points [m], world.
     pub p_prev: Vec3,
     pub p_next: Vec3,
+    /// Coordinate of the node along its edge [m] from the edge's first end.
+    pub u: f64,
+    /// Force of the hold along the edge on the node [N].
+    pub hold_force: f64,
+    /// The rope's pull on the node split in the contact frame: what the plate must supply for a
+    /// massless node (smooth in time, unlike the index-3 multipliers); the friction law uses it.
+    pub pull: Reaction,
 }
 
 /// Evaluates every contact node of the current build at `state`.
@@ -167,8 +172,14 @@ pub fn node_reports(
             &e_prev,
             &e_next,
         );
+        // reaction of the block on the node: the two line rows (-G^T lambda) plus the friction
+        // element along the edge
         let rr = rows[c];
-        let lam = Vec3::new(st.lambda[rr[0]], st.lambda[rr[1]], st.lambda[rr[2]]);
+        let axes = crate::model::Frame::with_z(map.blocks[ct.block], edge.a, edge.dir).axes;
+        let (xw, yw) = (kin.rot * axes.column(0), kin.rot * axes.column(1));
+        let hold = rope.edge_hold(&ctx, c);
+        let along = hold.map(|h| h.force).unwrap_or(0.0);
+        let lam = -(xw * st.lambda[rr[0]] + yw * st.lambda[rr[1]]) + kin.rot * edge.dir * along;
         let turn = std::f64::consts::PI - e_prev.dot(&e_next).clamp(-1.0, 1.0).acos();
         out.push(NodeReport {
             slot: c,
@@ -184,18 +195,24 @@ pub fn node_reports(
             l_next,
             p_prev: pp,
             p_next: pn,
+            u: hold.map(|h| h.u).unwrap_or(0.0),
+            hold_force: along,
+            pull: Reaction::new(
+                &-(e_prev * segs[c].t_prev + e_next * segs[c].t_next - kin.rot * edge.dir * along),
+                &frame,
+            ),
         });
     }
     out
 }
 
-/// Multiplier rows of each contact slot's spherical joint.
-pub fn contact_rows(sys: &System, map: &BuildMap) -> Vec<[usize; 3]> {
+/// Multiplier rows of each contact slot's line joint.
+pub fn contact_rows(sys: &System, map: &BuildMap) -> Vec<[usize; 2]> {
     map.contacts
         .iter()
         .map(|&(_, _, j)| {
             let r = sys.joint_multiplier_rows(j);
-            [r[0], r[1], r[2]]
+            [r[0], r[1]]
         })
         .collect()
 }
@@ -215,7 +232,8 @@ impl Manager<'_> {
                 continue;
             };
             let mu = spec.props.friction;
-            let n = rep.reaction.normal;
+            // the friction law works on the rope's pull (see NodeReport::pull)
+            let n = rep.pull.normal;
             let mesh = self.structure.blocks[ct.block].mesh.as_ref();
             // leaving the edge: the plate would have to pull and the straight rope clears it
             if n < 0.0 {
@@ -231,58 +249,43 @@ impl Manager<'_> {
                     continue;
                 }
             }
-            // the friction left for sliding along the rope once the load along the edge is
-            // carried (the rope's own return mapping in the effect decides stick or slide)
+            // friction along the edge: the paper's pseudo friction coefficient. While the hold's
+            // force stays within mu N the node sticks (rho = 1); beyond, the node and its anchor
+            // move along the edge by the unbalanced share, |F| - mu N divided by the rope's
+            // stiffness along the edge, so that the next step starts at the friction limit.
             let o = base + rope.contact_memory_offset(c);
             let seg = rep.segments;
-            let mu_r = if n > 0.0 {
-                rep.reaction.rope_share(mu)
-            } else {
-                mu
-            };
-            if (st.memory[o + 2] - mu_r).abs() > 1e-3 * mu.max(1e-12) {
-                st.memory[o + 2] = mu_r;
+            let cap = mu * n.max(0.0);
+            st.memory[o + 4] = cap;
+            let fe = rep.hold_force;
+            if fe.abs() > cap && n > 0.0 {
+                let p = &spec.props;
+                let e = &rep.frame.edge;
+                let stiff = |t: f64, rest: f64, l: f64, u: &Vec3| {
+                    let c2 = u.dot(e).powi(2);
+                    p.ea / rest.max(1e-12) * c2 + t / l * (1.0 - c2)
+                };
+                let k = stiff(seg.t_prev, seg.rest_prev, rep.l_prev, &rep.e_prev)
+                    + stiff(seg.t_next, seg.rest_next, rep.l_next, &rep.e_next);
+                // the spring pushes the node along +F: the rope pulls it the other way
+                let du = -fe.signum() * (fe.abs() - cap) / k.max(1e-300);
+                st.memory[o + 3] += du;
+                let body = self.map.nodes[rep.rope][rep.node];
+                let qo = sys.model.bodies[body.index().unwrap_or(0)].q_offset;
+                for i in 0..3 {
+                    st.q[qo + i] += du * e[i];
+                }
+                self.counters.edge_slides += 1;
                 changed = true;
             }
-            // sliding along the edge: move the anchor by the unbalanced share (return mapping)
-            if n > 0.0
-                && let Some(m) = mesh
+            if let Some(m) = mesh
+                && (rep.u < 0.0 || rep.u > m.edges[ct.edge].length)
             {
-                let cap = rep.reaction.edge_capacity(mu);
-                let fe = rep.reaction.along_edge;
-                if fe.abs() > cap {
-                    let p = &spec.props;
-                    let e = &rep.frame.edge;
-                    let stiff = |t: f64, rest: f64, l: f64, u: &Vec3| {
-                        let c2 = u.dot(e).powi(2);
-                        p.ea / rest.max(1e-12) * c2 + t / l * (1.0 - c2)
-                    };
-                    let k = stiff(seg.t_prev, seg.rest_prev, rep.l_prev, &rep.e_prev)
-                        + stiff(seg.t_next, seg.rest_next, rep.l_next, &rep.e_next);
-                    let du = -fe.signum() * (fe.abs() - cap) / k.max(1e-300);
-                    if du.abs() > self.settings.min_edge_move {
-                        let edge = &m.edges[ct.edge];
-                        let anchor = rope.contact_anchor(&st.memory[base..], c);
-                        let u = (anchor - edge.a).dot(&edge.dir) + du;
-                        if u <= 0.0 || u >= edge.length {
-                            self.edits.push(Edit::Remove {
-                                rope: rep.rope,
-                                node: rep.node,
-                            });
-                            continue;
-                        }
-                        let new_anchor = edge.a + edge.dir * u;
-                        st.memory[o + 3..o + 6].copy_from_slice(new_anchor.as_slice());
-                        // the node moves with its anchor, so the joint stays closed
-                        let kin = sys.kin(self.map.blocks[ct.block]);
-                        let world = kin.point(&new_anchor);
-                        let body = self.map.nodes[rep.rope][rep.node];
-                        let qo = sys.model.bodies[body.index().unwrap_or(0)].q_offset;
-                        st.q[qo..qo + 3].copy_from_slice(world.as_slice());
-                        self.counters.relocated += 1;
-                        changed = true;
-                    }
-                }
+                self.edits.push(Edit::Remove {
+                    rope: rep.rope,
+                    node: rep.node,
+                });
+                continue;
             }
             // re-meshing around the node
             let nominal = spec.nominal_segment;

@@ -9,6 +9,7 @@
 //! - [`runner`]: the running simulation with rebuilds.
 
 pub mod build;
+pub mod demo;
 pub mod edit;
 pub mod manager;
 pub mod params;

@@ -134,6 +134,7 @@ pub fn lay_rope(
                     SlipMode::SlipForward
                 },
                 mu_rope: props.friction,
+                cap: super::structure::INITIAL_EDGE_CAPACITY,
             }),
         });
     }

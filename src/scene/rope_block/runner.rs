@@ -29,6 +29,8 @@ pub struct RopeBlockSim {
     pub event_energy: f64,
     /// Bound on rebuilds within one `advance_to` call.
     pub max_rebuilds_per_call: u64,
+    /// Time over which a hook reaches a newly commanded velocity or pay-out rate [s].
+    pub hook_ramp: f64,
 }
 
 impl RopeBlockSim {
@@ -58,6 +60,7 @@ impl RopeBlockSim {
             counters: Counters::default(),
             event_energy: 0.0,
             max_rebuilds_per_call: 100_000,
+            hook_ramp: 0.5,
         })
     }
 
@@ -162,7 +165,9 @@ impl RopeBlockSim {
             .collect()
     }
 
-    /// Sets hook `k`'s velocity [m/s] and pay-out rate [m/s] from now on (continuous position).
+    /// Commands hook `k`'s velocity [m/s] (world) and pay-out rate [m/s]: reached linearly over
+    /// [`RopeBlockSim::hook_ramp`] seconds from the current ones (position and velocity stay
+    /// continuous).
     pub fn set_hook_rates(
         &mut self,
         k: usize,
@@ -184,15 +189,19 @@ impl RopeBlockSim {
         let base = self.map.rope_memory;
         let n = self.map.rope.n_memory();
         let mem = &self.sim.state.memory[base..base + n];
-        let (x, _) = self.map.rope.hook_motion(mem, k, t);
-        let (p, _) = self.map.rope.hook_payout(mem, k, t);
-        let o = base + self.map.rope.hook_memory_offset(k);
-        let m = &mut self.sim.state.memory[o..o + crate::rope::HOOK_MEM];
-        m[..3].copy_from_slice(x.as_slice());
-        m[3..6].copy_from_slice(velocity.as_slice());
-        m[6] = t;
-        m[7] = p;
-        m[8] = payout_rate;
+        let (x, v) = self.map.rope.hook_motion(mem, k, t);
+        let (p, rate) = self.map.rope.hook_payout(mem, k, t);
+        let h = crate::rope::HookInit {
+            position: x,
+            velocity: v,
+            target_velocity: velocity,
+            t0: t,
+            payout: p,
+            payout_rate: rate,
+            target_payout_rate: payout_rate,
+            ramp: self.hook_ramp,
+        };
+        crate::rope::RopeEffect::write_hook(&mut self.sim.state.memory[base..base + n], k, &h);
         self.sim.restart().map_err(|e| e.0)
     }
 }

@@ -80,13 +80,19 @@ pub struct NodeContact {
     /// Block and plate edge index.
     pub block: usize,
     pub edge: usize,
-    /// Point of the edge holding the node [m], block frame.
+    /// Anchor of the node's friction along the edge [m], block frame (a point of the edge).
     pub anchor: Vec3,
-    /// Sliding along the rope.
+    /// Sliding along the rope (state of the last accepted step).
     pub mode: SlipMode,
     /// Friction coefficient left for sliding along the rope [-].
     pub mu_rope: f64,
+    /// Friction capacity along the edge [N] (updated from the normal force after every step).
+    pub cap: f64,
 }
+
+/// Capacity given to a new contact node's friction along its edge until the first step has
+/// measured its normal force [N] (it sticks meanwhile).
+pub const INITIAL_EDGE_CAPACITY: f64 = 1e12;
 
 /// An interior node of a rope (a material node or a contact node).
 #[derive(Debug, Clone, Copy, PartialEq)]
