@@ -56,3 +56,22 @@ fn a_second_parser_accepts_every_description() {
         assert_eq!(md.model_variables.variables.len(), info.ports.len());
     }
 }
+
+#[test]
+fn checked_in_default_scenes_match_the_tables() {
+    use mbcosim::scene::scene_file;
+    let scenes = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("resources/scenes");
+    for e in registry() {
+        let info = (e.info)();
+        let path = scenes.join(format!("{}.toml", info.identifier));
+        let text = std::fs::read_to_string(&path)
+            .unwrap_or_else(|err| panic!("{}: {err}", path.display()));
+        assert_eq!(
+            text,
+            scene_file::render(info),
+            "{} is out of date (regenerate with `{}`)",
+            path.display(),
+            package::REGENERATE
+        );
+    }
+}

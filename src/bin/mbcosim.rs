@@ -5,7 +5,7 @@
 //! mbcosim model-descriptions   rewrite modelDescription/<Model>.xml from the variable tables
 //!         [--check]            only report (exit 1) when a checked-in file is out of date
 //! mbcosim demo                 pack, then run the demos and print their tables
-//! mbcosim simulate <Model> [--stop T] [--step H] [--set name=value]... [--out file.csv]
+//! mbcosim simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv]
 //!                              native run of one model; CSV of its outputs (stdout by default)
 //! ```
 //!
@@ -19,7 +19,7 @@ use std::path::PathBuf;
 use std::process::{Command, ExitCode};
 
 use mbcosim::fmi::{model_description, package};
-use mbcosim::scene::{self, native};
+use mbcosim::scene::{self, native, scene_file};
 
 /// Repository root: the folder with `Cargo.toml` and `modelDescription/`.
 fn root() -> PathBuf {
@@ -28,6 +28,11 @@ fn root() -> PathBuf {
 
 fn descriptions_dir() -> PathBuf {
     root().join("modelDescription")
+}
+
+/// The default scene files, one per model (rendered from the variable tables).
+fn scenes_dir() -> PathBuf {
+    root().join("resources").join("scenes")
 }
 
 /// Builds the cdylib for this executable's profile and returns its path.
@@ -87,13 +92,19 @@ fn model_descriptions(check: bool) -> Result<(), String> {
         let info = (e.info)();
         let path = package::description_path(&dir, info.identifier);
         let xml = model_description::write(info)?;
-        if std::fs::read_to_string(&path).ok().as_deref() == Some(xml.as_str()) {
-            continue;
-        }
-        stale.push(path.display().to_string());
-        if !check {
-            std::fs::write(&path, xml).map_err(|e| format!("{}: {e}", path.display()))?;
-            println!("wrote {}", path.display());
+        let scene_path = scenes_dir().join(format!("{}.toml", info.identifier));
+        for (path, text) in [(path, xml), (scene_path, scene_file::render(info))] {
+            if std::fs::read_to_string(&path).ok().as_deref() == Some(text.as_str()) {
+                continue;
+            }
+            stale.push(path.display().to_string());
+            if !check {
+                if let Some(parent) = path.parent() {
+                    std::fs::create_dir_all(parent).map_err(|e| e.to_string())?;
+                }
+                std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+                println!("wrote {}", path.display());
+            }
         }
     }
     match (check, stale.is_empty()) {
@@ -173,8 +184,13 @@ fn simulate(args: &[String]) -> Result<(), String> {
     let entry =
         scene::find_by_identifier(model).ok_or_else(|| format!("unknown model `{model}`"))?;
     let info = (entry.info)();
-    let (mut stop, mut step, mut values, mut out) =
-        (info.default_stop_time, info.default_step, Vec::new(), None);
+    let (mut stop, mut step, mut values, mut out, mut scene) = (
+        info.default_stop_time,
+        info.default_step,
+        Vec::new(),
+        None,
+        None,
+    );
     let mut it = args[1..].iter();
     while let Some(flag) = it.next() {
         let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
@@ -183,6 +199,7 @@ fn simulate(args: &[String]) -> Result<(), String> {
             "--stop" => stop = number(value()?)?,
             "--step" => step = number(value()?)?,
             "--out" => out = Some(PathBuf::from(value()?)),
+            "--scene" => scene = Some(PathBuf::from(value()?)),
             "--set" => {
                 let kv = value()?;
                 let (k, v) = kv
@@ -194,6 +211,9 @@ fn simulate(args: &[String]) -> Result<(), String> {
         }
     }
     let mut m = (entry.create)();
+    if let Some(path) = scene {
+        scene_file::apply_file(m.as_mut(), &path)?;
+    }
     let table = native::simulate(m.as_mut(), &values, stop, step).map_err(|e| e.to_string())?;
     match out {
         Some(p) => std::fs::write(&p, table.to_csv()).map_err(|e| format!("{}: {e}", p.display())),
@@ -204,7 +224,7 @@ fn simulate(args: &[String]) -> Result<(), String> {
     }
 }
 
-const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | simulate <Model> [--stop T] [--step H] [--set name=value]... [--out file.csv]>";
+const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv]>";
 
 fn run(args: &[String]) -> Result<(), String> {
     match args.first().map(String::as_str) {

@@ -16,7 +16,7 @@ use super::snapshot::{self, Snapshot};
 use super::types::*;
 use crate::scene::port::{BaseType, ModelInfo, PortSpec, ValueRef};
 use crate::scene::store::{PortIndex, check_integer, check_real, check_writable};
-use crate::scene::{CoSimModel, LogLevel, ModelEntry, TIME_RTOL, check_step};
+use crate::scene::{CoSimModel, LogLevel, ModelEntry, TIME_RTOL, check_step, scene_file};
 
 /// Result of a function body: the status to return, or the reason for an `fmi2Error`.
 pub type Outcome<T = fmi2Status> = Result<T, String>;
@@ -36,6 +36,8 @@ pub struct Instance {
     states: HashMap<usize, Box<Snapshot>>,
     /// Strings returned by the last `fmi2GetString` (valid until the next call).
     strings: Vec<CString>,
+    /// The scene file read at instantiation and where it came from (applied again on reset).
+    scene: Option<(scene_file::SceneFile, String)>,
 }
 
 const _: () = {
@@ -57,14 +59,32 @@ impl Instance {
             index: PortIndex::new(info),
             states: HashMap::new(),
             strings: Vec::new(),
+            scene: None,
         }
     }
 
     /// Tells the model where its resources were unpacked; fails when a model that ships data
     /// files gets no folder.
+    /// A scene file `scene.toml` in the folder sets parameter values (the packed default scene,
+    /// or a user's edit of it); it is applied again after `fmi2Reset`.
     pub fn attach_resources(&mut self, entry: &ModelEntry, dir: Option<&Path>) -> Outcome<()> {
         match dir {
-            Some(dir) => self.model.set_resource_dir(dir).map_err(|e| e.to_string()),
+            Some(dir) => {
+                self.model
+                    .set_resource_dir(dir)
+                    .map_err(|e| e.to_string())?;
+                let path = dir.join(scene_file::FMU_SCENE);
+                if path.is_file() {
+                    let origin = path.display().to_string();
+                    let text = std::fs::read_to_string(&path)
+                        .map_err(|e| format!("cannot read {origin}: {e}"))?;
+                    let scene = scene_file::parse(&text, &origin)?;
+                    scene_file::apply(self.model.as_mut(), &scene, &origin)?;
+                    self.model.take_log();
+                    self.scene = Some((scene, origin));
+                }
+                Ok(())
+            }
             None if !entry.resources.is_empty() => Err(format!(
                 "model `{}` needs its resources folder, but fmuResourceLocation is missing or not a file:// URI of an existing folder",
                 self.info.identifier
@@ -347,6 +367,9 @@ impl Instance {
     /// `fmi2Reset`: back to `instantiated` with default parameters; FMU states stay valid.
     pub fn reset(&mut self) -> Outcome {
         self.model.reset();
+        if let Some((scene, origin)) = &self.scene {
+            scene_file::apply(self.model.as_mut(), scene, origin)?;
+        }
         self.model.take_log();
         self.preview = None;
         self.machine = Machine::default();

@@ -6,6 +6,7 @@
 //! modelDescription.xml              the checked-in modelDescription/<Identifier>.xml
 //! binaries/linux64/<Identifier>.so  the crate's cdylib, renamed (no `lib` prefix)
 //! documentation/index.html          generated from the variable table
+//! resources/scene.toml               the default scene (parameters), read at instantiation
 //! resources/...                     the model's data files, when it has any
 //! ```
 //!
@@ -80,6 +81,11 @@ pub fn pack(
         (
             "documentation/index.html".into(),
             documentation::index_html(info).into_bytes(),
+            0o644,
+        ),
+        (
+            format!("resources/{}", crate::scene::scene_file::FMU_SCENE),
+            crate::scene::scene_file::render(info).into_bytes(),
             0o644,
         ),
     ];

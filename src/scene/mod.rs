@@ -22,6 +22,7 @@ pub mod panel_lock;
 pub mod pid;
 pub mod port;
 pub mod rope_block;
+pub mod scene_file;
 pub mod store;
 
 use port::{ModelInfo, ValueRef};
