@@ -5,6 +5,8 @@
 //! mbcosim model-descriptions   rewrite modelDescription/<Model>.xml from the variable tables
 //!         [--check]            only report (exit 1) when a checked-in file is out of date
 //! mbcosim demo                 pack, then run the demos and print their tables
+//! mbcosim report [--quick] [--only NAME] [--out DIR]
+//!                              work-precision report (CSV, log-log plots, report.md; docs/report)
 //! mbcosim simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv]
 //!                              native run of one model; CSV of its outputs (stdout by default)
 //! ```
@@ -179,6 +181,26 @@ fn demo() -> Result<(), String> {
     DEMOS.iter().try_for_each(|d| d())
 }
 
+/// The work-precision report: `report [--quick] [--only NAME] [--out DIR]`.
+fn report(args: &[String]) -> Result<(), String> {
+    let (mut quick, mut only, mut out) = (false, String::new(), root().join("docs/report"));
+    let mut it = args.iter();
+    while let Some(flag) = it.next() {
+        let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
+        match flag.as_str() {
+            "--quick" => quick = true,
+            "--only" => only = value()?.clone(),
+            "--out" => out = PathBuf::from(value()?),
+            other => return Err(format!("unknown option {other}")),
+        }
+    }
+    let (_, files) = mbcosim::report::workprec::report(&out, quick, &only)?;
+    for f in files {
+        println!("wrote {f}");
+    }
+    Ok(())
+}
+
 fn simulate(args: &[String]) -> Result<(), String> {
     let model = args.first().ok_or("simulate needs a model identifier")?;
     let entry =
@@ -224,7 +246,7 @@ fn simulate(args: &[String]) -> Result<(), String> {
     }
 }
 
-const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv]>";
+const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | report [--quick] [--only NAME] [--out DIR] | simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv]>";
 
 fn run(args: &[String]) -> Result<(), String> {
     match args.first().map(String::as_str) {
@@ -236,6 +258,7 @@ fn run(args: &[String]) -> Result<(), String> {
         }
         Some("demo") => demo(),
         Some("simulate") => simulate(&args[1..]),
+        Some("report") => report(&args[1..]),
         Some("help" | "--help" | "-h") => {
             println!("{USAGE}");
             Ok(())

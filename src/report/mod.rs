@@ -1,6 +1,8 @@
 //! Plain-file reports: CSV tables and SVG line plots (no plotting dependency).
 
+pub mod loglog;
 pub mod svg;
+pub mod workprec;
 
 use std::io::Write;
 use std::path::Path;

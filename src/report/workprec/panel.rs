@@ -1,0 +1,148 @@
+//! PanelLock work-precision problems (rigid panels): the deployment through the first locks
+//! (adaptive tolerance sweeps) and the smooth spring-driven phase before any lock (fixed-step
+//! order study).
+
+use super::{ErrorKind, Outcome, Problem, Quantity, Setting};
+use crate::integrator::IntegratorKind::{Bdf, Dopri5, GenAlpha};
+use crate::scene::panel_lock::{PanelLock, PanelLockParams};
+
+/// Runs the default scene with `s` to `t_end` [s].
+fn simulate(s: &Setting, t_end: f64) -> Result<PanelLock, String> {
+    let p = PanelLockParams {
+        integrator: s.integrator,
+        settings: s.settings,
+        ..PanelLockParams::default()
+    };
+    let mut scene = PanelLock::new(p)?;
+    scene.advance_to(t_end).map_err(|e| e.0)?;
+    Ok(scene)
+}
+
+/// Deployment of the default scene (three rigid panels) over `t_end` [s] with the root, third and
+/// second hinges locking (at about 4.9, 7.1 and 10.9 s): largest lock force, first lock time,
+/// energy balance and constraint residual. `quick`: three tolerances per integrator.
+pub fn deployment(t_end: f64, quick: bool) -> Problem {
+    let tolerances: &[f64] = if quick {
+        &[1e-3, 1e-5, 1e-7]
+    } else {
+        &[1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8]
+    };
+    let mut settings = Vec::new();
+    for kind in [GenAlpha, Bdf, Dopri5] {
+        for &rtol in tolerances {
+            if kind == GenAlpha && rtol < 1e-7 {
+                continue; // second order: tighter costs more than 1e5 steps, nothing to learn
+            }
+            let h_max = if kind == Dopri5 { 0.2 } else { 0.02 };
+            settings.push(Setting::tolerance(kind, rtol, 1e-2, h_max));
+        }
+    }
+    Problem {
+        name: "panel_rigid",
+        title: format!(
+            "PanelLock default scene (satellite fixed, yoke and three rigid panels, Lankarani-Nikravesh latches k = 1e7 N/m^1.5), {t_end} s of deployment and lock-up. Quantities: the largest pin/groove force over all hinges, the first (root) lock time, the energy balance error relative to the spring energy released, the constraint residual at the end."
+        ),
+        simulated: t_end,
+        quantities: vec![
+            Quantity {
+                name: "peak_force",
+                unit: "N",
+                error: ErrorKind::Relative,
+            },
+            Quantity {
+                name: "lock_time",
+                unit: "s",
+                error: ErrorKind::Absolute,
+            },
+            Quantity {
+                name: "energy",
+                unit: "",
+                error: ErrorKind::Intrinsic,
+            },
+            Quantity {
+                name: "drift",
+                unit: "m",
+                error: ErrorKind::Intrinsic,
+            },
+        ],
+        reference: Setting::tolerance(Bdf, 1e-10, 1e-2, 0.02),
+        reference_check: Setting::tolerance(Dopri5, 1e-10, 1e-2, 0.02),
+        settings,
+        run: Box::new(move |s| {
+            let p = PanelLockParams {
+                integrator: s.integrator,
+                settings: s.settings,
+                ..PanelLockParams::default()
+            };
+            let mut scene = PanelLock::new(p)?;
+            let e0 = scene.sim.energy();
+            scene.advance_to(t_end).map_err(|e| e.0)?;
+            let o = scene.outputs();
+            let e1 = scene.sim.energy();
+            let released = e0.potential - e1.potential;
+            Ok(Outcome {
+                values: vec![
+                    o.hinges.iter().map(|h| h.peak_force).fold(0.0, f64::max),
+                    o.hinges[0].lock_time,
+                    (e1.balance() - e0.balance()) / released.abs().max(f64::MIN_POSITIVE),
+                    scene.sim.constraint_residual(),
+                ],
+                stats: scene.sim.stats(),
+            })
+        }),
+    }
+}
+
+/// The smooth phase: every hinge angle at `t_end` [s] (before the first lock at 4.9 s) with
+/// fixed steps, for the observed order of each method: gen-alpha (2), BDF of order 1 to 5,
+/// DOPRI5 (5).
+pub fn smooth_phase(t_end: f64, quick: bool) -> Problem {
+    let steps: &[f64] = if quick {
+        &[0.04, 0.02, 0.01]
+    } else {
+        &[0.08, 0.04, 0.02, 0.01, 0.005]
+    };
+    let mut settings = Vec::new();
+    for &h in steps {
+        settings.push(Setting::fixed(GenAlpha, h, 2));
+    }
+    let orders: &[usize] = if quick { &[1, 2, 4] } else { &[1, 2, 3, 4, 5] };
+    for &k in orders {
+        for &h in steps {
+            settings.push(Setting::fixed(Bdf, h, k));
+        }
+    }
+    for &h in steps {
+        settings.push(Setting::fixed(Dopri5, 4.0 * h, 5));
+    }
+    Problem {
+        name: "panel_smooth",
+        title: format!(
+            "PanelLock default scene, smooth spring-driven deployment from 0 to {t_end} s (no contact yet), fixed steps: the root and the outermost hinge angles at {t_end} s."
+        ),
+        simulated: t_end,
+        quantities: vec![
+            Quantity {
+                name: "root_angle",
+                unit: "rad",
+                error: ErrorKind::Absolute,
+            },
+            Quantity {
+                name: "outer_angle",
+                unit: "rad",
+                error: ErrorKind::Absolute,
+            },
+        ],
+        reference: Setting::tolerance(Dopri5, 1e-12, 1e-2, 0.02),
+        reference_check: Setting::tolerance(Bdf, 1e-12, 1e-2, 0.02),
+        settings,
+        run: Box::new(move |s| {
+            let mut scene = simulate(s, t_end)?;
+            let n = scene.layout.hinges.len();
+            Ok(Outcome {
+                values: vec![scene.hinge_angle(0).0, scene.hinge_angle(n - 1).0],
+                stats: scene.sim.stats(),
+            })
+        }),
+    }
+}
