@@ -7,7 +7,7 @@
 //! mbcosim demo                 pack, then run the demos and print their tables
 //! mbcosim report [--quick] [--only NAME] [--out DIR]
 //!                              work-precision report (CSV, log-log plots, report.md; docs/report)
-//! mbcosim simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv]
+//! mbcosim simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv] [--timing]
 //!                              native run of one model; CSV of its outputs (stdout by default)
 //! ```
 //!
@@ -213,6 +213,7 @@ fn simulate(args: &[String]) -> Result<(), String> {
         None,
         None,
     );
+    let mut timing = false;
     let mut it = args[1..].iter();
     while let Some(flag) = it.next() {
         let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
@@ -222,6 +223,7 @@ fn simulate(args: &[String]) -> Result<(), String> {
             "--step" => step = number(value()?)?,
             "--out" => out = Some(PathBuf::from(value()?)),
             "--scene" => scene = Some(PathBuf::from(value()?)),
+            "--timing" => timing = true,
             "--set" => {
                 let kv = value()?;
                 let (k, v) = kv
@@ -236,7 +238,15 @@ fn simulate(args: &[String]) -> Result<(), String> {
     if let Some(path) = scene {
         scene_file::apply_file(m.as_mut(), &path)?;
     }
+    let t0 = std::time::Instant::now();
     let table = native::simulate(m.as_mut(), &values, stop, step).map_err(|e| e.to_string())?;
+    if timing {
+        eprintln!(
+            "timing: {} s wall for {} communication steps (initialization included)",
+            t0.elapsed().as_secs_f64(),
+            table.rows.len().saturating_sub(1)
+        );
+    }
     match out {
         Some(p) => std::fs::write(&p, table.to_csv()).map_err(|e| format!("{}: {e}", p.display())),
         None => {
@@ -246,7 +256,7 @@ fn simulate(args: &[String]) -> Result<(), String> {
     }
 }
 
-const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | report [--quick] [--only NAME] [--out DIR] | simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv]>";
+const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | report [--quick] [--only NAME] [--out DIR] | simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv] [--timing]>";
 
 fn run(args: &[String]) -> Result<(), String> {
     match args.first().map(String::as_str) {

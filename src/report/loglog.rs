@@ -34,11 +34,12 @@ fn decades(values: impl Iterator<Item = f64>) -> (f64, f64) {
 /// and lines, failures as crosses at the top, the notes in the legend.
 pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[LogSeries]) -> String {
     let (w, h, l, r, t, b) = (820.0, 420.0, 70.0, 230.0, 30.0, 45.0);
-    let (x0, x1) = decades(
-        series
+    let (x0, x1) = decades(series.iter().flat_map(|s| {
+        s.points
             .iter()
-            .flat_map(|s| s.points.iter().map(|p| p.0).chain(s.failures.iter().copied())),
-    );
+            .map(|p| p.0)
+            .chain(s.failures.iter().copied())
+    }));
     let (y0, y1) = decades(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
     let sx = |x: f64| l + (x.log10() - x0) / (x1 - x0) * (w - l - r);
     let sy = |y: f64| h - b - (y.log10() - y0) / (y1 - y0) * (h - t - b);
@@ -103,7 +104,10 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[LogSerie
             .filter(|p| p.0 > 0.0 && p.1 > 0.0 && p.0.is_finite() && p.1.is_finite())
             .map(|p| (sx(p.0), sy(p.1)))
             .collect();
-        let path: Vec<String> = pts.iter().map(|p| format!("{:.1},{:.1}", p.0, p.1)).collect();
+        let path: Vec<String> = pts
+            .iter()
+            .map(|p| format!("{:.1},{:.1}", p.0, p.1))
+            .collect();
         let _ = write!(
             s,
             r#"<polyline fill="none" stroke="{c}" stroke-width="1.2" points="{}"/>"#,

@@ -277,7 +277,9 @@ impl Study {
 
     /// The samples of `series`.
     pub fn of_series<'a>(&'a self, series: &'a str) -> impl Iterator<Item = &'a Sample> + 'a {
-        self.samples.iter().filter(move |s| s.setting.series == series)
+        self.samples
+            .iter()
+            .filter(move |s| s.setting.series == series)
     }
 
     /// Observed order of quantity `q` in `series`: slope of the error over the swept `x`, using

@@ -208,7 +208,11 @@ pub fn markdown(studies: &[Study], repeats: usize, targets: &[f64]) -> String {
             "| setting | {} error | CPU [ms] | real-time factor | steps | rejected | Newton | LU | cost/step [us] |",
             names.join(" error | ")
         );
-        let _ = writeln!(md, "|---|{}---|---|---|---|---|---|---|", "---|".repeat(names.len()));
+        let _ = writeln!(
+            md,
+            "|---|{}---|---|---|---|---|---|---|",
+            "---|".repeat(names.len())
+        );
         for s in &st.samples {
             let errs: Vec<String> = s.errors.iter().map(|e| sci(*e)).collect();
             let (steps, rej, newton, lu) = match &s.outcome {
@@ -245,11 +249,18 @@ pub fn markdown(studies: &[Study], repeats: usize, targets: &[f64]) -> String {
             })
             .collect();
         if !failures.is_empty() {
-            let _ = writeln!(md, "\nFailed runs (stopped with a message):\n{}", failures.join("\n"));
+            let _ = writeln!(
+                md,
+                "\nFailed runs (stopped with a message):\n{}",
+                failures.join("\n")
+            );
         }
         md.push_str("\nObserved orders:\n\n");
         for series in st.series() {
-            let first = st.of_series(&series).next().map(|s| (s.setting.sweep, s.setting.theory));
+            let first = st
+                .of_series(&series)
+                .next()
+                .map(|s| (s.setting.sweep, s.setting.theory));
             let notes: Vec<String> = (0..st.quantities.len())
                 .map(|q| {
                     format!(

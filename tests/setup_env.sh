@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Sourced by tests/run_all.sh and benches/work_precision.sh: installs what the tests and the report
+# need, idempotently, on a fresh Debian machine:
+#   - apt: libclang-dev (bindgen for the fmi-sys/fmi dev-dependencies), python3-venv; only if missing
+#   - a Python venv in .venv with the pinned tools of tests/python/requirements.txt
+# Expects the repository root as the current directory.
+
+log() { printf '\n== %s\n' "$*"; }
+
+apt_install() {
+    local sudo=""
+    if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "$@"
+}
+
+log "system packages"
+missing=()
+dpkg -s libclang-dev >/dev/null 2>&1 || missing+=(libclang-dev)
+python3 -c 'import ensurepip, venv' >/dev/null 2>&1 || missing+=(python3-venv)
+if [ ${#missing[@]} -gt 0 ]; then
+    echo "installing: ${missing[*]}"
+    apt_install "${missing[@]}"
+else
+    echo "libclang-dev and python3-venv present"
+fi
+
+log "python venv (.venv)"
+if ! .venv/bin/python -c 'import sys' >/dev/null 2>&1; then
+    rm -rf .venv
+    python3 -m venv .venv
+fi
+req_hash="$(cat tests/python/requirements.txt tests/python/constraints.txt tests/python/optional-requirements.txt | sha256sum | cut -d' ' -f1)"
+if [ "$(cat .venv/.requirements.sha 2>/dev/null)" != "$req_hash" ]; then
+    .venv/bin/python -m pip install -q -r tests/python/requirements.txt -c tests/python/constraints.txt
+    .venv/bin/python -m pip install -q -r tests/python/optional-requirements.txt -c tests/python/constraints.txt \
+        || echo "libcosimpy could not be installed: its test will be skipped"
+    echo "$req_hash" > .venv/.requirements.sha
+else
+    echo "up to date"
+fi
+
