@@ -121,10 +121,15 @@ impl PanelLock {
             }
         }
         // root shaft reaction on the root hinge body: -G_j^T lambda over the shaft's rows
+        // (index-1 multipliers: accurate whatever the last step size)
+        let lambda = sim
+            .consistent_multipliers()
+            .unwrap_or_else(|_| sim.state.lambda.clone());
+        let st = &sim.state;
         sim.system.eval_constraints(st.t, &st.q, &st.v);
         let (mut force, mut torque_body) = (Vec3::zeros(), Vec3::zeros());
         for r in sim.system.joint_multiplier_rows(self.layout.root_joint) {
-            let (g, lam) = (sim.system.rows[r].g[1], st.lambda[r]);
+            let (g, lam) = (sim.system.rows[r].g[1], lambda[r]);
             force -= Vec3::new(g[0], g[1], g[2]) * lam;
             torque_body -= Vec3::new(g[3], g[4], g[5]) * lam;
         }
