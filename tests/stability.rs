@@ -10,7 +10,7 @@ use mbcosim::integrator::{IntegratorKind, Settings};
 use mbcosim::math::Vec3;
 use mbcosim::model::{Frame, ModelBuilder};
 use mbcosim::scene::panel_lock::{PanelLock, PanelLockModel, PanelLockParams};
-use mbcosim::scene::{CoSimModel, native};
+use mbcosim::scene::native;
 use mbcosim::sim::Simulation;
 use std::sync::Arc;
 
