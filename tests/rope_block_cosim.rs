@@ -61,18 +61,17 @@ fn native_runner_equals_hand_stepping() {
 #[test]
 fn clones_and_bytes_continue_bit_for_bit_across_contact_changes() {
     // the turn-over rolled to about 60 degrees: contact nodes change between 17 s and 18 s
-    let mut m = started(&[
-        ("scenario", 1.0),
-        ("segments", 10.0),
-        ("hook1_vz", -1.0),
-    ]);
+    let mut m = started(&[("scenario", 1.0), ("segments", 10.0), ("hook1_vz", -1.0)]);
     run(m.as_mut(), 68, 0.25);
     let snapshot = m.clone_box();
     let bytes = m.serialize();
     let rebuilds = |m: &dyn CoSimModel| m.get_integer(vr("contact_rebuilds")).unwrap();
     let before = rebuilds(m.as_ref());
     let first = run(m.as_mut(), 8, 0.25);
-    assert!(rebuilds(m.as_ref()) > before, "the window must contain rebuilds");
+    assert!(
+        rebuilds(m.as_ref()) > before,
+        "the window must contain rebuilds"
+    );
     let mut c = snapshot.clone_box();
     assert_eq!(run(c.as_mut(), 8, 0.25), first, "clone");
     let mut d = model();

@@ -239,7 +239,9 @@ impl RopeBlockModel {
             }
         }
         let Some(scene) = self.scene.as_mut() else {
-            return Err(ModelError::NotAllowed("the model is not initialized".into()));
+            return Err(ModelError::NotAllowed(
+                "the model is not initialized".into(),
+            ));
         };
         let n_hooks = scene.params.hooks.len().min(MAX_HOOKS);
         for (k, (c, a)) in cmds.iter().zip(self.applied.iter_mut()).enumerate() {
@@ -260,9 +262,8 @@ impl RopeBlockModel {
     /// Builds, settles and publishes (panics caught by the caller).
     fn start(&mut self) -> Result<(), ModelError> {
         let p = self.params()?;
-        let scene = RopeBlockScene::new(p).map_err(|e| {
-            ModelError::InvalidValue(format!("RopeBlock could not be set up: {e}"))
-        })?;
+        let scene = RopeBlockScene::new(p)
+            .map_err(|e| ModelError::InvalidValue(format!("RopeBlock could not be set up: {e}")))?;
         for w in &scene.sim.sim.warnings {
             self.log.push(LogRecord {
                 level: LogLevel::Warning,

@@ -26,9 +26,9 @@ pub mod structure;
 pub use cosim::{RopeBlockModel, create};
 pub use manager::{ContactSettings, Counters, Edit, NodeReport};
 pub use params::{RopeBlockParams, Route, SlingParams};
+pub use ports::info;
 pub use runner::RopeBlockSim;
 pub use scene::RopeBlockScene;
-pub use ports::info;
 pub use structure::{
     BlockSpec, BodyRef, EndSpec, ForceSpec, LoadSpec, NodeContact, NodeSpec, RopeSpec, Structure,
 };

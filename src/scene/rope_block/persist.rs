@@ -171,13 +171,7 @@ fn write_hook(w: &mut ByteWriter, h: &HookInit) {
     vec3(w, &h.position);
     vec3(w, &h.velocity);
     vec3(w, &h.target_velocity);
-    w.f64s(&[
-        h.t0,
-        h.payout,
-        h.payout_rate,
-        h.target_payout_rate,
-        h.ramp,
-    ]);
+    w.f64s(&[h.t0, h.payout, h.payout_rate, h.target_payout_rate, h.ramp]);
 }
 
 fn read_hook(r: &mut ByteReader<'_>) -> Result<HookInit, ModelError> {
@@ -307,9 +301,12 @@ fn read_structure(
         });
     }
     if r.u64("applied force count")? != 0 {
-        return Err(bad("serialized RopeBlock state has applied forces (none expected)"));
+        return Err(bad(
+            "serialized RopeBlock state has applied forces (none expected)",
+        ));
     }
-    s.validate().map_err(|e| bad(format!("serialized RopeBlock structure: {e}")))?;
+    s.validate()
+        .map_err(|e| bad(format!("serialized RopeBlock structure: {e}")))?;
     Ok(s)
 }
 
@@ -328,7 +325,14 @@ pub fn write_sim(w: &mut ByteWriter, s: &RopeBlockSim) {
     w.f64s(&s.sim.system.inputs);
     w.f64s(&s.sim.integrator_memory());
     let c = &s.counters;
-    for n in [c.inserted, c.edge_slides, c.removed, c.merged, c.split, c.rebuilds] {
+    for n in [
+        c.inserted,
+        c.edge_slides,
+        c.removed,
+        c.merged,
+        c.split,
+        c.rebuilds,
+    ] {
         w.u64(n);
     }
     w.f64(s.event_energy);

@@ -79,19 +79,110 @@ pub mod rvr {
 /// set before initialization).
 pub static REAL_PARAMS: &[RealParam] = &[
     rp("block_mass", Some("kg"), 200e3, 1e3, 1e7, "Block mass."),
-    rp("rope_ea", Some("N"), 1.6e8, 1e5, 1e10, "Axial stiffness EA of every sling."),
-    rp("rope_mass_per_length", Some("kg/m"), 15.0, 0.1, 200.0, "Sling mass per unstretched length."),
-    rp("rope_damping", Some("N.s"), 1.6e5, 0.0, 1e9, "Axial (Kelvin-Voigt) damping of every sling: tension += damping x strain rate."),
-    rp("rope_diameter", Some("m"), 0.06, 0.005, 0.3, "Nominal sling diameter (drag area)."),
-    rp("mu", None, 0.15, 0.0, 2.0, "Coulomb friction coefficient rope on plate edge [-]; used only when `friction`."),
-    rp("bending_stiffness", Some("N.m2"), 2.0e3, 0.0, 1e7, "Bending stiffness EI of the slings; used only when `bending`."),
-    rp("drag_coefficient", None, 1.2, 0.0, 5.0, "Drag coefficient of the rope cross-section [-]; used only when `drag`."),
-    rp("fluid_density", Some("kg/m3"), 1.225, 0.0, 2000.0, "Density of the surrounding fluid (air 1.225, sea water 1025); used only when `drag`."),
-    rp("gravity", Some("m/s2"), 9.81, 0.0, 20.0, "Gravity along world -z; used only when `gravity_on`."),
-    rp("rtol", None, 1e-4, 1e-10, 0.1, "Relative error tolerance of the integrator."),
-    rp("atol", None, 1e-6, 1e-12, 1.0, "Absolute error tolerance of the integrator (m, m/s, rad, rad/s)."),
-    rp("h_max", Some("s"), 0.02, 1e-4, 1.0, "Largest internal step."),
-    rp("mesh_scale", None, 1.0, 1e-6, 1e6, "Factor from the units of `mesh_file` to metres."),
+    rp(
+        "rope_ea",
+        Some("N"),
+        1.6e8,
+        1e5,
+        1e10,
+        "Axial stiffness EA of every sling.",
+    ),
+    rp(
+        "rope_mass_per_length",
+        Some("kg/m"),
+        15.0,
+        0.1,
+        200.0,
+        "Sling mass per unstretched length.",
+    ),
+    rp(
+        "rope_damping",
+        Some("N.s"),
+        1.6e5,
+        0.0,
+        1e9,
+        "Axial (Kelvin-Voigt) damping of every sling: tension += damping x strain rate.",
+    ),
+    rp(
+        "rope_diameter",
+        Some("m"),
+        0.06,
+        0.005,
+        0.3,
+        "Nominal sling diameter (drag area).",
+    ),
+    rp(
+        "mu",
+        None,
+        0.15,
+        0.0,
+        2.0,
+        "Coulomb friction coefficient rope on plate edge [-]; used only when `friction`.",
+    ),
+    rp(
+        "bending_stiffness",
+        Some("N.m2"),
+        2.0e3,
+        0.0,
+        1e7,
+        "Bending stiffness EI of the slings; used only when `bending`.",
+    ),
+    rp(
+        "drag_coefficient",
+        None,
+        1.2,
+        0.0,
+        5.0,
+        "Drag coefficient of the rope cross-section [-]; used only when `drag`.",
+    ),
+    rp(
+        "fluid_density",
+        Some("kg/m3"),
+        1.225,
+        0.0,
+        2000.0,
+        "Density of the surrounding fluid (air 1.225, sea water 1025); used only when `drag`.",
+    ),
+    rp(
+        "gravity",
+        Some("m/s2"),
+        9.81,
+        0.0,
+        20.0,
+        "Gravity along world -z; used only when `gravity_on`.",
+    ),
+    rp(
+        "rtol",
+        None,
+        1e-4,
+        1e-10,
+        0.1,
+        "Relative error tolerance of the integrator.",
+    ),
+    rp(
+        "atol",
+        None,
+        1e-6,
+        1e-12,
+        1.0,
+        "Absolute error tolerance of the integrator (m, m/s, rad, rad/s).",
+    ),
+    rp(
+        "h_max",
+        Some("s"),
+        0.02,
+        1e-4,
+        1.0,
+        "Largest internal step.",
+    ),
+    rp(
+        "mesh_scale",
+        None,
+        1.0,
+        1e-6,
+        1e6,
+        "Factor from the units of `mesh_file` to metres.",
+    ),
 ];
 
 /// Integer value references (parameters first, then outputs; slot `i`'s sling and slip at
@@ -166,7 +257,11 @@ pub const SLING_OUTPUTS: [(&str, &str); 2] = [
 ];
 /// Per-contact-slot real outputs.
 pub const SLOT_OUTPUTS: [(&str, Option<&str>, &str); 5] = [
-    ("normal", Some("N"), "normal force of the plate edge on the rope"),
+    (
+        "normal",
+        Some("N"),
+        "normal force of the plate edge on the rope",
+    ),
     ("friction", Some("N"), "magnitude of the friction force"),
     ("x", Some("m"), "node position, block design frame x"),
     ("y", Some("m"), "node position, block design frame y"),
@@ -177,7 +272,11 @@ pub const BLOCK_OUTPUTS: [(&str, Option<&str>, &str); 13] = [
     ("x", Some("m"), "centre of mass, world x"),
     ("y", Some("m"), "centre of mass, world y"),
     ("z", Some("m"), "centre of mass, world z"),
-    ("qw", None, "orientation quaternion (block to world), scalar part"),
+    (
+        "qw",
+        None,
+        "orientation quaternion (block to world), scalar part",
+    ),
     ("qx", None, "orientation quaternion, x"),
     ("qy", None, "orientation quaternion, y"),
     ("qz", None, "orientation quaternion, z"),
@@ -191,10 +290,22 @@ pub const BLOCK_OUTPUTS: [(&str, Option<&str>, &str); 13] = [
 /// Energy outputs (scene suffixes after `energy.`).
 pub const ENERGY_OUTPUTS: [(&str, &str); 5] = [
     ("kinetic", "kinetic energy"),
-    ("potential", "potential energy (gravity, rope strain, bending)"),
-    ("dissipated", "energy dissipated since the start (damping, friction, drag)"),
-    ("input", "work done by the hooks and winches since the start"),
-    ("events", "change of kinetic plus potential energy at contact-node insertions and moves (negative is a loss)"),
+    (
+        "potential",
+        "potential energy (gravity, rope strain, bending)",
+    ),
+    (
+        "dissipated",
+        "energy dissipated since the start (damping, friction, drag)",
+    ),
+    (
+        "input",
+        "work done by the hooks and winches since the start",
+    ),
+    (
+        "events",
+        "change of kinetic plus potential energy at contact-node insertions and moves (negative is a loss)",
+    ),
 ];
 
 /// Real value references of the outputs, in table order.
@@ -207,25 +318,45 @@ pub fn real_outputs() -> Vec<(String, Option<&'static str>, String)> {
     let mut v = Vec::new();
     for k in 0..MAX_HOOKS {
         for (s, u, d) in HOOK_OUTPUTS {
-            let note = if k == 0 { "" } else { " (0 in the lift scenario)" };
-            v.push((format!("hook{k}_{s}"), Some(u), format!("Hook {k}: {d} [{u}]{note}.")));
+            let note = if k == 0 {
+                ""
+            } else {
+                " (0 in the lift scenario)"
+            };
+            v.push((
+                format!("hook{k}_{s}"),
+                Some(u),
+                format!("Hook {k}: {d} [{u}]{note}."),
+            ));
         }
     }
     for r in 0..MAX_SLINGS {
         for (s, d) in SLING_OUTPUTS {
-            v.push((format!("sling{r}_{s}"), Some("N"), format!("Sling {r}: {d} [N].")));
+            v.push((
+                format!("sling{r}_{s}"),
+                Some("N"),
+                format!("Sling {r}: {d} [N]."),
+            ));
         }
     }
     for i in 0..MAX_CONTACT_SLOTS {
         for (s, u, d) in SLOT_OUTPUTS {
-            v.push((format!("contact{i}_{s}"), u, format!("Contact slot {i}: {d}; 0 for an empty slot.")));
+            v.push((
+                format!("contact{i}_{s}"),
+                u,
+                format!("Contact slot {i}: {d}; 0 for an empty slot."),
+            ));
         }
     }
     for (s, u, d) in BLOCK_OUTPUTS {
         v.push((format!("block_{s}"), u, format!("Block: {d}.")));
     }
     for (s, d) in ENERGY_OUTPUTS {
-        v.push((format!("energy_{s}"), Some("J"), format!("Energy: {d} [J].")));
+        v.push((
+            format!("energy_{s}"),
+            Some("J"),
+            format!("Energy: {d} [J]."),
+        ));
     }
     v
 }
