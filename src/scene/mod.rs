@@ -209,6 +209,7 @@ pub fn registry() -> Vec<ModelEntry> {
     vec![
         ModelEntry::new(panel_lock::info, panel_lock::create),
         ModelEntry::new(pid::info, pid::create),
+        ModelEntry::new(rope_block::info, rope_block::create),
     ]
 }
 

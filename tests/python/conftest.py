@@ -30,6 +30,15 @@ SCENARIOS = {
         alt_values={"contact_stiffness": 1e8, "n_panels": 2},
         fuzz_sequences=150,
     ),
+    "RopeBlock": dict(
+        # 20 segments per sling keep CI fast; the hook starts hoisting at 0.5 s (one command change)
+        values={"segments": 20},
+        stop=2.0,
+        step=0.05,
+        inputs={"hook0_vz": lambda t: 0.2 if t >= 0.5 - 1e-9 else 0.0},
+        alt_values={"block_mass": 150e3, "mu": 0.3, "scenario": 1},
+        fuzz_sequences=40,
+    ),
     "PidController": dict(
         values={"setpoint": 1.0, "kp": 2.0, "ki": 1.5, "kd": 0.1, "Tf": 0.05, "u_min": -1.5, "u_max": 1.5, "Tt": 0.05},
         stop=3.0,

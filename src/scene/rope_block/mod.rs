@@ -6,21 +6,27 @@
 //! - [`manager`]: the contact manager after every step (stick/slip, leaving the edge, sliding
 //!   along it, new crossings, re-meshing);
 //! - [`edit`]: structural edits that conserve mass, momentum and rope length;
-//! - [`runner`]: the running simulation with rebuilds.
+//! - [`runner`]: the running simulation with rebuilds;
+//! - [`cosim`], [`ports`], [`persist`]: the co-simulation model (variable table, state bytes).
 
 pub mod build;
+pub mod cosim;
 pub mod demo;
 pub mod edit;
 pub mod manager;
 pub mod params;
+pub mod persist;
+pub mod ports;
 pub mod rigging;
 pub mod runner;
 pub mod scene;
 pub mod statics;
 pub mod structure;
 
+pub use cosim::{RopeBlockModel, create};
 pub use manager::{ContactSettings, Counters, Edit, NodeReport};
 pub use params::{RopeBlockParams, Route, SlingParams};
+pub use ports::info;
 pub use runner::RopeBlockSim;
 pub use scene::RopeBlockScene;
 pub use structure::{

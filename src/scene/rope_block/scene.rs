@@ -65,6 +65,21 @@ pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
     sim.sim.restart().map_err(|e| e.0)
 }
 
+/// Integrator and contact-manager settings of a scene with these parameters.
+pub fn solver_settings(params: &RopeBlockParams) -> (Settings, ContactSettings) {
+    let settings = Settings {
+        rtol: params.rtol,
+        atol: params.atol,
+        h_max: params.h_max,
+        ..Settings::default()
+    };
+    let contact = ContactSettings {
+        detect: params.contact,
+        ..ContactSettings::default()
+    };
+    (settings, contact)
+}
+
 /// A RopeBlock scene.
 #[derive(Debug)]
 pub struct RopeBlockScene {
@@ -79,21 +94,18 @@ impl RopeBlockScene {
     /// Builds the scene (and settles it in static equilibrium if `params.settle`).
     pub fn new(params: RopeBlockParams) -> Result<Self, String> {
         let structure = params.structure()?;
-        let (com, _) = shell_mass_properties(&params.design_mesh()?, params.block_mass);
-        let settings = Settings {
-            rtol: params.rtol,
-            atol: params.atol,
-            h_max: params.h_max,
-            ..Settings::default()
-        };
-        let contact = ContactSettings {
-            detect: params.contact,
-            ..ContactSettings::default()
-        };
+        let (settings, contact) = solver_settings(&params);
         let mut sim = RopeBlockSim::new(structure, params.integrator, settings, contact, 0.0)?;
         if params.settle {
             settle(&mut sim, params.block_mass * params.gravity.max(1.0))?;
         }
+        Self::from_sim(params, sim)
+    }
+
+    /// The scene around an existing simulation of `params` (e.g. one restored from bytes):
+    /// nothing is built or settled.
+    pub fn from_sim(params: RopeBlockParams, sim: RopeBlockSim) -> Result<Self, String> {
+        let (com, _) = shell_mass_properties(&params.design_mesh()?, params.block_mass);
         let mut names: Vec<String> = vec!["time".into()];
         for k in 0..params.hooks.len() {
             for c in ["x", "y", "z", "load", "fz"] {
@@ -124,6 +136,16 @@ impl RopeBlockScene {
             names,
             com,
         })
+    }
+
+    /// The same scene (parameters, output names) around another simulation of it.
+    pub fn with_sim(&self, sim: RopeBlockSim) -> Self {
+        RopeBlockScene {
+            params: self.params.clone(),
+            sim,
+            names: self.names.clone(),
+            com: self.com,
+        }
     }
 
     /// Names of the outputs, in the order of [`RopeBlockScene::outputs`].

@@ -1,0 +1,445 @@
+//! RopeBlock as a co-simulation model: the variable table of [`super::ports`] in, the native
+//! [`RopeBlockScene`] inside, its outputs published after initialization and every step.
+//!
+//! # Effect switches and their value parameters
+//! Each optional effect has a boolean switch and value parameters. **Rule:** a value parameter
+//! is ignored while its switch is off (the effect is then not assembled at all: no bending
+//! hinges, no drag nodes, no friction, no gravity, no contact detection, so no per-step work),
+//! but a negative, NaN or out-of-range value is always refused, switch on or off (at `set`
+//! already, and again at initialization). A switch on with a zero value is the same as off
+//! (the rope model assembles bending and drag only for positive coefficients).
+//!
+//! # Hook inputs
+//! Per hook: velocity x/y/z [m/s] (world) and winch pay-out rate [m/s]. A changed command is
+//! applied at the start of the next step (no direct feedthrough) and reached linearly over 0.5 s
+//! from the previous one, so hook position and velocity stay continuous. Unchanged values cost
+//! nothing (the integrator is only restarted when a command changes). In the lift scenario hook 1
+//! does not exist: its inputs are accepted and ignored.
+//!
+//! # Start
+//! The scene starts hanging at rest in static equilibrium (settled with the rope sliding freely
+//! over the edges, then every contact node sticking), at `t = 0` only.
+
+use super::persist::{clone_sim, read_sim, write_sim};
+use super::ports::*;
+use super::{RopeBlockParams, RopeBlockScene};
+use crate::math::Vec3;
+use crate::scene::bytes::{ByteReader, ByteWriter};
+use crate::scene::panel_lock::ports::integrator_of;
+use crate::scene::port::{ModelInfo, PortType, ValueRef};
+use crate::scene::store::PortStore;
+use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, check_step};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::{Path, PathBuf};
+
+/// A new RopeBlock instance at default parameters.
+pub fn create() -> Box<dyn CoSimModel> {
+    Box::new(RopeBlockModel::new())
+}
+
+/// Where one scene output goes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Target {
+    Real(ValueRef),
+    Integer(ValueRef),
+}
+
+/// The co-simulation model.
+#[derive(Debug)]
+pub struct RopeBlockModel {
+    ports: PortStore,
+    scene: Option<RopeBlockScene>,
+    /// Port of each scene output (derived from the names; `None`: not a port, e.g. `time`).
+    targets: Vec<Option<Target>>,
+    /// Hook commands in effect: velocity x/y/z [m/s], pay-out rate [m/s].
+    applied: [[f64; 4]; MAX_HOOKS],
+    time: f64,
+    resource_dir: Option<PathBuf>,
+    log: Vec<LogRecord>,
+}
+
+impl Clone for RopeBlockModel {
+    fn clone(&self) -> Self {
+        RopeBlockModel {
+            ports: self.ports.clone(),
+            scene: self.scene.as_ref().map(|s| s.with_sim(clone_sim(&s.sim))),
+            targets: self.targets.clone(),
+            applied: self.applied,
+            time: self.time,
+            resource_dir: self.resource_dir.clone(),
+            log: self.log.clone(),
+        }
+    }
+}
+
+impl Default for RopeBlockModel {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Text of a caught panic payload.
+fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+    p.downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into())
+}
+
+impl RopeBlockModel {
+    /// Default parameters, not initialized.
+    pub fn new() -> Self {
+        RopeBlockModel {
+            ports: PortStore::new(info()),
+            scene: None,
+            targets: Vec::new(),
+            applied: [[0.0; 4]; MAX_HOOKS],
+            time: 0.0,
+            resource_dir: None,
+            log: Vec::new(),
+        }
+    }
+
+    fn mesh_path(&self, file: &str) -> Result<PathBuf, ModelError> {
+        let p = Path::new(file);
+        if p.is_absolute() {
+            return Ok(p.to_path_buf());
+        }
+        match &self.resource_dir {
+            Some(dir) => Ok(dir.join(p)),
+            None => Err(ModelError::InvalidValue(format!(
+                "mesh_file `{file}` is relative, but no FMU resources folder is known; give an absolute path"
+            ))),
+        }
+    }
+
+    /// The scene parameters from the current port values (see the module doc for the rule on
+    /// switches and values).
+    pub fn params(&self) -> Result<RopeBlockParams, ModelError> {
+        let mut p = match self.ports.get_integer(ivr::SCENARIO)? {
+            scenario::LIFT => RopeBlockParams::default(),
+            scenario::TURNOVER => RopeBlockParams::turnover(),
+            s => {
+                return Err(ModelError::InvalidValue(format!(
+                    "scenario {s} does not exist (0 lift, 1 turn-over)"
+                )));
+            }
+        };
+        let mut v = [0.0; REAL_PARAMS.len()];
+        for (i, rp) in REAL_PARAMS.iter().enumerate() {
+            let x = self.ports.get_real(i as ValueRef)?;
+            if !(x.is_finite() && x >= rp.min && x <= rp.max) {
+                return Err(ModelError::InvalidValue(format!(
+                    "{} = {x} refused: it must be in [{}, {}] whether or not its effect is switched on",
+                    rp.name, rp.min, rp.max
+                )));
+            }
+            v[i] = x;
+        }
+        let on = |vr| self.ports.get_boolean(vr);
+        let r = |vr: ValueRef| v[vr as usize];
+        p.block_mass = r(rvr::BLOCK_MASS);
+        p.rope.ea = r(rvr::ROPE_EA);
+        p.rope.mass_per_length = r(rvr::ROPE_MASS_PER_LENGTH);
+        p.rope.axial_damping = r(rvr::ROPE_DAMPING);
+        p.rope.diameter = r(rvr::ROPE_DIAMETER);
+        p.rope.friction = if on(bvr::FRICTION)? { r(rvr::MU) } else { 0.0 };
+        p.rope.bending_stiffness = if on(bvr::BENDING)? {
+            r(rvr::BENDING_STIFFNESS)
+        } else {
+            0.0
+        };
+        p.rope.drag_coefficient = if on(bvr::DRAG)? {
+            r(rvr::DRAG_COEFFICIENT)
+        } else {
+            0.0
+        };
+        p.rope.fluid_density = r(rvr::FLUID_DENSITY);
+        p.gravity = if on(bvr::GRAVITY_ON)? {
+            r(rvr::GRAVITY)
+        } else {
+            0.0
+        };
+        p.contact = on(bvr::CONTACT)?;
+        p.settle = true;
+        p.segments = self.ports.get_integer(ivr::SEGMENTS)? as usize;
+        p.integrator = integrator_of(self.ports.get_integer(ivr::INTEGRATOR)?);
+        p.contact_outputs = self.ports.get_integer(ivr::CONTACT_OUTPUTS)? as usize;
+        p.rtol = r(rvr::RTOL);
+        p.atol = r(rvr::ATOL);
+        p.h_max = r(rvr::H_MAX);
+        p.mesh_scale = r(rvr::MESH_SCALE);
+        let file = self.ports.get_string(SVR_MESH_FILE)?;
+        if !file.is_empty() {
+            p.mesh_file = Some(self.mesh_path(&file)?.to_string_lossy().into_owned());
+        }
+        p.validate().map_err(ModelError::InvalidValue)?;
+        Ok(p)
+    }
+
+    fn scene(&mut self) -> Result<&mut RopeBlockScene, ModelError> {
+        self.scene
+            .as_mut()
+            .ok_or_else(|| ModelError::NotAllowed("the model is not initialized".into()))
+    }
+
+    /// Maps the scene's output names onto ports (`.` becomes `_`).
+    fn map_targets(scene: &RopeBlockScene) -> Vec<Option<Target>> {
+        let info = info();
+        scene
+            .output_names()
+            .iter()
+            .map(|n| {
+                let p = info.port_by_name(&n.replace('.', "_"))?;
+                match p.ty {
+                    PortType::Real { .. } => Some(Target::Real(p.vr)),
+                    PortType::Integer { .. } => Some(Target::Integer(p.vr)),
+                    _ => None,
+                }
+            })
+            .collect()
+    }
+
+    /// Every output to its empty value (0; contact-slot sling -1).
+    fn clear_outputs(&mut self) -> Result<(), ModelError> {
+        for i in 0..real_outputs().len() {
+            self.ports.put_real(vr_output(i), 0.0)?;
+        }
+        self.ports.put_integer(ivr::CONTACT_COUNT, 0)?;
+        self.ports.put_integer(ivr::REBUILDS, 0)?;
+        for i in 0..MAX_CONTACT_SLOTS {
+            self.ports.put_integer(ivr_slot(i, 0), -1)?;
+            self.ports.put_integer(ivr_slot(i, 1), 0)?;
+        }
+        Ok(())
+    }
+
+    /// Writes every output port from the scene.
+    fn publish(&mut self) -> Result<(), ModelError> {
+        let scene = self.scene()?;
+        let out = scene.outputs();
+        let rebuilds = scene.sim.counters.rebuilds;
+        for (v, t) in out.iter().zip(&self.targets) {
+            match *t {
+                Some(Target::Real(vr)) => self.ports.put_real(vr, *v)?,
+                Some(Target::Integer(vr)) => self.ports.put_integer(vr, v.round() as i32)?,
+                None => {}
+            }
+        }
+        let rebuilds = rebuilds.min(i32::MAX as u64) as i32;
+        self.ports.put_integer(ivr::REBUILDS, rebuilds)
+    }
+
+    /// Applies hook commands that changed since they were last applied.
+    fn apply_inputs(&mut self) -> Result<(), ModelError> {
+        let mut cmds = self.applied;
+        for (k, c) in cmds.iter_mut().enumerate() {
+            for (j, x) in c.iter_mut().enumerate() {
+                *x = self.ports.get_real(vr_input(k, j))?;
+            }
+        }
+        let Some(scene) = self.scene.as_mut() else {
+            return Err(ModelError::NotAllowed(
+                "the model is not initialized".into(),
+            ));
+        };
+        let n_hooks = scene.params.hooks.len().min(MAX_HOOKS);
+        for (k, (c, a)) in cmds.iter().zip(self.applied.iter_mut()).enumerate() {
+            if k < n_hooks && c != a {
+                scene
+                    .set_hook(k, Vec3::new(c[0], c[1], c[2]), c[3])
+                    .map_err(ModelError::InvalidValue)?;
+                *a = *c;
+            }
+        }
+        Ok(())
+    }
+
+    fn contact_count(&self) -> i32 {
+        self.ports.get_integer(ivr::CONTACT_COUNT).unwrap_or(0)
+    }
+
+    /// Builds, settles and publishes (panics caught by the caller).
+    fn start(&mut self) -> Result<(), ModelError> {
+        let p = self.params()?;
+        let scene = RopeBlockScene::new(p)
+            .map_err(|e| ModelError::InvalidValue(format!("RopeBlock could not be set up: {e}")))?;
+        for w in &scene.sim.sim.warnings {
+            self.log.push(LogRecord {
+                level: LogLevel::Warning,
+                message: w.clone(),
+            });
+        }
+        self.targets = Self::map_targets(&scene);
+        self.scene = Some(scene);
+        self.applied = [[0.0; 4]; MAX_HOOKS];
+        self.apply_inputs()?;
+        self.clear_outputs()?;
+        self.publish()
+    }
+}
+
+impl CoSimModel for RopeBlockModel {
+    fn info(&self) -> &'static ModelInfo {
+        info()
+    }
+
+    fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError> {
+        self.ports.set_real(vr, value)
+    }
+    fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError> {
+        self.ports.get_real(vr)
+    }
+    fn set_integer(&mut self, vr: ValueRef, value: i32) -> Result<(), ModelError> {
+        self.ports.set_integer(vr, value)
+    }
+    fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError> {
+        self.ports.get_integer(vr)
+    }
+    fn set_boolean(&mut self, vr: ValueRef, value: bool) -> Result<(), ModelError> {
+        self.ports.set_boolean(vr, value)
+    }
+    fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError> {
+        self.ports.get_boolean(vr)
+    }
+    fn set_string(&mut self, vr: ValueRef, value: &str) -> Result<(), ModelError> {
+        self.ports.set_string(vr, value)
+    }
+    fn get_string(&self, vr: ValueRef) -> Result<String, ModelError> {
+        self.ports.get_string(vr)
+    }
+
+    fn initialize(&mut self, t_start: f64) -> Result<(), ModelError> {
+        if self.ports.is_initialized() {
+            return Err(ModelError::NotAllowed(
+                "RopeBlock is already initialized".into(),
+            ));
+        }
+        if t_start != 0.0 {
+            return Err(ModelError::InvalidValue(format!(
+                "RopeBlock starts hanging at rest at t = 0 s; start time {t_start} s is not supported"
+            )));
+        }
+        match catch_unwind(AssertUnwindSafe(|| self.start())) {
+            Ok(r) => r?,
+            Err(p) => {
+                self.scene = None;
+                return Err(ModelError::SolverFailure(format!(
+                    "RopeBlock set-up failed with an internal error: {}",
+                    panic_text(p.as_ref())
+                )));
+            }
+        }
+        self.time = t_start;
+        self.ports.mark_initialized();
+        Ok(())
+    }
+
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
+        if !self.ports.is_initialized() {
+            return Err(ModelError::NotAllowed("do_step before initialize".into()));
+        }
+        check_step(self.time, t, h)?;
+        self.apply_inputs()?;
+        let before = self.contact_count();
+        let (t0, t_end) = (self.time, self.time + h);
+        let scene = self.scene()?;
+        match catch_unwind(AssertUnwindSafe(|| scene.sim.advance_to(t_end))) {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => {
+                return Err(ModelError::SolverFailure(format!(
+                    "RopeBlock solver failed in the step from t = {t0} s to {t_end} s: {e}"
+                )));
+            }
+            Err(p) => {
+                self.scene = None;
+                return Err(ModelError::SolverFailure(format!(
+                    "RopeBlock: internal error in the step from t = {t0} s to {t_end} s: {}",
+                    panic_text(p.as_ref())
+                )));
+            }
+        }
+        self.time = t_end;
+        self.publish()?;
+        let after = self.contact_count();
+        if after != before {
+            self.log.push(LogRecord {
+                level: LogLevel::Event,
+                message: format!("contact nodes: {before} -> {after} at t = {t_end:.6} s"),
+            });
+        }
+        Ok(())
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn clone_box(&self) -> Box<dyn CoSimModel> {
+        Box::new(self.clone())
+    }
+
+    fn serialize(&self) -> Vec<u8> {
+        let mut w = ByteWriter::new();
+        w.header(IDENTIFIER, 1);
+        self.ports.write(&mut w);
+        w.f64(self.time);
+        for c in &self.applied {
+            w.f64s(c);
+        }
+        match &self.scene {
+            None => w.bool(false),
+            Some(s) => {
+                w.bool(true);
+                write_sim(&mut w, &s.sim);
+            }
+        }
+        w.into_bytes()
+    }
+
+    fn deserialize(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
+        let mut r = ByteReader::new(bytes);
+        r.header(IDENTIFIER, 1)?;
+        let ports = self.ports.read(&mut r)?;
+        let time = r.finite_f64("time")?;
+        let mut applied = [[0.0; 4]; MAX_HOOKS];
+        for c in applied.iter_mut() {
+            let v = r.f64s_exact(4, "hook command")?;
+            c.copy_from_slice(&v);
+        }
+        let mut restored = RopeBlockModel {
+            ports,
+            scene: None,
+            targets: Vec::new(),
+            applied,
+            time,
+            resource_dir: self.resource_dir.clone(),
+            log: Vec::new(),
+        };
+        if r.bool("initialized scene")? {
+            let params = restored.params()?;
+            let sim = read_sim(&mut r, &params)?;
+            let scene = RopeBlockScene::from_sim(params, sim).map_err(ModelError::BadState)?;
+            restored.targets = Self::map_targets(&scene);
+            restored.scene = Some(scene);
+        }
+        r.finish()?;
+        *self = restored;
+        Ok(())
+    }
+
+    fn reset(&mut self) {
+        let dir = self.resource_dir.take();
+        *self = RopeBlockModel::new();
+        self.resource_dir = dir;
+    }
+
+    fn take_log(&mut self) -> Vec<LogRecord> {
+        std::mem::take(&mut self.log)
+    }
+
+    fn set_resource_dir(&mut self, dir: &Path) -> Result<(), ModelError> {
+        self.resource_dir = Some(dir.to_path_buf());
+        Ok(())
+    }
+}

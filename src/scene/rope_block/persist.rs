@@ -1,0 +1,399 @@
+//! A running [`RopeBlockSim`] as pointer-free bytes, and an exact copy of one.
+//!
+//! The number of contact nodes (and so of bodies, joints and state entries) changes during a run,
+//! so the bytes carry the whole [`Structure`] of the current build (every rope node with its
+//! contact, the hooks), then the state, the integrator history, the contact-manager counters and
+//! the event energy. Restoring rebuilds the model from that structure (the same deterministic
+//! [`build`] that produced the running model), creates the simulation at the state's time and
+//! restores state and integrator history into it, so the run continues bit for bit.
+//!
+//! What is not in the bytes comes from the parameters: the shell mesh (regenerated, or read again
+//! from the mesh file), the integrator settings and the contact-manager settings.
+
+use super::build::build;
+use super::params::RopeBlockParams;
+use super::runner::RopeBlockSim;
+use super::scene::solver_settings;
+use super::structure::{BlockSpec, EndSpec, LoadSpec, NodeContact, NodeSpec, RopeSpec, Structure};
+use crate::math::{Mat3, Quat, Vec3};
+use crate::rope::shell::mass::shell_mass_properties;
+use crate::rope::{HookInit, RopeProps, SlipMode};
+use crate::scene::ModelError;
+use crate::scene::bytes::{ByteReader, ByteWriter};
+use crate::sim::Simulation;
+use crate::state::State;
+use nalgebra::Quaternion;
+use std::sync::Arc;
+
+/// An exact, independent copy of a running simulation (the model's effects are shared
+/// read-only through their `Arc`s).
+pub fn clone_sim(s: &RopeBlockSim) -> RopeBlockSim {
+    RopeBlockSim {
+        structure: s.structure.clone(),
+        sim: s.sim.clone(),
+        map: s.map.clone(),
+        contact: s.contact,
+        counters: s.counters,
+        event_energy: s.event_energy,
+        max_rebuilds_per_call: s.max_rebuilds_per_call,
+        hook_ramp: s.hook_ramp,
+    }
+}
+
+fn bad(msg: impl Into<String>) -> ModelError {
+    ModelError::BadState(msg.into())
+}
+
+fn vec3(w: &mut ByteWriter, v: &Vec3) {
+    w.f64s(v.as_slice());
+}
+
+fn read_vec3(r: &mut ByteReader<'_>, what: &str) -> Result<Vec3, ModelError> {
+    let v = r.f64s_exact(3, what)?;
+    Ok(Vec3::new(v[0], v[1], v[2]))
+}
+
+/// A count no larger than the bytes left (each item takes at least one byte).
+fn count(r: &mut ByteReader<'_>, what: &str) -> Result<usize, ModelError> {
+    let n = r.u64(what)?;
+    if n > r.remaining() as u64 {
+        return Err(bad(format!(
+            "serialized RopeBlock state: {what} {n} exceeds the bytes left"
+        )));
+    }
+    Ok(n as usize)
+}
+
+fn write_props(w: &mut ByteWriter, p: &RopeProps) {
+    w.f64s(&[
+        p.mass_per_length,
+        p.ea,
+        p.axial_damping,
+        p.bending_stiffness,
+        p.diameter,
+        p.drag_coefficient,
+        p.fluid_density,
+        p.friction,
+        p.breaking_load,
+    ]);
+}
+
+fn read_props(r: &mut ByteReader<'_>) -> Result<RopeProps, ModelError> {
+    let v = r.f64s_exact(9, "rope properties")?;
+    Ok(RopeProps {
+        mass_per_length: v[0],
+        ea: v[1],
+        axial_damping: v[2],
+        bending_stiffness: v[3],
+        diameter: v[4],
+        drag_coefficient: v[5],
+        fluid_density: v[6],
+        friction: v[7],
+        breaking_load: v[8],
+    })
+}
+
+fn write_end(w: &mut ByteWriter, e: &EndSpec) {
+    match *e {
+        EndSpec::Hook(k) => {
+            w.u8(0);
+            w.u64(k as u64);
+        }
+        EndSpec::Block { block, local } => {
+            w.u8(1);
+            w.u64(block as u64);
+            vec3(w, &local);
+        }
+        EndSpec::Load(k) => {
+            w.u8(2);
+            w.u64(k as u64);
+        }
+    }
+}
+
+fn read_end(r: &mut ByteReader<'_>) -> Result<EndSpec, ModelError> {
+    let tag = r.u8("rope end kind")?;
+    let index = r.u64("rope end index")? as usize;
+    Ok(match tag {
+        0 => EndSpec::Hook(index),
+        1 => EndSpec::Block {
+            block: index,
+            local: read_vec3(r, "lug point")?,
+        },
+        2 => EndSpec::Load(index),
+        t => return Err(bad(format!("unknown rope end kind {t}"))),
+    })
+}
+
+fn write_node(w: &mut ByteWriter, n: &NodeSpec) {
+    w.f64(n.mass);
+    w.f64(n.sigma);
+    vec3(w, &n.position);
+    vec3(w, &n.velocity);
+    w.bool(n.contact.is_some());
+    if let Some(c) = n.contact {
+        w.u64(c.block as u64);
+        w.u64(c.edge as u64);
+        vec3(w, &c.anchor);
+        w.f64(c.mode.code());
+        w.f64(c.mu_rope);
+        w.f64(c.cap);
+    }
+}
+
+fn read_node(r: &mut ByteReader<'_>) -> Result<NodeSpec, ModelError> {
+    let mass = r.f64("node mass")?;
+    let sigma = r.f64("node material coordinate")?;
+    let position = read_vec3(r, "node position")?;
+    let velocity = read_vec3(r, "node velocity")?;
+    let contact = if r.bool("node contact flag")? {
+        Some(NodeContact {
+            block: r.u64("contact block")? as usize,
+            edge: r.u64("contact edge")? as usize,
+            anchor: read_vec3(r, "contact anchor")?,
+            mode: SlipMode::from_code(r.f64("contact slip mode")?),
+            mu_rope: r.f64("contact friction share")?,
+            cap: r.f64("contact edge capacity")?,
+        })
+    } else {
+        None
+    };
+    Ok(NodeSpec {
+        mass,
+        sigma,
+        position,
+        velocity,
+        contact,
+    })
+}
+
+fn write_hook(w: &mut ByteWriter, h: &HookInit) {
+    vec3(w, &h.position);
+    vec3(w, &h.velocity);
+    vec3(w, &h.target_velocity);
+    w.f64s(&[h.t0, h.payout, h.payout_rate, h.target_payout_rate, h.ramp]);
+}
+
+fn read_hook(r: &mut ByteReader<'_>) -> Result<HookInit, ModelError> {
+    let position = read_vec3(r, "hook position")?;
+    let velocity = read_vec3(r, "hook velocity")?;
+    let target_velocity = read_vec3(r, "hook target velocity")?;
+    let v = r.f64s_exact(5, "hook motion")?;
+    Ok(HookInit {
+        position,
+        velocity,
+        target_velocity,
+        t0: v[0],
+        payout: v[1],
+        payout_rate: v[2],
+        target_payout_rate: v[3],
+        ramp: v[4],
+    })
+}
+
+/// Writes the structure. Applied forces are not part of a RopeBlock scene built from
+/// [`RopeBlockParams`] (only their count, 0, is written).
+fn write_structure(w: &mut ByteWriter, s: &Structure) {
+    w.bool(s.gravity.is_some());
+    vec3(w, &s.gravity.unwrap_or_default());
+    w.u64(s.blocks.len() as u64);
+    for b in &s.blocks {
+        w.str(&b.name);
+        w.f64(b.mass);
+        w.f64s(b.inertia.as_slice());
+        w.bool(b.mesh.is_some());
+        vec3(w, &b.position);
+        vec3(w, &b.velocity);
+        w.f64s(b.orientation.coords.as_slice());
+        vec3(w, &b.omega);
+        w.bool(b.fixed);
+    }
+    w.u64(s.loads.len() as u64);
+    for l in &s.loads {
+        w.str(&l.name);
+        w.f64(l.mass);
+        vec3(w, &l.position);
+        vec3(w, &l.velocity);
+    }
+    w.u64(s.hooks.len() as u64);
+    s.hooks.iter().for_each(|h| write_hook(w, h));
+    w.u64(s.ropes.len() as u64);
+    for rope in &s.ropes {
+        w.str(&rope.name);
+        write_props(w, &rope.props);
+        w.f64(rope.nominal_segment);
+        write_end(w, &rope.start);
+        write_end(w, &rope.end);
+        w.f64(rope.sigma_start);
+        w.f64(rope.sigma_end);
+        w.u64(rope.nodes.len() as u64);
+        rope.nodes.iter().for_each(|n| write_node(w, n));
+    }
+    w.u64(s.forces.len() as u64);
+}
+
+/// Reads a structure; `mesh` is the block's shell (block frame) for blocks that had one.
+fn read_structure(
+    r: &mut ByteReader<'_>,
+    mesh: &Arc<crate::rope::shell::ShellMesh>,
+) -> Result<Structure, ModelError> {
+    let has_gravity = r.bool("gravity flag")?;
+    let g = read_vec3(r, "gravity")?;
+    let mut s = Structure {
+        gravity: has_gravity.then_some(g),
+        ..Structure::default()
+    };
+    for _ in 0..count(r, "block count")? {
+        let name = r.str("block name")?.to_string();
+        let mass = r.f64("block mass")?;
+        let inertia = Mat3::from_column_slice(&r.f64s_exact(9, "block inertia")?);
+        let has_mesh = r.bool("block mesh flag")?;
+        let position = read_vec3(r, "block position")?;
+        let velocity = read_vec3(r, "block velocity")?;
+        let q = r.f64s_exact(4, "block orientation")?;
+        let orientation = Quat::new_unchecked(Quaternion::new(q[3], q[0], q[1], q[2]));
+        let omega = read_vec3(r, "block angular velocity")?;
+        let fixed = r.bool("block fixed flag")?;
+        s.blocks.push(BlockSpec {
+            name,
+            mass,
+            inertia,
+            mesh: has_mesh.then(|| mesh.clone()),
+            position,
+            velocity,
+            orientation,
+            omega,
+            fixed,
+        });
+    }
+    for _ in 0..count(r, "load count")? {
+        s.loads.push(LoadSpec {
+            name: r.str("load name")?.to_string(),
+            mass: r.f64("load mass")?,
+            position: read_vec3(r, "load position")?,
+            velocity: read_vec3(r, "load velocity")?,
+        });
+    }
+    for _ in 0..count(r, "hook count")? {
+        s.hooks.push(read_hook(r)?);
+    }
+    for _ in 0..count(r, "rope count")? {
+        let name = r.str("rope name")?.to_string();
+        let props = read_props(r)?;
+        let nominal_segment = r.f64("nominal segment")?;
+        let start = read_end(r)?;
+        let end = read_end(r)?;
+        let sigma_start = r.f64("rope start coordinate")?;
+        let sigma_end = r.f64("rope end coordinate")?;
+        let mut nodes = Vec::new();
+        for _ in 0..count(r, "node count")? {
+            nodes.push(read_node(r)?);
+        }
+        s.ropes.push(RopeSpec {
+            name,
+            props,
+            nominal_segment,
+            start,
+            end,
+            sigma_start,
+            sigma_end,
+            nodes,
+        });
+    }
+    if r.u64("applied force count")? != 0 {
+        return Err(bad(
+            "serialized RopeBlock state has applied forces (none expected)",
+        ));
+    }
+    s.validate()
+        .map_err(|e| bad(format!("serialized RopeBlock structure: {e}")))?;
+    Ok(s)
+}
+
+/// Writes a running simulation.
+pub fn write_sim(w: &mut ByteWriter, s: &RopeBlockSim) {
+    write_structure(w, &s.structure);
+    let st = &s.sim.state;
+    w.f64(st.t);
+    w.f64s(&st.q);
+    w.f64s(&st.v);
+    w.f64s(&st.vdot);
+    w.f64s(&st.lambda);
+    w.f64(st.energy_dissipated);
+    w.f64(st.work_input);
+    w.f64s(&st.memory);
+    w.f64s(&s.sim.system.inputs);
+    w.f64s(&s.sim.integrator_memory());
+    let c = &s.counters;
+    for n in [
+        c.inserted,
+        c.edge_slides,
+        c.removed,
+        c.merged,
+        c.split,
+        c.rebuilds,
+    ] {
+        w.u64(n);
+    }
+    w.f64(s.event_energy);
+    w.u64(s.max_rebuilds_per_call);
+    w.f64(s.hook_ramp);
+}
+
+/// Reads what [`write_sim`] wrote for a scene with parameters `params`.
+pub fn read_sim(
+    r: &mut ByteReader<'_>,
+    params: &RopeBlockParams,
+) -> Result<RopeBlockSim, ModelError> {
+    let design = params.design_mesh().map_err(ModelError::BadState)?;
+    let (com, _) = shell_mass_properties(&design, params.block_mass);
+    let mesh = Arc::new(design.translated(&(-com)).map_err(ModelError::BadState)?);
+    let structure = read_structure(r, &mesh)?;
+    let state = State {
+        t: r.finite_f64("state time")?,
+        q: r.f64s("positions")?,
+        v: r.f64s("speeds")?,
+        vdot: r.f64s("accelerations")?,
+        lambda: r.f64s("multipliers")?,
+        energy_dissipated: r.f64("dissipated energy")?,
+        work_input: r.f64("input work")?,
+        memory: r.f64s("effect memory")?,
+    };
+    let inputs = r.f64s("inputs")?;
+    let memory = r.f64s("integrator memory")?;
+    let mut c = [0u64; 6];
+    for (k, n) in c.iter_mut().enumerate() {
+        *n = r.u64(&format!("contact counter {k}"))?;
+    }
+    let event_energy = r.f64("event energy")?;
+    let max_rebuilds_per_call = r.u64("rebuild bound")?;
+    let hook_ramp = r.finite_f64("hook ramp")?;
+    let (model, map) = build(&structure).map_err(ModelError::BadState)?;
+    let (settings, contact) = solver_settings(params);
+    let mut sim = Simulation::new(model, params.integrator, settings, state.t)
+        .map_err(ModelError::BadState)?;
+    if inputs.len() != sim.system.inputs.len() {
+        return Err(bad(
+            "serialized RopeBlock state has the wrong number of model inputs",
+        ));
+    }
+    sim.system.inputs = inputs;
+    sim.restore(state, &memory).map_err(ModelError::BadState)?;
+    Ok(RopeBlockSim {
+        structure,
+        sim,
+        map,
+        contact,
+        counters: super::Counters {
+            inserted: c[0],
+            edge_slides: c[1],
+            removed: c[2],
+            merged: c[3],
+            split: c[4],
+            rebuilds: c[5],
+        },
+        event_energy,
+        max_rebuilds_per_call,
+        hook_ramp,
+    })
+}

@@ -1,0 +1,469 @@
+//! The RopeBlock variable table: structural parameters, the hook inputs and the outputs of
+//! [`super::RopeBlockScene`], with value references by base type. This table is the single source
+//! of truth: `modelDescription/RopeBlock.xml` is generated from it.
+//!
+//! Output names are the scene's output names with `.` replaced by `_` (`hook0.load` ->
+//! `hook0_load`), so the model maps scene outputs onto ports by name. Slot counts are fixed
+//! ([`MAX_HOOKS`], [`MAX_SLINGS`], [`MAX_CONTACT_SLOTS`]) so the table is static; slots a scene
+//! does not fill read 0 (contact slot sling index -1).
+//!
+//! Frames: world `z` up (gravity `-z`); the block's *design frame* has `x` along its length, `y`
+//! across, `z` up from the bottom; the block frame is the design frame moved to the centre of
+//! mass.
+
+use super::params::RopeBlockParams;
+use crate::scene::panel_lock::ports::INTEGRATORS;
+use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, ValueRef, Variability};
+use std::sync::OnceLock;
+
+/// Model identifier.
+pub const IDENTIFIER: &str = "RopeBlock";
+/// Hooks the inputs and outputs cover (the turn-over scene has two).
+pub const MAX_HOOKS: usize = 2;
+/// Slings the outputs cover (both scenes have four).
+pub const MAX_SLINGS: usize = 4;
+/// Contact-node output slots in the table (`contact_outputs` selects how many are filled).
+pub const MAX_CONTACT_SLOTS: usize = 8;
+
+/// A real structural parameter: its port and how it maps onto [`RopeBlockParams`].
+pub struct RealParam {
+    pub name: &'static str,
+    pub unit: Option<&'static str>,
+    pub description: &'static str,
+    /// Start value (the default lift's value where the scene has one).
+    pub start: f64,
+    /// Inclusive range accepted by the FMU (physically meaningful for a ship-block lift, and
+    /// bounding the work of one step).
+    pub min: f64,
+    pub max: f64,
+}
+
+const fn rp(
+    name: &'static str,
+    unit: Option<&'static str>,
+    start: f64,
+    min: f64,
+    max: f64,
+    description: &'static str,
+) -> RealParam {
+    RealParam {
+        name,
+        unit,
+        description,
+        start,
+        min,
+        max,
+    }
+}
+
+/// Real parameter value references (indices into [`REAL_PARAMS`]).
+pub mod rvr {
+    use super::ValueRef;
+    pub const BLOCK_MASS: ValueRef = 0;
+    pub const ROPE_EA: ValueRef = 1;
+    pub const ROPE_MASS_PER_LENGTH: ValueRef = 2;
+    pub const ROPE_DAMPING: ValueRef = 3;
+    pub const ROPE_DIAMETER: ValueRef = 4;
+    pub const MU: ValueRef = 5;
+    pub const BENDING_STIFFNESS: ValueRef = 6;
+    pub const DRAG_COEFFICIENT: ValueRef = 7;
+    pub const FLUID_DENSITY: ValueRef = 8;
+    pub const GRAVITY: ValueRef = 9;
+    pub const RTOL: ValueRef = 10;
+    pub const ATOL: ValueRef = 11;
+    pub const H_MAX: ValueRef = 12;
+    pub const MESH_SCALE: ValueRef = 13;
+}
+
+/// Real parameters, value references 0.. in this order (see [`rvr`]). All are fixed (structural:
+/// set before initialization).
+pub static REAL_PARAMS: &[RealParam] = &[
+    rp("block_mass", Some("kg"), 200e3, 1e3, 1e7, "Block mass."),
+    rp(
+        "rope_ea",
+        Some("N"),
+        1.6e8,
+        1e5,
+        1e10,
+        "Axial stiffness EA of every sling.",
+    ),
+    rp(
+        "rope_mass_per_length",
+        Some("kg/m"),
+        15.0,
+        0.1,
+        200.0,
+        "Sling mass per unstretched length.",
+    ),
+    rp(
+        "rope_damping",
+        Some("N.s"),
+        1.6e5,
+        0.0,
+        1e9,
+        "Axial (Kelvin-Voigt) damping of every sling: tension += damping x strain rate.",
+    ),
+    rp(
+        "rope_diameter",
+        Some("m"),
+        0.06,
+        0.005,
+        0.3,
+        "Nominal sling diameter (drag area).",
+    ),
+    rp(
+        "mu",
+        None,
+        0.15,
+        0.0,
+        2.0,
+        "Coulomb friction coefficient rope on plate edge [-]; used only when `friction`.",
+    ),
+    rp(
+        "bending_stiffness",
+        Some("N.m2"),
+        2.0e3,
+        0.0,
+        1e7,
+        "Bending stiffness EI of the slings; used only when `bending`.",
+    ),
+    rp(
+        "drag_coefficient",
+        None,
+        1.2,
+        0.0,
+        5.0,
+        "Drag coefficient of the rope cross-section [-]; used only when `drag`.",
+    ),
+    rp(
+        "fluid_density",
+        Some("kg/m3"),
+        1.225,
+        0.0,
+        2000.0,
+        "Density of the surrounding fluid (air 1.225, sea water 1025); used only when `drag`.",
+    ),
+    rp(
+        "gravity",
+        Some("m/s2"),
+        9.81,
+        0.0,
+        20.0,
+        "Gravity along world -z; used only when `gravity_on`.",
+    ),
+    rp(
+        "rtol",
+        None,
+        1e-4,
+        1e-10,
+        0.1,
+        "Relative error tolerance of the integrator.",
+    ),
+    rp(
+        "atol",
+        None,
+        1e-6,
+        1e-12,
+        1.0,
+        "Absolute error tolerance of the integrator (m, m/s, rad, rad/s).",
+    ),
+    rp(
+        "h_max",
+        Some("s"),
+        0.02,
+        1e-4,
+        1.0,
+        "Largest internal step.",
+    ),
+    rp(
+        "mesh_scale",
+        None,
+        1.0,
+        1e-6,
+        1e6,
+        "Factor from the units of `mesh_file` to metres.",
+    ),
+];
+
+/// Integer value references (parameters first, then outputs; slot `i`'s sling and slip at
+/// [`ivr_slot`]).
+pub mod ivr {
+    use super::ValueRef;
+    pub const SCENARIO: ValueRef = 0;
+    pub const SEGMENTS: ValueRef = 1;
+    pub const INTEGRATOR: ValueRef = 2;
+    pub const CONTACT_OUTPUTS: ValueRef = 3;
+    pub const CONTACT_COUNT: ValueRef = 4;
+    pub const REBUILDS: ValueRef = 5;
+    /// First contact-slot integer output.
+    pub const SLOT0: ValueRef = 6;
+}
+
+/// Integer value reference of contact slot `i`'s field `j` (0 sling, 1 slip).
+pub fn ivr_slot(i: usize, j: usize) -> ValueRef {
+    ivr::SLOT0 + (2 * i + j) as ValueRef
+}
+
+/// Boolean value references (effect switches).
+pub mod bvr {
+    use super::ValueRef;
+    pub const FRICTION: ValueRef = 0;
+    pub const BENDING: ValueRef = 1;
+    pub const DRAG: ValueRef = 2;
+    pub const CONTACT: ValueRef = 3;
+    pub const GRAVITY_ON: ValueRef = 4;
+}
+
+/// String value reference of `mesh_file`.
+pub const SVR_MESH_FILE: ValueRef = 0;
+
+/// Per-hook inputs: (suffix, unit, description).
+pub const HOOK_INPUTS: [(&str, &str, &str); 4] = [
+    ("vx", "m/s", "velocity, world x"),
+    ("vy", "m/s", "velocity, world y"),
+    ("vz", "m/s", "velocity, world z (up)"),
+    (
+        "payout_rate",
+        "m/s",
+        "winch pay-out rate (positive lengthens the slings on this hook)",
+    ),
+];
+
+/// Real value reference of hook `k`'s input `j` (index into [`HOOK_INPUTS`]).
+pub fn vr_input(k: usize, j: usize) -> ValueRef {
+    (REAL_PARAMS.len() + k * HOOK_INPUTS.len() + j) as ValueRef
+}
+
+fn first_output() -> usize {
+    REAL_PARAMS.len() + MAX_HOOKS * HOOK_INPUTS.len()
+}
+
+/// Per-hook real outputs (scene suffixes).
+pub const HOOK_OUTPUTS: [(&str, &str, &str); 5] = [
+    ("x", "m", "position, world x"),
+    ("y", "m", "position, world y"),
+    ("z", "m", "position, world z"),
+    ("load", "N", "magnitude of the slings' pull on the hook"),
+    (
+        "fz",
+        "N",
+        "world z component of the slings' pull on the hook (negative when it carries weight)",
+    ),
+];
+/// Per-sling real outputs.
+pub const SLING_OUTPUTS: [(&str, &str); 2] = [
+    ("tension_hook", "tension of the segment at the hook"),
+    ("tension_lug", "tension of the segment at the lug"),
+];
+/// Per-contact-slot real outputs.
+pub const SLOT_OUTPUTS: [(&str, Option<&str>, &str); 5] = [
+    (
+        "normal",
+        Some("N"),
+        "normal force of the plate edge on the rope",
+    ),
+    ("friction", Some("N"), "magnitude of the friction force"),
+    ("x", Some("m"), "node position, block design frame x"),
+    ("y", Some("m"), "node position, block design frame y"),
+    ("z", Some("m"), "node position, block design frame z"),
+];
+/// Block real outputs (scene suffixes after `block.`).
+pub const BLOCK_OUTPUTS: [(&str, Option<&str>, &str); 13] = [
+    ("x", Some("m"), "centre of mass, world x"),
+    ("y", Some("m"), "centre of mass, world y"),
+    ("z", Some("m"), "centre of mass, world z"),
+    (
+        "qw",
+        None,
+        "orientation quaternion (block to world), scalar part",
+    ),
+    ("qx", None, "orientation quaternion, x"),
+    ("qy", None, "orientation quaternion, y"),
+    ("qz", None, "orientation quaternion, z"),
+    ("vx", Some("m/s"), "velocity of the centre of mass, world x"),
+    ("vy", Some("m/s"), "velocity of the centre of mass, world y"),
+    ("vz", Some("m/s"), "velocity of the centre of mass, world z"),
+    ("wx", Some("rad/s"), "angular velocity, block frame x"),
+    ("wy", Some("rad/s"), "angular velocity, block frame y"),
+    ("wz", Some("rad/s"), "angular velocity, block frame z"),
+];
+/// Energy outputs (scene suffixes after `energy.`).
+pub const ENERGY_OUTPUTS: [(&str, &str); 5] = [
+    ("kinetic", "kinetic energy"),
+    (
+        "potential",
+        "potential energy (gravity, rope strain, bending)",
+    ),
+    (
+        "dissipated",
+        "energy dissipated since the start (damping, friction, drag)",
+    ),
+    (
+        "input",
+        "work done by the hooks and winches since the start",
+    ),
+    (
+        "events",
+        "change of kinetic plus potential energy at contact-node insertions and moves (negative is a loss)",
+    ),
+];
+
+/// Real value references of the outputs, in table order.
+pub fn vr_output(index: usize) -> ValueRef {
+    (first_output() + index) as ValueRef
+}
+
+/// Real output names with their unit and description, in value-reference order.
+pub fn real_outputs() -> Vec<(String, Option<&'static str>, String)> {
+    let mut v = Vec::new();
+    for k in 0..MAX_HOOKS {
+        for (s, u, d) in HOOK_OUTPUTS {
+            let note = if k == 0 {
+                ""
+            } else {
+                " (0 in the lift scenario)"
+            };
+            v.push((
+                format!("hook{k}_{s}"),
+                Some(u),
+                format!("Hook {k}: {d} [{u}]{note}."),
+            ));
+        }
+    }
+    for r in 0..MAX_SLINGS {
+        for (s, d) in SLING_OUTPUTS {
+            v.push((
+                format!("sling{r}_{s}"),
+                Some("N"),
+                format!("Sling {r}: {d} [N]."),
+            ));
+        }
+    }
+    for i in 0..MAX_CONTACT_SLOTS {
+        for (s, u, d) in SLOT_OUTPUTS {
+            v.push((
+                format!("contact{i}_{s}"),
+                u,
+                format!("Contact slot {i}: {d}; 0 for an empty slot."),
+            ));
+        }
+    }
+    for (s, u, d) in BLOCK_OUTPUTS {
+        v.push((format!("block_{s}"), u, format!("Block: {d}.")));
+    }
+    for (s, d) in ENERGY_OUTPUTS {
+        v.push((
+            format!("energy_{s}"),
+            Some("J"),
+            format!("Energy: {d} [J]."),
+        ));
+    }
+    v
+}
+
+/// Scenario numbers of the `scenario` parameter.
+pub mod scenario {
+    /// One hook, four slings over the deck edges ([`super::RopeBlockParams::default`]).
+    pub const LIFT: i32 = 0;
+    /// Two hooks, two slings each ([`super::RopeBlockParams::turnover`]).
+    pub const TURNOVER: i32 = 1;
+}
+
+fn int_port(
+    name: &str,
+    vr: ValueRef,
+    causality: Causality,
+    variability: Variability,
+    ty: PortType,
+    description: &str,
+) -> PortSpec {
+    PortSpec {
+        name: name.into(),
+        vr,
+        causality,
+        variability,
+        ty,
+        unit: None,
+        description: description.into(),
+    }
+}
+
+fn int_param(name: &str, vr: ValueRef, start: i32, min: i32, max: i32, d: &str) -> PortSpec {
+    let ty = PortType::Integer {
+        start: Some(start),
+        min: Some(min),
+        max: Some(max),
+    };
+    int_port(name, vr, Causality::Parameter, Variability::Fixed, ty, d)
+}
+
+fn int_output(name: &str, vr: ValueRef, d: &str) -> PortSpec {
+    let ty = PortType::Integer {
+        start: None,
+        min: None,
+        max: None,
+    };
+    int_port(name, vr, Causality::Output, Variability::Discrete, ty, d)
+}
+
+/// The model's static description.
+pub fn info() -> &'static ModelInfo {
+    static INFO: OnceLock<ModelInfo> = OnceLock::new();
+    INFO.get_or_init(|| {
+        let d = RopeBlockParams::default();
+        let mut ports = vec![
+            int_param("scenario", ivr::SCENARIO, scenario::LIFT, 0, 1, "0: lift (one hook, four slings over the deck edges); 1: turn-over (two hooks, two slings each, hook 1's slings around the bottom edge)."),
+            int_param("segments", ivr::SEGMENTS, d.segments as i32, 2, 400, "Segments per sling (resolution)."),
+            int_port("integrator", ivr::INTEGRATOR, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "Integrator", items: INTEGRATORS, start: Some(1) }, "Time integrator."),
+            int_param("contact_outputs", ivr::CONTACT_OUTPUTS, MAX_CONTACT_SLOTS as i32, 0, MAX_CONTACT_SLOTS as i32, "Contact slots filled in the outputs (the table always has 8; the rest read 0)."),
+        ];
+        for (vr, name, start, desc) in [
+            (bvr::FRICTION, "friction", true, "Coulomb friction between rope and plate edges (off: frictionless, `mu` ignored)."),
+            (bvr::BENDING, "bending", false, "Bending stiffness of the slings (off: not assembled, `bending_stiffness` ignored)."),
+            (bvr::DRAG, "drag", false, "Quadratic fluid drag on the rope nodes (off: not assembled, `drag_coefficient` and `fluid_density` ignored)."),
+            (bvr::CONTACT, "contact", true, "Rope-plate contact (off: slings run straight and pass through the block)."),
+            (bvr::GRAVITY_ON, "gravity_on", true, "Gravity along world -z (off: `gravity` ignored)."),
+        ] {
+            ports.push(PortSpec::boolean_parameter(name, vr, Variability::Fixed, start, desc));
+        }
+        ports.push(PortSpec {
+            name: "mesh_file".into(),
+            vr: SVR_MESH_FILE,
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            ty: PortType::String { start: Some("") },
+            unit: None,
+            description: "OBJ or STL shell plate in the design frame, relative to the FMU resources folder or absolute; empty: the parametric 18 m x 12 m x 7 m block.".into(),
+        });
+        for (i, p) in REAL_PARAMS.iter().enumerate() {
+            ports.push(
+                PortSpec::real_parameter(p.name, i as ValueRef, Variability::Fixed, p.start, p.unit, p.description)
+                    .with_min(p.min)
+                    .with_max(p.max),
+            );
+        }
+        for k in 0..MAX_HOOKS {
+            for (j, (s, u, desc)) in HOOK_INPUTS.iter().enumerate() {
+                let note = if k == 0 { "" } else { " Accepted and ignored in the lift scenario." };
+                ports.push(PortSpec::real_input(&format!("hook{k}_{s}"), vr_input(k, j), 0.0, Some(u), &format!("Hook {k} command: {desc}; reached linearly over 0.5 s from the previous command (position stays continuous), then held.{note}")));
+            }
+        }
+        for (i, (name, unit, desc)) in real_outputs().into_iter().enumerate() {
+            ports.push(PortSpec::real_output(&name, vr_output(i), unit, &desc));
+        }
+        ports.push(int_output("contact_count", ivr::CONTACT_COUNT, "Number of contact nodes (also those beyond the reported slots)."));
+        ports.push(int_output("contact_rebuilds", ivr::REBUILDS, "Model rebuilds for contact-node changes since the start."));
+        for i in 0..MAX_CONTACT_SLOTS {
+            ports.push(int_output(&format!("contact{i}_sling"), ivr_slot(i, 0), &format!("Contact slot {i}: sling index; -1 for an empty slot.")));
+            ports.push(int_output(&format!("contact{i}_slip"), ivr_slot(i, 1), &format!("Contact slot {i}: slip along the rope (0 stick, 1 forward, -1 backward).")));
+        }
+        ModelInfo {
+            identifier: IDENTIFIER,
+            guid: "{9d2e7c41-5b8a-4f03-a6e2-71c4b0d93f58}",
+            description: "Ship-block lift with lumped-mass wire-rope slings contacting the block's shell plate edges through contact nodes with Coulomb friction; one-hook lift or two-hook turn-over.",
+            ports,
+            default_stop_time: 10.0,
+            default_step: 0.05,
+        }
+    })
+}

@@ -1,0 +1,141 @@
+"""RopeBlock through fmpy, against independent references: static hook load = total weight,
+native runner, communication-step independence, hook travel = block travel, effect switches."""
+
+import io
+import math
+
+import numpy as np
+import pytest
+from conftest import DIST, native
+from fmpy import simulate_fmu
+
+ROPE = DIST / "RopeBlock.fmu"
+SEG = 20  # segments per sling: fast, and enough for the statics checked here
+G = 9.81
+
+
+def _sim(values, stop=1.0, step=0.05, **kw):
+    return simulate_fmu(str(ROPE), start_values={"segments": SEG, **values}, stop_time=stop,
+                        output_interval=step, **kw)
+
+
+def _native(stop, step, values):
+    args = ["simulate", "RopeBlock", "--stop", repr(stop), "--step", repr(step)]
+    for k, v in {"segments": SEG, **values}.items():
+        args += ["--set", f"{k}={float(v)!r}"]
+    return np.genfromtxt(io.StringIO(native(*args, timeout=600)), delimiter=",", names=True)
+
+
+def _sling_length(hook, lug, edge_y, edge_z):
+    """Shortest path hook -> point (x, edge_y, edge_z) of a deck edge -> lug [m] (the rigging's
+    unstretched sling length at length factor 1), by golden-section search over x."""
+    f = lambda x: math.dist(hook, (x, edge_y, edge_z)) + math.dist((x, edge_y, edge_z), lug)
+    a, b = min(hook[0], lug[0]) - 1.0, max(hook[0], lug[0]) + 1.0
+    r = (math.sqrt(5) - 1) / 2
+    for _ in range(200):
+        c, d = b - r * (b - a), a + r * (b - a)
+        if f(c) < f(d):
+            b = d
+        else:
+            a = c
+    return f(0.5 * (a + b))
+
+
+def _default_lift_weight(block_mass=200e3, rope_mass_per_length=15.0):
+    """Block plus the four slings of the default lift (18 m x 12 m x 7 m block, hook 19 m above
+    the deck on the centre line, lugs 6.5 m fore/aft, 0.3 m outside the side shell, 1 m below
+    the deck edge), from the geometry alone [N]."""
+    length = _sling_length((0.0, 0.0, 26.0), (6.5, 6.3, 6.0), 6.0, 7.0)
+    return (block_mass + 4 * rope_mass_per_length * length) * G
+
+
+def test_hook_load_at_rest_equals_the_total_weight():
+    for mass in (200e3, 80e3):
+        res = _sim({"block_mass": mass}, stop=1.0)
+        w = _default_lift_weight(mass)
+        for row in (0, -1):  # right after settling, and 1 s later
+            assert res["hook0_load"][row] == pytest.approx(w, rel=1e-3)
+            assert -res["hook0_fz"][row] == pytest.approx(w, rel=1e-3)
+        # fore/aft symmetric pairs share the load equally (the bilge on one side moves the centre
+        # of mass across, so the two sides differ); the slings sit on the deck edges
+        t = [res[f"sling{r}_tension_hook"][-1] for r in range(4)]
+        assert abs(t[0] - t[1]) < 1e-6 * t[0] and abs(t[2] - t[3]) < 1e-6 * t[2]
+        assert sum(t) > w / 4, "legs at about 25 degrees carry more than their vertical share"
+        assert res["contact_count"][-1] == 4
+        assert all(abs(res[f"contact{i}_z"][-1] - 7.0) < 1e-6 for i in range(4))
+
+
+def test_fmu_equals_the_native_runner_for_the_turnover_with_hook_inputs():
+    values = {"scenario": 1, "segments": 12, "hook1_vz": -0.3, "hook0_payout_rate": 0.05, "mu": 0.3}
+    res = simulate_fmu(str(ROPE), start_values=values, stop_time=1.5, output_interval=0.05)
+    ref = _native(1.5, 0.05, values)
+    names = [n for n in ref.dtype.names if n != "time"]
+    assert len(names) > 90
+    for n in names:
+        assert np.array_equal(res[n], ref[n]), n
+    assert res["hook1_z"][-1] < res["hook1_z"][0] - 0.2, "hook 1 input acts in the turn-over"
+
+
+def test_results_do_not_depend_on_the_communication_step():
+    # at rtol 1e-4 ... 1e-6 the difference stays near 1e-4 m (the contact manager's stick/slip
+    # decisions after each accepted step do not scale with the tolerance); at 1e-8 it is 8e-7 m
+    values = {"hook0_vz": 0.2, "rtol": 1e-8, "atol": 1e-10}
+    fine = _sim(values, stop=2.0, step=0.01)
+    coarse = _sim(values, stop=2.0, step=0.05)
+    common = fine[::5]
+    assert np.allclose(common["time"], coarse["time"])
+    for name, tol in [("block_z", 1e-5), ("hook0_z", 1e-12), ("block_vz", 1e-4)]:
+        assert np.max(np.abs(common[name] - coarse[name])) < tol, name
+    load = np.max(np.abs(common["hook0_load"] - coarse["hook0_load"])) / coarse["hook0_load"][0]
+    assert load < 1e-4
+
+
+def test_raising_the_hook_raises_the_block_by_the_same_amount():
+    # 0.2 m/s commanded at 0 s and 0 at 1 s: 0.5 s ramps, so the hook rises exactly 0.2 m
+    signal = np.array([(0.0, 0.2), (0.999, 0.2), (1.0, 0.0), (9.0, 0.0)],
+                      dtype=[("time", float), ("hook0_vz", float)])
+    res = _sim({}, stop=8.0, step=0.05, input=signal)
+    rise = res["hook0_z"][-1] - res["hook0_z"][0]
+    assert rise == pytest.approx(0.2, rel=1e-9)
+    # a slow stick-slip sway at the edges (period about 4 s, +-3 mm) is left after the lift:
+    # compare the mean over 2 s ... 8 s
+    late = res["time"] >= 2.0
+    assert np.mean(res["block_z"][late]) - res["block_z"][0] == pytest.approx(rise, abs=2e-3)
+    assert np.max(np.abs(res["block_vz"][late])) < 0.05
+
+
+def _final(values, stop=0.5):
+    res = _sim(values, stop=stop)
+    return {n: res[n][-1] for n in res.dtype.names}
+
+
+def test_effect_switches_change_the_outputs_as_expected():
+    base = _final({})
+    w = base["hook0_load"]
+    # drag acts on moving rope only: at rest, on and off agree
+    drag = _final({"drag": True, "fluid_density": 1025.0})
+    for n in ["hook0_load", "block_z", "sling0_tension_lug", "contact0_normal"]:
+        assert drag[n] == pytest.approx(base[n], rel=1e-9, abs=1e-9), n
+    # bending changes the shape, never the weight the hook carries
+    bend = _final({"bending": True, "bending_stiffness": 5e4})
+    assert bend["hook0_load"] == pytest.approx(w, rel=1e-3)
+    # friction off: the friction the nodes carry does not grow (the edge hold releases it step by
+    # step), and stays below mu N with friction on
+    on, off = base["contact0_friction"], _final({"friction": False})["contact0_friction"]
+    assert off < on <= 0.15 * base["contact0_normal"]
+    # no gravity: nothing to carry but the small pretension of slings rigged just taut
+    assert abs(_final({"gravity_on": False})["hook0_load"]) < 1e-2 * w
+    # heavier ropes: more load; no contact: slings straight through the block, no contact nodes
+    assert _final({"rope_mass_per_length": 30.0})["hook0_load"] > w
+    off = _final({"contact": False})
+    assert off["contact_count"] == 0 and off["contact0_sling"] == -1
+    assert off["hook0_load"] == pytest.approx(w, rel=2e-3)
+    # values of switched-off effects are ignored, but never a negative one
+    assert _final({"friction": False, "mu": 1.5})["hook0_load"] == _final({"friction": False})["hook0_load"]
+
+
+def test_negative_values_are_refused_whatever_the_switch():
+    with pytest.raises(Exception):
+        _sim({"drag": False, "drag_coefficient": -1.0}, stop=0.1)
+    with pytest.raises(Exception):
+        _sim({"scenario": 2}, stop=0.1)
