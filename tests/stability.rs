@@ -9,8 +9,8 @@ use mbcosim::effect::plane_contact::{PlaneContact, PlaneContacts};
 use mbcosim::integrator::{IntegratorKind, Settings};
 use mbcosim::math::Vec3;
 use mbcosim::model::{Frame, ModelBuilder};
-use mbcosim::scene::panel_lock::{PanelLock, PanelLockModel, PanelLockParams};
 use mbcosim::scene::native;
+use mbcosim::scene::panel_lock::{PanelLock, PanelLockModel, PanelLockParams};
 use mbcosim::sim::Simulation;
 use std::sync::Arc;
 
