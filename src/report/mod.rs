@@ -1,5 +1,6 @@
 //! Plain-file reports: CSV tables and SVG line plots (no plotting dependency).
 
+pub mod spectrum;
 pub mod svg;
 
 use std::io::Write;

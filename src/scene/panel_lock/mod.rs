@@ -18,13 +18,15 @@
 mod build;
 mod cosim;
 mod demo;
+pub mod flex_panel;
 mod params;
 pub mod ports;
 mod run;
+pub mod study;
 
 pub use build::{Layout, build};
 pub use cosim::{PanelLockModel, create};
 pub use demo::run_demo;
-pub use params::PanelLockParams;
+pub use params::{DEFAULT_PANEL_E, PanelLockParams, Reduction};
 pub use ports::info;
 pub use run::{HingeOutput, PanelLock, PanelLockOutputs};
