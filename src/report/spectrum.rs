@@ -51,7 +51,7 @@ pub fn amplitude_spectrum(x: &[f64], dt: f64, freqs: &[f64]) -> Vec<f64> {
 /// 8 samples or a band below the resolution) or flat.
 pub fn dominant_frequency(x: &[f64], dt: f64, f_min: f64, f_max: f64) -> Option<f64> {
     let n = x.len();
-    if n < 8 || !(dt > 0.0) || !(f_max > f_min) || f_min < 0.0 {
+    if n < 8 || dt.is_nan() || dt <= 0.0 || f_max.is_nan() || f_max <= f_min || f_min < 0.0 {
         return None;
     }
     let span = dt * (n - 1) as f64;
@@ -64,7 +64,7 @@ pub fn dominant_frequency(x: &[f64], dt: f64, f_min: f64, f_max: f64) -> Option<
             (best, best_a) = (i, a);
         }
     }
-    if !(best_a > 0.0) {
+    if best_a.is_nan() || best_a <= 0.0 {
         return None;
     }
     let fb = f_min + best as f64 * df;
@@ -109,7 +109,7 @@ mod tests {
         let a = amplitude_at(&x, dt, f);
         assert!((a - 1.5).abs() < 0.02, "amplitude {a}");
         // a damped sinusoid: the peak is the damped frequency
-        let (zeta, w) = (0.01, 2.0 * PI * 0.167);
+        let (zeta, w): (f64, f64) = (0.01, 2.0 * PI * 0.167);
         let wd = w * (1.0 - zeta * zeta).sqrt();
         let y: Vec<f64> = (0..6001)
             .map(|k| {

@@ -486,7 +486,6 @@ pub fn info() -> &'static ModelInfo {
         ports.push(integer("n_panels", ivr::N_PANELS, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_panels as i32), min: Some(1), max: Some(6) }, "Number of panels outboard of the yoke (structure)."));
         ports.push(integer("integrator", ivr::INTEGRATOR, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "Integrator", items: INTEGRATORS, start: Some(2) }, "Time integrator."));
         ports.push(integer("contact_law", ivr::CONTACT_LAW, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "ContactLaw", items: CONTACT_LAWS, start: Some(2) }, "Pin/groove contact force law."));
-        ports.push(integer("n_modes", ivr::N_MODES, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_modes as i32), min: Some(0), max: Some(400) }, "Craig-Bampton modes per flexible panel (structure); must be 0 with rigid panels."));
         for (vr, (name, start, desc)) in [
             (bvr::FLEXIBLE_PANELS, ("flexible_panels", d.flexible_panels, "Flexible panels: modal bodies from a plate FE model reduced by Craig-Bampton at the hinge nodes (structure); off: rigid panels.")),
             (bvr::LATCHES, ("latches", d.latches, "Latch (pin and groove) at every hinge.")),
@@ -496,6 +495,7 @@ pub fn info() -> &'static ModelInfo {
         ] {
             ports.push(PortSpec::boolean_parameter(name, vr, Variability::Fixed, start, desc));
         }
+        ports.push(integer("n_modes", ivr::N_MODES, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_modes as i32), min: Some(0), max: Some(400) }, "Craig-Bampton modes per flexible panel (structure); must be 0 with rigid panels."));
         for (i, p) in REAL_PARAMS.iter().enumerate() {
             let mut spec = PortSpec::real_parameter(p.name, i as ValueRef, Variability::Fixed, (p.get)(&d), p.unit, p.description);
             if let Some(lo) = p.min {
