@@ -7,6 +7,9 @@
 //! mbcosim demo                 pack, then run the demos and print their tables
 //! mbcosim report [--quick] [--only NAME] [--out DIR]
 //!                              work-precision report (CSV, log-log plots, report.md; docs/report)
+//! mbcosim table1 [--out DIR] [--stop T] [--step H] [--modes N] [--rigid] [--set name=value]...
+//!                              the paper's Table 1 / Figs. 4-5 with flexible panels (PanelLock);
+//!                              CSV, SVG plots and a markdown table into DIR (default docs/)
 //! mbcosim simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv] [--timing]
 //!                              native run of one model; CSV of its outputs (stdout by default)
 //! ```
@@ -256,7 +259,52 @@ fn simulate(args: &[String]) -> Result<(), String> {
     }
 }
 
-const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | report [--quick] [--only NAME] [--out DIR] | simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv] [--timing]>";
+/// PanelLock Table 1 study (flexible panels by default).
+fn table1(args: &[String]) -> Result<(), String> {
+    use mbcosim::scene::panel_lock::{PanelLockParams, ports::REAL_PARAMS, study};
+    let (mut out, mut stop, mut step, mut modes, mut rigid) =
+        (root().join("docs"), 80.0, 0.01, 10usize, false);
+    let mut sets = Vec::new();
+    let mut it = args.iter();
+    while let Some(flag) = it.next() {
+        let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
+        let number = |s: &String| s.parse::<f64>().map_err(|e| format!("{s}: {e}"));
+        match flag.as_str() {
+            "--out" => out = PathBuf::from(value()?),
+            "--stop" => stop = number(value()?)?,
+            "--step" => step = number(value()?)?,
+            "--modes" => modes = value()?.parse().map_err(|e| format!("--modes: {e}"))?,
+            "--rigid" => rigid = true,
+            "--set" => {
+                let kv = value()?;
+                let (k, v) = kv
+                    .split_once('=')
+                    .ok_or_else(|| format!("--set {kv}: expected name=value"))?;
+                sets.push((k.to_string(), number(&v.to_string())?));
+            }
+            other => return Err(format!("unknown option {other}")),
+        }
+    }
+    let mut p = if rigid {
+        PanelLockParams::default()
+    } else {
+        PanelLockParams::flexible(modes)
+    };
+    for (name, v) in sets {
+        let rp = REAL_PARAMS
+            .iter()
+            .find(|r| r.name == name)
+            .ok_or_else(|| format!("unknown real parameter `{name}`"))?;
+        (rp.set)(&mut p, v);
+    }
+    p.validate()?;
+    let md = study::table1(&out, &p, stop, step)?;
+    println!("{md}");
+    println!("wrote {}/panel_lock_table1.* and SVG plots", out.display());
+    Ok(())
+}
+
+const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | report [--quick] [--only NAME] [--out DIR] | table1 [--out DIR] [--stop T] [--step H] [--modes N] [--rigid] [--set name=value]... | simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv] [--timing]>";
 
 fn run(args: &[String]) -> Result<(), String> {
     match args.first().map(String::as_str) {
@@ -269,6 +317,7 @@ fn run(args: &[String]) -> Result<(), String> {
         Some("demo") => demo(),
         Some("simulate") => simulate(&args[1..]),
         Some("report") => report(&args[1..]),
+        Some("table1") => table1(&args[1..]),
         Some("help" | "--help" | "-h") => {
             println!("{USAGE}");
             Ok(())

@@ -1,6 +1,7 @@
 //! Plain-file reports: CSV tables and SVG line plots (no plotting dependency).
 
 pub mod loglog;
+pub mod spectrum;
 pub mod svg;
 pub mod workprec;
 

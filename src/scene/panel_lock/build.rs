@@ -9,12 +9,14 @@
 //! hinge shaft: deployment spring, damping, latch and motor act across it) and is bolted to its
 //! outboard neighbour by a fixed joint (whose multipliers are the hinge-to-panel loads).
 
+use super::flex_panel::flex_panel;
 use super::params::PanelLockParams;
 use crate::contact::ContactLaw;
 use crate::contact::latch::{LatchGeometry, LatchParams};
 use crate::effect::angle_stop::{AngleStop, AngleStops};
 use crate::effect::cable_loop::{CableLoop, CableLoops};
 use crate::effect::latch::{Latch, Latches};
+use crate::flex::ModalBodyData;
 use crate::math::{Mat3, Quat, Vec3};
 use crate::model::*;
 use std::sync::Arc;
@@ -40,6 +42,9 @@ pub struct Layout {
     pub motor_input: usize,
     /// The latches (for evaluating wall forces in outputs), if enabled.
     pub latches: Option<Arc<Latches>>,
+    /// Flexible panels: the modal data of the outer panel and its tip node (outboard edge,
+    /// mid-width); `None` with rigid panels.
+    pub flex_tip: Option<(Arc<ModalBodyData>, usize)>,
 }
 
 fn plate_inertia(m: f64, length: f64, width: f64, thick: f64) -> Mat3 {
@@ -84,7 +89,11 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
         root_joint: 0,
         motor_input,
         latches: None,
+        flex_tip: None,
     };
+    // plate frame of a flexible panel (x length, y width, z normal) in the rigid panel frame
+    // (x length, y normal, z width = hinge axis): a quarter turn about x
+    let plate_turn = Quat::from_axis_angle(&Vec3::x_axis(), std::f64::consts::FRAC_PI_2);
     let law = ContactLaw::new(
         p.contact_law,
         p.contact_stiffness,
@@ -96,6 +105,7 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
     let mut stops = Vec::new();
     let (mut phi, mut pos) = (0.0, Vec3::zeros());
     let (mut inboard, mut inboard_tip) = (satellite, attach_local);
+    let mut inboard_node: Option<usize> = None;
     for k in 0..n {
         let s = if k == 0 {
             1.0
@@ -123,13 +133,34 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
             hinge_inertia,
             BodyInit::at(pos).oriented(rot(phi)),
         )?;
-        let plate = b.add_rigid_body(
-            &name,
-            mass,
-            plate_inertia(mass, len, p.panel_width, p.panel_thickness),
-            BodyInit::at(pos + 0.5 * len * dir).oriented(rot(phi)),
-        )?;
-        let fi = Frame::with_z(inboard, inboard_tip, s * ez);
+        let flex = if k > 0 && p.flexible_panels {
+            Some(flex_panel(p, k == n - 1)?)
+        } else {
+            None
+        };
+        let plate = match &flex {
+            None => b.add_rigid_body(
+                &name,
+                mass,
+                plate_inertia(mass, len, p.panel_width, p.panel_thickness),
+                BodyInit::at(pos + 0.5 * len * dir).oriented(rot(phi)),
+            )?,
+            Some(f) => {
+                let zeros = vec![0.0; f.data.n_modes()];
+                b.add_modal_body(
+                    &name,
+                    f.data.clone(),
+                    BodyInit::at(pos - 0.5 * p.panel_width * ez).oriented(rot(phi) * plate_turn),
+                    &zeros,
+                    &zeros,
+                )?
+            }
+        };
+        let fi = match inboard_node {
+            None => Frame::with_z(inboard, inboard_tip, s * ez),
+            // the hinge axis (world z) is the plate's y axis
+            Some(node) => Frame::with_z(inboard, Vec3::zeros(), s * Vec3::y()).on_node(node),
+        };
         let fj = Frame::with_z(hinge, Vec3::zeros(), s * ez);
         if k == 0 {
             layout.root_joint = 0;
@@ -139,7 +170,15 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
             &format!("hinge{k} bolts"),
             JointKind::Fixed,
             Frame::new(hinge, Vec3::zeros()),
-            Frame::new(plate, Vec3::new(-0.5 * len, 0.0, 0.0)),
+            match &flex {
+                None => Frame::new(plate, Vec3::new(-0.5 * len, 0.0, 0.0)),
+                // node frame axes = the hinge body's (rigid panel) axes
+                Some(f) => Frame::at_node(plate, f.inboard_node).with_axes(
+                    Vec3::x(),
+                    -Vec3::z(),
+                    Vec3::y(),
+                ),
+            },
         )?;
         let (preload, stiffness) = if k == 0 {
             (p.root_spring_preload, p.root_spring_stiffness)
@@ -212,6 +251,10 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
         pos += len * dir;
         inboard = plate;
         inboard_tip = Vec3::new(0.5 * len, 0.0, 0.0);
+        inboard_node = flex.as_ref().map(|f| f.outboard_node);
+        if k == n - 1 {
+            layout.flex_tip = flex.map(|f| (f.data, f.outboard_node));
+        }
     }
     let (fi, fj) = layout.hinge_frames[0];
     b.add_joint_torque(JointTorque {

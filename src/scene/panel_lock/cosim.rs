@@ -50,6 +50,8 @@ impl PanelLockModel {
             cable_loop: self.ports.get_boolean(bvr::CABLE_LOOP)?,
             free_satellite: self.ports.get_boolean(bvr::FREE_SATELLITE)?,
             gravity: gravity_on.then_some(9.81),
+            flexible_panels: self.ports.get_boolean(bvr::FLEXIBLE_PANELS)?,
+            n_modes: self.ports.get_integer(ivr::N_MODES)?.max(0) as usize,
             ..PanelLockParams::default()
         };
         for (i, rp) in REAL_PARAMS.iter().enumerate() {

@@ -3,6 +3,17 @@
 use crate::contact::LawKind;
 use crate::integrator::{IntegratorKind, Settings};
 
+/// How a flexible panel's finite-element model is reduced to modal coordinates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Reduction {
+    /// Craig-Bampton: body frame clamped at the inboard hinge node; the outboard hinge node's
+    /// three DOFs (w, theta_x, theta_y) as interface coordinates (inner panels), plus `n_modes`
+    /// fixed-interface modes.
+    CraigBampton,
+    /// The first `n_modes` elastic free-free modes (mean-axis frame).
+    FreeInterface,
+}
+
 /// Everything that defines a PanelLock run. SI units; angles in radians.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PanelLockParams {
@@ -63,6 +74,27 @@ pub struct PanelLockParams {
     pub free_satellite: bool,
     pub satellite_mass: f64,
     pub satellite_inertia: [f64; 3],
+    /// Flexible panels (structural switch): each panel is a modal body from a plate FE model,
+    /// reduced by [`PanelLockParams::reduction`] to `n_modes` modes, hinge frames riding on the
+    /// attachment nodes (mid-width of the inboard and outboard edges). Off: rigid panels and no
+    /// modal coordinates at all.
+    pub flexible_panels: bool,
+    /// Number of (fixed-interface or free-free) modes per panel; 0 when `flexible_panels` is off.
+    pub n_modes: usize,
+    /// Equivalent homogeneous plate of the honeycomb sandwich: Young's modulus [Pa] (giving its
+    /// bending rigidity over `panel_thickness`) and Poisson ratio [-].
+    pub panel_youngs_modulus: f64,
+    pub panel_poisson: f64,
+    /// Non-structural areal mass (cells, harness) [kg/m^2], part of `panel_areal_density`; the
+    /// equivalent structural density is `(panel_areal_density - this) / panel_thickness`.
+    pub panel_nonstructural_mass: f64,
+    /// Plate mesh: elements along the length and along the width (even, so that the hinge
+    /// attachment nodes sit at mid-width).
+    pub panel_mesh: [usize; 2],
+    /// Modal damping ratio of the panel modes [-].
+    pub modal_damping_ratio: f64,
+    /// Reduction method of the flexible panels.
+    pub reduction: Reduction,
     /// Integrator and its settings.
     pub integrator: IntegratorKind,
     pub settings: Settings,
@@ -107,6 +139,14 @@ impl Default for PanelLockParams {
             free_satellite: false,
             satellite_mass: 800.0,
             satellite_inertia: [300.0, 350.0, 250.0],
+            flexible_panels: false,
+            n_modes: 0,
+            panel_youngs_modulus: DEFAULT_PANEL_E,
+            panel_poisson: 0.3,
+            panel_nonstructural_mass: 0.6,
+            panel_mesh: [8, 4],
+            modal_damping_ratio: 0.005,
+            reduction: Reduction::CraigBampton,
             integrator: IntegratorKind::Bdf,
             settings: Settings {
                 rtol: 1e-6,
@@ -118,7 +158,115 @@ impl Default for PanelLockParams {
     }
 }
 
+/// Default equivalent Young's modulus of the panel plate [Pa]; see the scene documentation.
+pub const DEFAULT_PANEL_E: f64 = 3.0e9;
+/// Cam radius of the paper configuration [m] ([`PanelLockParams::flexible`]).
+pub const PAPER_CAM_RADIUS: f64 = 0.05;
+
 impl PanelLockParams {
+    /// The paper configuration: the default array with flexible panels of `n_modes`
+    /// Craig-Bampton modes each and zero-backlash latches (groove width = pin diameter) on a
+    /// 50 mm cam, so that the locked array vibrates as a structure whose stiffness includes the
+    /// preloaded pin/wall contact (see the scene documentation for the tuning).
+    pub fn flexible(n_modes: usize) -> Self {
+        let d = PanelLockParams::default();
+        PanelLockParams {
+            flexible_panels: true,
+            n_modes,
+            cam_radius: PAPER_CAM_RADIUS,
+            groove_width: 2.0 * d.pin_radius,
+            ..d
+        }
+    }
+
+    /// Equivalent structural density of the panel plate [kg/m^3].
+    pub fn panel_structural_density(&self) -> f64 {
+        (self.panel_areal_density - self.panel_nonstructural_mass) / self.panel_thickness
+    }
+
+    /// Number of plate nodes of one panel.
+    pub fn panel_nodes(&self) -> usize {
+        (self.panel_mesh[0] + 1) * (self.panel_mesh[1] + 1)
+    }
+
+    /// Largest `n_modes` the panel mesh supports with the chosen reduction: the plate's DOFs
+    /// (3 per node) less the clamped frame node and, with inner panels, the outboard interface
+    /// node (Craig-Bampton), or less the 3 rigid-body modes (free-interface).
+    pub fn max_modes(&self) -> usize {
+        let dofs = 3 * self.panel_nodes();
+        match self.reduction {
+            Reduction::CraigBampton if self.n_panels > 1 => dofs - 6,
+            Reduction::CraigBampton | Reduction::FreeInterface => dofs - 3,
+        }
+    }
+
+    /// The flexible-panel checks (see [`PanelLockParams::validate`]).
+    fn validate_flexible(&self) -> Result<(), String> {
+        if !self.flexible_panels {
+            if self.n_modes > 0 {
+                return Err(format!(
+                    "n_modes = {} requested but flexible_panels is off: rigid panels have no modes \
+                     (switch flexible_panels on, or set n_modes = 0)",
+                    self.n_modes
+                ));
+            }
+            return Ok(());
+        }
+        if self.n_modes == 0 {
+            return Err(
+                "flexible_panels is on but n_modes is 0: request at least one mode per panel"
+                    .into(),
+            );
+        }
+        let e = self.panel_youngs_modulus;
+        if !(e.is_finite() && e > 0.0) {
+            return Err(format!(
+                "panel_youngs_modulus must be finite and > 0, got {e}"
+            ));
+        }
+        if !(self.modal_damping_ratio.is_finite() && (0.0..1.0).contains(&self.modal_damping_ratio))
+        {
+            return Err(format!(
+                "modal_damping_ratio must be in [0, 1), got {}",
+                self.modal_damping_ratio
+            ));
+        }
+        if !(self.panel_poisson.is_finite()
+            && self.panel_poisson > -1.0
+            && self.panel_poisson < 0.5)
+        {
+            return Err(format!(
+                "panel_poisson must be in (-1, 0.5), got {}",
+                self.panel_poisson
+            ));
+        }
+        let nsm = self.panel_nonstructural_mass;
+        if !(nsm.is_finite() && nsm >= 0.0 && nsm < self.panel_areal_density) {
+            return Err(format!(
+                "panel_nonstructural_mass must be in [0, panel_areal_density = {}) kg/m^2 (the rest \
+                 is the honeycomb's structural mass), got {nsm}",
+                self.panel_areal_density
+            ));
+        }
+        let [nx, ny] = self.panel_mesh;
+        if !(1..=40).contains(&nx) || !(2..=40).contains(&ny) || ny % 2 != 0 {
+            return Err(format!(
+                "panel_mesh must be 1..=40 elements along the length and an even 2..=40 across \
+                 the width (hinge nodes at mid-width), got {nx} x {ny}"
+            ));
+        }
+        if self.n_modes > self.max_modes() {
+            return Err(format!(
+                "n_modes = {} exceeds the {} modes the {nx} x {ny} panel mesh has with {:?} \
+                 reduction",
+                self.n_modes,
+                self.max_modes(),
+                self.reduction
+            ));
+        }
+        Ok(())
+    }
+
     /// Number of hinges (root hinge plus one per panel).
     pub fn n_hinges(&self) -> usize {
         self.n_panels + 1
@@ -219,6 +367,7 @@ impl PanelLockParams {
                 "cable_loop is on but cable_stiffness is 0: switch the loop off instead".into(),
             );
         }
+        self.validate_flexible()?;
         self.settings.validate().map(|_| ())
     }
 }

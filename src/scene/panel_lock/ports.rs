@@ -242,6 +242,34 @@ pub static REAL_PARAMS: &[RealParam] = &[
         set: |p, v| p.gravity = p.gravity.map(|_| v),
         min: None,
     },
+    real_param!(
+        "modal_damping_ratio",
+        modal_damping_ratio,
+        None,
+        Some(0.0),
+        "Modal damping ratio of the flexible panels' modes (flexible_panels only)."
+    ),
+    real_param!(
+        "panel_youngs_modulus",
+        panel_youngs_modulus,
+        Some("Pa"),
+        Some(0.0),
+        "Equivalent Young's modulus of the honeycomb panel plate (flexible_panels only)."
+    ),
+    real_param!(
+        "panel_poisson",
+        panel_poisson,
+        None,
+        None,
+        "Equivalent Poisson ratio of the panel plate (flexible_panels only)."
+    ),
+    real_param!(
+        "panel_nonstructural_mass",
+        panel_nonstructural_mass,
+        Some("kg/m2"),
+        Some(0.0),
+        "Non-structural areal mass (cells, harness), part of panel_areal_density (flexible_panels only)."
+    ),
     RealParam {
         name: "rtol",
         unit: None,
@@ -373,6 +401,7 @@ pub mod ivr {
     pub const REJECTED: ValueRef = 4;
     pub const NEWTON: ValueRef = 5;
     pub const FACTORIZATIONS: ValueRef = 6;
+    pub const N_MODES: ValueRef = 7;
 }
 
 /// Boolean value references (hinge `k` latched: `LATCHED0 + k`).
@@ -383,6 +412,8 @@ pub mod bvr {
     pub const GRAVITY_ON: ValueRef = 2;
     pub const FREE_SATELLITE: ValueRef = 3;
     pub const LATCHED0: ValueRef = 4;
+    /// After the latched outputs of [`super::MAX_HINGES`] hinges.
+    pub const FLEXIBLE_PANELS: ValueRef = LATCHED0 + super::MAX_HINGES as ValueRef;
 }
 
 /// Integrator enumeration items (1-based), in [`IntegratorKind::ALL`] order.
@@ -456,6 +487,7 @@ pub fn info() -> &'static ModelInfo {
         ports.push(integer("integrator", ivr::INTEGRATOR, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "Integrator", items: INTEGRATORS, start: Some(2) }, "Time integrator."));
         ports.push(integer("contact_law", ivr::CONTACT_LAW, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "ContactLaw", items: CONTACT_LAWS, start: Some(2) }, "Pin/groove contact force law."));
         for (vr, (name, start, desc)) in [
+            (bvr::FLEXIBLE_PANELS, ("flexible_panels", d.flexible_panels, "Flexible panels: modal bodies from a plate FE model reduced by Craig-Bampton at the hinge nodes (structure); off: rigid panels.")),
             (bvr::LATCHES, ("latches", d.latches, "Latch (pin and groove) at every hinge.")),
             (bvr::CABLE_LOOP, ("cable_loop", d.cable_loop, "Closed cable loops synchronizing consecutive hinges.")),
             (bvr::GRAVITY_ON, ("gravity_on", d.gravity.is_some(), "Gravity along -z (ground test with vertical hinge axes); off in orbit.")),
@@ -463,6 +495,7 @@ pub fn info() -> &'static ModelInfo {
         ] {
             ports.push(PortSpec::boolean_parameter(name, vr, Variability::Fixed, start, desc));
         }
+        ports.push(integer("n_modes", ivr::N_MODES, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_modes as i32), min: Some(0), max: Some(400) }, "Craig-Bampton modes per flexible panel (structure); must be 0 with rigid panels."));
         for (i, p) in REAL_PARAMS.iter().enumerate() {
             let mut spec = PortSpec::real_parameter(p.name, i as ValueRef, Variability::Fixed, (p.get)(&d), p.unit, p.description);
             if let Some(lo) = p.min {
@@ -490,8 +523,8 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{3b8f5d10-6a2c-4e7b-9f41-d2c7a95e0b63}",
-            description: "Deployment and lock-up of a solar array: yoke and panels joined by hinge bodies with preloaded torsion springs, pin/groove latches with a selectable contact law, stow stops, optional cable loops; rigid panels.",
+            guid: "{3b8f5d10-6a2c-4e7b-9f41-d2c7a95e0b64}",
+            description: "Deployment and lock-up of a solar array: yoke and panels joined by hinge bodies with preloaded torsion springs, pin/groove latches with a selectable contact law, stow stops, optional cable loops; rigid panels or flexible (Craig-Bampton modal) panels.",
             ports,
             default_stop_time: 60.0,
             default_step: 0.01,

@@ -138,8 +138,33 @@ impl PanelLock {
             .system
             .kin(*self.layout.plates.last().expect("at least the yoke"));
         let len = *self.layout.plate_lengths.last().expect("at least the yoke");
-        let tip_v = outer.point_velocity(&Vec3::new(0.5 * len, 0.0, 0.0));
-        let normal = outer.rot * Vec3::y();
+        let (tip_v, normal) = match &self.layout.flex_tip {
+            None => (
+                outer.point_velocity(&Vec3::new(0.5 * len, 0.0, 0.0)),
+                outer.rot * Vec3::y(),
+            ),
+            Some((data, node)) => {
+                // node velocity v + omega x A (rho + Phi a) + A Phi a_dot (omega in body frame)
+                let body = &sim.system.model.bodies[self
+                    .layout
+                    .plates
+                    .last()
+                    .and_then(|b| b.index())
+                    .expect("a modal outer panel")];
+                let n = data.n_modes();
+                let a = nalgebra::DVector::from_column_slice(
+                    &st.q[body.q_offset + 7..body.q_offset + 7 + n],
+                );
+                let a_dot = nalgebra::DVector::from_column_slice(
+                    &st.v[body.v_offset + 6..body.v_offset + 6 + n],
+                );
+                let phi = &data.translational_shapes()[*node];
+                let s = data.positions()[*node] + phi * &a;
+                let v = outer.point_velocity(&s) + outer.rot * (phi * &a_dot);
+                // the plate normal is +z; the rigid panel's normal (+y) is the plate's -z
+                (v, -(outer.rot * Vec3::z()))
+            }
+        };
         let e = sim.energy();
         PanelLockOutputs {
             t: sim.state.t,

@@ -1,0 +1,316 @@
+//! The paper's Table 1 / Figs. 4-5 study: peak lock force and post-lock vibration frequency of
+//! the flexible array for three contact parameter sets.
+//!
+//! One case = one deployment from the stowed stack, sampled every `dt`. Peak lock force: the
+//! largest pin/groove wall force of any hinge over the run (the latch's own peak tracker, which
+//! interpolates between steps). Post-lock frequency: the dominant peak of the amplitude spectrum
+//! ([`crate::report::spectrum`]) of the outer panel's tip velocity normal to the panel, over the
+//! window from [`SETTLE`] after the last hinge locked to the end of the run.
+
+use super::{PanelLock, PanelLockParams};
+use crate::report::spectrum::{amplitude_spectrum, dominant_frequency};
+use crate::report::svg::{Series, line_plot};
+use crate::report::write_csv;
+use std::path::Path;
+
+/// Time skipped after the last lock-up before the spectral window opens [s].
+pub const SETTLE: f64 = 2.0;
+/// Band searched for the post-lock peak [Hz].
+pub const BAND: (f64, f64) = (0.03, 5.0);
+
+/// The paper's Table 1 (physics.md section 1): (k, n, peak force [N], frequency [Hz]).
+pub const PAPER_TABLE1: [(f64, f64, f64, f64); 2] =
+    [(1e7, 1.5, 931.0, 0.167), (1e8, 1.5, 2419.0, 0.317)];
+
+/// The three contact sets of Table 1 and Fig. 4: (k [N/m^n], n).
+pub const CASES: [(f64, f64); 3] = [(1e7, 1.5), (1e8, 1.5), (1e8, 0.9)];
+
+/// The result of one deployment.
+#[derive(Debug, Clone)]
+pub struct CaseResult {
+    pub contact_stiffness: f64,
+    pub contact_exponent: f64,
+    /// Sample times [s], outer-panel tip normal velocity [m/s], and the wall force of every
+    /// hinge [N] (`forces[k][i]`).
+    pub t: Vec<f64>,
+    pub tip_velocity: Vec<f64>,
+    pub forces: Vec<Vec<f64>>,
+    /// Lock time and peak wall force of every hinge.
+    pub lock_times: Vec<f64>,
+    pub peak_forces: Vec<f64>,
+    /// Largest peak force [N] and its hinge.
+    pub peak_force: f64,
+    pub peak_hinge: usize,
+    /// Post-lock frequency [Hz] (`None` if some hinge never locked or the window is too short).
+    pub frequency: Option<f64>,
+    /// CPU time [s] and accepted steps.
+    pub cpu: f64,
+    pub steps: u64,
+}
+
+impl CaseResult {
+    /// Start of the spectral window [s] (NaN if some hinge never locked).
+    pub fn window_start(&self) -> f64 {
+        self.lock_times.iter().fold(f64::NEG_INFINITY, |a, &b| {
+            if a.is_nan() || b.is_nan() {
+                f64::NAN
+            } else {
+                a.max(b)
+            }
+        }) + SETTLE
+    }
+
+    /// Tip velocity samples inside the spectral window.
+    pub fn window(&self) -> &[f64] {
+        let t0 = self.window_start();
+        let i0 = self.t.iter().position(|&t| t >= t0).unwrap_or(self.t.len());
+        &self.tip_velocity[i0..]
+    }
+}
+
+/// Dominant frequency [Hz] of `v` (step `dt`) in [`BAND`].
+pub fn post_lock_frequency(v: &[f64], dt: f64) -> Option<f64> {
+    dominant_frequency(v, dt, BAND.0, BAND.1)
+}
+
+/// Runs one deployment of `p` to `t_end` sampled every `dt` [s].
+pub fn run_case(p: PanelLockParams, t_end: f64, dt: f64) -> Result<CaseResult, String> {
+    let (k_c, n_c) = (p.contact_stiffness, p.contact_exponent);
+    let nh = p.n_hinges();
+    let cpu = std::time::Instant::now();
+    let mut s = PanelLock::new(p)?;
+    let steps = (t_end / dt).round() as usize;
+    let (mut t, mut tip, mut forces) = (Vec::new(), Vec::new(), vec![Vec::new(); nh]);
+    for i in 0..=steps {
+        s.advance_to(i as f64 * dt).map_err(|e| e.to_string())?;
+        let o = s.outputs();
+        t.push(o.t);
+        tip.push(o.tip_normal_velocity);
+        for (k, h) in o.hinges.iter().enumerate() {
+            forces[k].push(h.contact_force);
+        }
+    }
+    let cpu = cpu.elapsed().as_secs_f64();
+    let o = s.outputs();
+    let lock_times: Vec<f64> = o.hinges.iter().map(|h| h.lock_time).collect();
+    let peak_forces: Vec<f64> = o.hinges.iter().map(|h| h.peak_force).collect();
+    let (peak_hinge, peak_force) = peak_forces
+        .iter()
+        .copied()
+        .enumerate()
+        .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+    let mut r = CaseResult {
+        contact_stiffness: k_c,
+        contact_exponent: n_c,
+        t,
+        tip_velocity: tip,
+        forces,
+        lock_times,
+        peak_forces,
+        peak_force,
+        peak_hinge,
+        frequency: None,
+        cpu,
+        steps: s.sim.stats().steps,
+    };
+    if r.window_start().is_finite() {
+        r.frequency = post_lock_frequency(r.window(), dt);
+    }
+    Ok(r)
+}
+
+/// The three Table 1 cases on `base` (contact stiffness and exponent replaced).
+pub fn run_table1(base: &PanelLockParams, t_end: f64, dt: f64) -> Result<Vec<CaseResult>, String> {
+    CASES
+        .iter()
+        .map(|&(k, n)| {
+            run_case(
+                PanelLockParams {
+                    contact_stiffness: k,
+                    contact_exponent: n,
+                    ..base.clone()
+                },
+                t_end,
+                dt,
+            )
+        })
+        .collect()
+}
+
+fn fmt_hz(f: Option<f64>) -> String {
+    f.map_or("-".into(), |f| format!("{f:.3}"))
+}
+
+/// Markdown table of the cases next to the paper's values.
+pub fn markdown(cases: &[CaseResult], base: &PanelLockParams) -> String {
+    let mut s = format!(
+        "PanelLock Table 1 ({} panels, {}, {} modes/panel, E = {:.3e} Pa, zeta = {}, {:?}):\n\n",
+        base.n_panels,
+        if base.flexible_panels {
+            "flexible"
+        } else {
+            "rigid"
+        },
+        base.n_modes,
+        base.panel_youngs_modulus,
+        base.modal_damping_ratio,
+        base.integrator,
+    );
+    s += "| k [N/m^n] | n | peak lock force [N] (hinge) | post-lock frequency [Hz] | paper force [N] | paper frequency [Hz] | last lock [s] |\n";
+    s += "|---|---|---|---|---|---|---|\n";
+    for c in cases {
+        let paper = PAPER_TABLE1
+            .iter()
+            .find(|p| p.0 == c.contact_stiffness && p.1 == c.contact_exponent);
+        let (pf, pfreq) = paper.map_or(("-".into(), "-".into()), |p| {
+            (format!("{:.0}", p.2), format!("{:.3}", p.3))
+        });
+        s += &format!(
+            "| {:.0e} | {} | {:.1} ({}) | {} | {} | {} | {:.2} |\n",
+            c.contact_stiffness,
+            c.contact_exponent,
+            c.peak_force,
+            c.peak_hinge,
+            fmt_hz(c.frequency),
+            pf,
+            pfreq,
+            c.window_start() - SETTLE,
+        );
+    }
+    s
+}
+
+/// Runs the study and writes `panel_lock_table1.{csv,md}`, the time series
+/// `panel_lock_table1_series.csv` and three SVG plots (tip velocity, largest wall force,
+/// post-lock spectrum) into `dir`. Returns the markdown table.
+pub fn table1(dir: &Path, base: &PanelLockParams, t_end: f64, dt: f64) -> Result<String, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let cases = run_table1(base, t_end, dt)?;
+    let io = |e: std::io::Error| e.to_string();
+    // summary CSV
+    let nh = base.n_hinges();
+    let mut header: Vec<String> = [
+        "k",
+        "n",
+        "peak_force",
+        "peak_hinge",
+        "frequency_hz",
+        "cpu_s",
+    ]
+    .map(String::from)
+    .to_vec();
+    header.extend((0..nh).map(|k| format!("lock_time{k}")));
+    header.extend((0..nh).map(|k| format!("peak_force{k}")));
+    let rows: Vec<Vec<f64>> = cases
+        .iter()
+        .map(|c| {
+            let mut r = vec![
+                c.contact_stiffness,
+                c.contact_exponent,
+                c.peak_force,
+                c.peak_hinge as f64,
+                c.frequency.unwrap_or(f64::NAN),
+                c.cpu,
+            ];
+            r.extend(&c.lock_times);
+            r.extend(&c.peak_forces);
+            r
+        })
+        .collect();
+    let hdr: Vec<&str> = header.iter().map(String::as_str).collect();
+    write_csv(&dir.join("panel_lock_table1.csv"), &hdr, &rows).map_err(io)?;
+    // time series: t, then per case tip velocity and largest wall force
+    let labels: Vec<String> = cases
+        .iter()
+        .map(|c| {
+            format!(
+                "k = {:.0e}, n = {}",
+                c.contact_stiffness, c.contact_exponent
+            )
+        })
+        .collect();
+    let max_force = |c: &CaseResult, i: usize| c.forces.iter().map(|f| f[i]).fold(0.0, f64::max);
+    let mut header = vec!["t".to_string()];
+    for (j, _) in cases.iter().enumerate() {
+        header.extend([
+            format!("tip_velocity_case{j}"),
+            format!("max_force_case{j}"),
+        ]);
+    }
+    let n_t = cases.iter().map(|c| c.t.len()).min().unwrap_or(0);
+    let series_rows: Vec<Vec<f64>> = (0..n_t)
+        .map(|i| {
+            let mut r = vec![cases[0].t[i]];
+            for c in &cases {
+                r.extend([c.tip_velocity[i], max_force(c, i)]);
+            }
+            r
+        })
+        .collect();
+    let hdr: Vec<&str> = header.iter().map(String::as_str).collect();
+    write_csv(
+        &dir.join("panel_lock_table1_series.csv"),
+        &hdr,
+        &series_rows,
+    )
+    .map_err(io)?;
+    // plots
+    let tip: Vec<Series> = cases
+        .iter()
+        .zip(&labels)
+        .map(|(c, l)| Series {
+            name: l,
+            points: c
+                .t
+                .iter()
+                .copied()
+                .zip(c.tip_velocity.iter().copied())
+                .collect(),
+        })
+        .collect();
+    let svg = line_plot(
+        "PanelLock (flexible panels): outer panel tip velocity normal to the panel (Fig. 5)",
+        "time [s]",
+        "velocity [m/s]",
+        &tip,
+    );
+    std::fs::write(dir.join("panel_lock_table1_tip_velocity.svg"), svg).map_err(io)?;
+    let force: Vec<Series> = cases
+        .iter()
+        .zip(&labels)
+        .map(|(c, l)| Series {
+            name: l,
+            points: (0..c.t.len()).map(|i| (c.t[i], max_force(c, i))).collect(),
+        })
+        .collect();
+    let svg = line_plot(
+        "PanelLock (flexible panels): largest latch wall force of any hinge (Fig. 4)",
+        "time [s]",
+        "force [N]",
+        &force,
+    );
+    std::fs::write(dir.join("panel_lock_table1_contact_force.svg"), svg).map_err(io)?;
+    let freqs: Vec<f64> = (0..=400).map(|i| 0.005 * i as f64).collect();
+    let spec: Vec<Series> = cases
+        .iter()
+        .zip(&labels)
+        .map(|(c, l)| Series {
+            name: l,
+            points: freqs
+                .iter()
+                .copied()
+                .zip(amplitude_spectrum(c.window(), dt, &freqs))
+                .collect(),
+        })
+        .collect();
+    let svg = line_plot(
+        "PanelLock (flexible panels): post-lock spectrum of the tip velocity",
+        "frequency [Hz]",
+        "amplitude [m/s]",
+        &spec,
+    );
+    std::fs::write(dir.join("panel_lock_table1_spectrum.svg"), svg).map_err(io)?;
+    let md = markdown(&cases, base);
+    std::fs::write(dir.join("panel_lock_table1.md"), &md).map_err(io)?;
+    Ok(md)
+}
