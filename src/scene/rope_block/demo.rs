@@ -4,7 +4,10 @@
 //! - [`Demo::Lift`]: the default lift (200 t block, four 22 m slings over the deck edges), settled
 //!   hanging at rest, then hoisted at 0.2 m/s for 8 s after a 1 s hold, then held for 3 s.
 //! - [`Demo::Turnover`]: the block held by two cranes, crane B (hook 1) lowering at 0.4 m/s for
-//!   `duration` seconds while crane A holds: the block rolls about its length.
+//!   [`TURNOVER_LOWERING`] seconds while crane A holds, then holding: the block rolls about its
+//!   length until crane A carries nearly all of it. (Lowering further unloads crane B's slings
+//!   completely; a slack, unloaded steel sling flapping between slack and taut needs very small
+//!   steps, so the demo stops lowering before that.)
 
 use super::params::RopeBlockParams;
 use super::scene::RopeBlockScene;
@@ -33,6 +36,9 @@ pub struct DemoSummary {
     pub wall: f64,
 }
 
+/// How long crane B lowers in the turnover demo [s].
+pub const TURNOVER_LOWERING: f64 = 32.0;
+
 /// The hook inputs of a demo at time `t` [s]: (hook, velocity [m/s]) pairs.
 fn schedule(demo: Demo, t: f64) -> Vec<(usize, Vec3)> {
     match demo {
@@ -40,7 +46,10 @@ fn schedule(demo: Demo, t: f64) -> Vec<(usize, Vec3)> {
             let v = if (1.0..9.0).contains(&t) { 0.2 } else { 0.0 };
             vec![(0, Vec3::new(0.0, 0.0, v))]
         }
-        Demo::Turnover => vec![(1, Vec3::new(0.0, 0.0, -0.4))],
+        Demo::Turnover => {
+            let v = if t < TURNOVER_LOWERING { -0.4 } else { 0.0 };
+            vec![(1, Vec3::new(0.0, 0.0, v))]
+        }
     }
 }
 
