@@ -22,16 +22,6 @@ use crate::dae::linear::LinearSolver;
 use crate::math::wrms;
 use crate::state::State;
 
-/// Contraction rate of the Newton iteration above which the matrix is re-formed at the current
-/// iterate.
-const REFRESH_RATE: f64 = 0.5;
-/// Re-formations of the Newton matrix within one step attempt.
-const MAX_REFRESHES: usize = 8;
-/// Half-steps back within one step attempt (see `try_step`).
-const MAX_HALVINGS: usize = 6;
-/// Newton iterations per step attempt (room for the refreshes and half-steps).
-const MAX_NEWTON: usize = 20;
-
 /// Generalized-alpha integrator.
 #[derive(Debug, Clone)]
 pub struct GenAlpha {
@@ -66,8 +56,6 @@ pub struct GenAlpha {
     wx: Vec<f64>,
     wv: Vec<f64>,
     tmp: Vec<f64>,
-    /// Position increment of the previous Newton iteration.
-    dq_prev: Vec<f64>,
 }
 
 enum StepOutcome {
@@ -111,7 +99,6 @@ impl GenAlpha {
             wx: Vec::new(),
             wv: Vec::new(),
             tmp: Vec::new(),
-            dq_prev: Vec::new(),
         }
     }
 
@@ -125,7 +112,6 @@ impl GenAlpha {
             &mut self.wx,
             &mut self.wv,
             &mut self.tmp,
-            &mut self.dq_prev,
         ] {
             v.resize(nv, 0.0);
         }
@@ -158,13 +144,7 @@ impl GenAlpha {
         self.lam.copy_from_slice(&st.lambda);
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
         let mut prev_norm = f64::INFINITY;
-        // Iteration at which the current Newton matrix was formed (None: an older one), and how
-        // often it was re-formed inside this step.
-        let mut formed_at: Option<usize> = None;
-        let mut refreshes = 0;
-        let mut halvings = 0;
-        let mut prev_fresh = false;
-        for it in 0..MAX_NEWTON {
+        for it in 0..12 {
             self.kinematics(sys, st, h);
             sys.forces(t1, &self.q1, &self.v1, &mut self.f);
             sys.eval_constraints(t1, &self.q1, &self.v1);
@@ -227,7 +207,6 @@ impl GenAlpha {
                 }
                 self.jac_valid = true;
                 self.jac_h = h;
-                formed_at = Some(it);
             }
             if let Err(e) = self.lin.solve(&mut self.rhs) {
                 self.jac_valid = false;
@@ -244,49 +223,6 @@ impl GenAlpha {
             // convergence is judged on the position increments (which the velocities follow).
             let norm = wrms(&self.tmp, &self.wx);
             let rate = norm / prev_norm;
-            // Slow or stalled contraction with a matrix formed at another point (an older step
-            // or the predictor of this one): piecewise smooth forces (stick/slip return mapping,
-            // slack segments) change their Jacobian between regimes and the stale matrix makes the
-            // iterates cycle between them. Re-form the matrix at the current iterate (a full
-            // Newton step) before judging divergence or reducing the step.
-            // If even the matrix of the current iterate sends the iteration back where it came
-            // from (a two-cycle across a regime boundary), step back half-way: damped Newton
-            // steps bisect towards the kink instead of cycling.
-            let slow = it >= 1
-                && rate > REFRESH_RATE
-                && norm > 1e-12
-                && norm * rate / (1.0 - rate).max(1e-3) > 0.02;
-            if slow && formed_at != Some(it) && refreshes < MAX_REFRESHES {
-                refreshes += 1;
-                self.jac_valid = false;
-                prev_norm = norm;
-                continue;
-            }
-            // a two-cycle: this increment and the last one from the matrix of its own iterate
-            // (full Newton steps) cancel
-            let fresh = formed_at == Some(it);
-            let cycle = fresh && prev_fresh && {
-                for i in 0..nv {
-                    self.wv[i] = self.tmp[i] + self.dq_prev[i];
-                }
-                wrms(&self.wv, &self.wx) < 0.2 * norm
-            };
-            if fresh {
-                prev_fresh = true;
-                self.dq_prev.copy_from_slice(&self.tmp);
-            }
-            if slow && cycle && halvings < MAX_HALVINGS {
-                halvings += 1;
-                for i in 0..nv {
-                    self.w[i] -= 0.5 * self.rhs[i];
-                }
-                for r in 0..nc {
-                    self.lam[r] -= 0.5 * self.rhs[nv + r];
-                }
-                self.jac_valid = false;
-                prev_norm = 0.5 * norm;
-                continue;
-            }
             if it >= 2 && rate > 0.9 {
                 return StepOutcome::Failed(format!(
                     "Newton iteration diverges at t = {t1:.9e} s (rate {rate:.2})"
@@ -312,7 +248,7 @@ impl GenAlpha {
             }
         }
         StepOutcome::Failed(format!(
-            "Newton iteration did not converge in {MAX_NEWTON} iterations at t = {t1:.9e} s"
+            "Newton iteration did not converge in 12 iterations at t = {t1:.9e} s"
         ))
     }
 
