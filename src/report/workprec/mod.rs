@@ -6,8 +6,10 @@
 //! study ([`run_study`]) does the timing, the errors and the fits, and [`output`] writes the CSV,
 //! the log-log plots and the markdown report.
 
+pub mod flex;
 pub mod output;
 pub mod panel;
+pub mod rope;
 
 use crate::integrator::{IntegratorKind, Settings, Stats};
 use std::time::Instant;
@@ -309,10 +311,17 @@ impl Study {
 
 /// Every problem of the report (`quick`: reduced sweeps for a CI smoke run).
 pub fn problems(quick: bool) -> Vec<Problem> {
-    vec![
+    let mut p = vec![
         panel::smooth_phase(3.0, quick),
         panel::deployment(if quick { 6.0 } else { 12.0 }, quick),
-    ]
+        rope::lift(if quick { 1.0 } else { 4.0 }, quick),
+        rope::nodes(if quick { 1.0 } else { 4.0 }, quick),
+    ];
+    if !quick {
+        // tens of seconds per run: the full report only
+        p.push(flex::flexible_deployment(65.0));
+    }
+    p
 }
 
 /// Runs every problem whose name contains `only` (all when empty) and writes the report into

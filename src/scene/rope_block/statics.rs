@@ -108,6 +108,6 @@ pub fn solve(
         }
     }
     Err(format!(
-        "no static equilibrium found in {max_iter} iterations: largest force imbalance {fmax:.3e} N (is the scene statically stable? free bodies need supports)"
+        "no static equilibrium found in {max_iter} iterations: largest force imbalance {fmax:.3e} N (is the scene statically stable? free bodies need supports; a load far beyond the slings' strength, e.g. block_mass against rope_ea, or too few segments, also ends here)"
     ))
 }
