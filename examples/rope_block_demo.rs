@@ -1,7 +1,10 @@
-//! Runs the RopeBlock demonstrations natively and writes CSV files:
-//! `cargo run --release --example rope_block_demo -- [out_dir]` writes `rope_lift.csv` and
-//! `rope_turnover.csv` (default directory: the current one).
+//! Runs the RopeBlock demonstrations natively and writes CSV files and SVG plots:
+//! `cargo run --release --example rope_block_demo -- [out_dir]` writes `rope_lift.csv`,
+//! `rope_turnover.csv` and, for each, `*_tensions.svg` (hook loads and sling tensions) and
+//! `*_contacts.svg` (normal and friction force of the contact nodes) (default directory: the
+//! current one).
 
+use mbcosim::report::svg::{Series, line_plot};
 use mbcosim::scene::rope_block::demo::{Demo, run};
 use std::fs::File;
 use std::io::BufWriter;
@@ -18,6 +21,7 @@ fn main() -> Result<(), String> {
         let f =
             File::create(&path).map_err(|e| format!("cannot create {}: {e}", path.display()))?;
         let s = run(demo, None, duration, 0.05, &mut BufWriter::new(f))?;
+        plots(&path, &dir, file.trim_end_matches(".csv"))?;
         println!(
             "{demo:?}: {} rows to {}, peak hook load {:.1} kN, peak sling tension {:.1} kN, up to {} contact nodes, {:.1} s simulated in {:.2} s ({:.0}x real time)",
             s.rows,
@@ -30,5 +34,72 @@ fn main() -> Result<(), String> {
             s.simulated / s.wall
         );
     }
+    Ok(())
+}
+
+/// Columns of a CSV file written by the demo: names and values.
+fn read_csv(path: &std::path::Path) -> Result<(Vec<String>, Vec<Vec<f64>>), String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let mut lines = text.lines();
+    let names: Vec<String> = lines
+        .next()
+        .unwrap_or("")
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let mut cols = vec![Vec::new(); names.len()];
+    for l in lines {
+        for (c, x) in cols.iter_mut().zip(l.split(',')) {
+            c.push(x.parse::<f64>().unwrap_or(f64::NAN));
+        }
+    }
+    Ok((names, cols))
+}
+
+/// Tension and contact-force plots [kN] over time [s] from a demo CSV.
+fn plots(csv: &std::path::Path, dir: &std::path::Path, stem: &str) -> Result<(), String> {
+    let (names, cols) = read_csv(csv)?;
+    let col = |n: &str| names.iter().position(|x| x == n).map(|i| &cols[i]);
+    let t = col("time").ok_or("no time column")?;
+    let series = |pick: &dyn Fn(&str) -> bool| -> Vec<(String, Vec<(f64, f64)>)> {
+        names
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| pick(n))
+            .map(|(i, n)| {
+                let pts = t.iter().zip(&cols[i]).map(|(a, b)| (*a, b / 1e3)).collect();
+                (n.clone(), pts)
+            })
+            .filter(|(_, p): &(String, Vec<(f64, f64)>)| p.iter().any(|q| q.1 != 0.0))
+            .collect()
+    };
+    let write = |name: &str, title: &str, data: Vec<(String, Vec<(f64, f64)>)>| {
+        let s: Vec<Series> = data
+            .iter()
+            .map(|(n, p)| Series {
+                name: n,
+                points: p.clone(),
+            })
+            .collect();
+        let path = dir.join(format!("{stem}_{name}.svg"));
+        std::fs::write(&path, line_plot(title, "time [s]", "force [kN]", &s))
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))
+    };
+    write(
+        "tensions",
+        &format!("{stem}: hook loads and sling tensions at the lugs"),
+        series(&|n| n.ends_with(".load") || n.ends_with(".tension_lug")),
+    )?;
+    write(
+        "contacts",
+        &format!("{stem}: contact-node normal and friction forces (slots 0-3)"),
+        series(&|n| {
+            ["contact0.", "contact1.", "contact2.", "contact3."]
+                .iter()
+                .any(|p| n.starts_with(p))
+                && (n.ends_with(".normal") || n.ends_with(".friction"))
+        }),
+    )?;
     Ok(())
 }
