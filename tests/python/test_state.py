@@ -5,7 +5,7 @@ import pathlib
 from concurrent.futures import ThreadPoolExecutor
 
 import pytest
-from conftest import bits, native, python_script
+from conftest import SCENARIOS, bits, native, python_script
 
 
 def _fresh(fmu, name="inst", values=None):
@@ -134,6 +134,8 @@ def test_libcosimpy_runs_the_fmu_like_the_native_model(fmu):
                  *[a for k, v in fmu.values.items() for a in ("--set", f"{k}={float(v)!r}")])
     header, *rows = [line.split(",") for line in csv.strip().splitlines()]
     last = dict(zip(header, map(float, rows[-1])))
+    # a model whose outputs are small differences of large forces sets a larger absolute floor
+    floor = SCENARIOS.get(fmu.id, {}).get("importer_abs", 1e-12)
     for v, g in zip(outputs, got):
         # libcosim's steps are exact nanoseconds, fmpy's carry rounding jitter: compare closely
-        assert g == pytest.approx(last[v.name], rel=1e-9, abs=1e-12), v.name
+        assert g == pytest.approx(last[v.name], rel=1e-9, abs=floor), v.name
