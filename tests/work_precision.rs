@@ -7,7 +7,7 @@ use mbcosim::report::workprec::{ErrorKind, Sweep, report};
 #[test]
 fn quick_report_converges_with_the_theoretical_orders() {
     let dir = std::env::temp_dir().join(format!("mbcosim-wp-{}", std::process::id()));
-    let (studies, files) = report(&dir, true, "").unwrap();
+    let (studies, files) = report(&dir, true, "", "").unwrap();
     assert!(files.iter().any(|f| f.ends_with("report.md")));
     assert!(files.iter().any(|f| f.ends_with("work_precision.csv")));
     let csv = std::fs::read_to_string(dir.join("work_precision.csv")).unwrap();

@@ -5,7 +5,7 @@
 //! mbcosim model-descriptions   rewrite modelDescription/<Model>.xml from the variable tables
 //!         [--check]            only report (exit 1) when a checked-in file is out of date
 //! mbcosim demo                 pack, then run the demos and print their tables
-//! mbcosim report [--quick] [--only NAME] [--out DIR]
+//! mbcosim report [--quick] [--only NAME] [--skip NAME] [--out DIR]
 //!                              work-precision report (CSV, log-log plots, report.md; docs/report)
 //! mbcosim table1 [--out DIR] [--stop T] [--step H] [--modes N] [--rigid] [--set name=value]...
 //!                              the paper's Table 1 / Figs. 4-5 with flexible panels (PanelLock);
@@ -184,20 +184,26 @@ fn demo() -> Result<(), String> {
     DEMOS.iter().try_for_each(|d| d())
 }
 
-/// The work-precision report: `report [--quick] [--only NAME] [--out DIR]`.
+/// The work-precision report: `report [--quick] [--only NAME] [--skip NAME] [--out DIR]`.
 fn report(args: &[String]) -> Result<(), String> {
-    let (mut quick, mut only, mut out) = (false, String::new(), root().join("docs/report"));
+    let (mut quick, mut only, mut skip, mut out) = (
+        false,
+        String::new(),
+        String::new(),
+        root().join("docs/report"),
+    );
     let mut it = args.iter();
     while let Some(flag) = it.next() {
         let mut value = || it.next().ok_or_else(|| format!("{flag} needs a value"));
         match flag.as_str() {
             "--quick" => quick = true,
             "--only" => only = value()?.clone(),
+            "--skip" => skip = value()?.clone(),
             "--out" => out = PathBuf::from(value()?),
             other => return Err(format!("unknown option {other}")),
         }
     }
-    let (_, files) = mbcosim::report::workprec::report(&out, quick, &only)?;
+    let (_, files) = mbcosim::report::workprec::report(&out, quick, &only, &skip)?;
     for f in files {
         println!("wrote {f}");
     }
@@ -304,7 +310,7 @@ fn table1(args: &[String]) -> Result<(), String> {
     Ok(())
 }
 
-const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | report [--quick] [--only NAME] [--out DIR] | table1 [--out DIR] [--stop T] [--step H] [--modes N] [--rigid] [--set name=value]... | simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv] [--timing]>";
+const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | report [--quick] [--only NAME] [--skip NAME] [--out DIR] | table1 [--out DIR] [--stop T] [--step H] [--modes N] [--rigid] [--set name=value]... | simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv] [--timing]>";
 
 fn run(args: &[String]) -> Result<(), String> {
     match args.first().map(String::as_str) {

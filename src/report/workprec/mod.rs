@@ -324,16 +324,20 @@ pub fn problems(quick: bool) -> Vec<Problem> {
     p
 }
 
-/// Runs every problem whose name contains `only` (all when empty) and writes the report into
-/// `dir`; returns the studies and the files written.
+/// Runs every problem whose name contains `only` (all when empty) and not `skip` (none when
+/// empty) and writes the report into `dir`; returns the studies and the files written.
 pub fn report(
     dir: &std::path::Path,
     quick: bool,
     only: &str,
+    skip: &str,
 ) -> Result<(Vec<Study>, Vec<String>), String> {
     let repeats = if quick { 1 } else { 3 };
     let mut studies = Vec::new();
-    for p in problems(quick).iter().filter(|p| p.name.contains(only)) {
+    for p in problems(quick)
+        .iter()
+        .filter(|p| p.name.contains(only) && (skip.is_empty() || !p.name.contains(skip)))
+    {
         eprintln!("work-precision: {} ({} runs)", p.name, p.settings.len());
         studies.push(run_study(p, repeats)?);
     }

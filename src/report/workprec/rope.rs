@@ -53,7 +53,7 @@ pub fn lift(t_end: f64, quick: bool) -> Problem {
     let tolerances: &[f64] = if quick {
         &[1e-3, 1e-5]
     } else {
-        &[1e-2, 1e-3, 1e-4, 1e-5, 1e-6]
+        &[1e-3, 1e-4, 1e-5, 1e-6]
     };
     let mut settings = Vec::new();
     // h_max 20 ms bounds gen-alpha here (4e-5 at every rtol). Known defect: with h_max 5 ms at
