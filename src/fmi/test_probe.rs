@@ -5,7 +5,7 @@
 use std::sync::OnceLock;
 
 use crate::scene::bytes::{ByteReader, ByteWriter};
-use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, ValueRef, Variability};
+use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, Variability};
 use crate::scene::store::PortStore;
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelEntry, ModelError};
 
@@ -87,32 +87,11 @@ impl Probe {
 }
 
 impl CoSimModel for Probe {
-    fn info(&self) -> &'static ModelInfo {
-        test_info()
+    fn ports(&self) -> &PortStore {
+        &self.ports
     }
-    fn set_real(&mut self, vr: ValueRef, v: f64) -> Result<(), ModelError> {
-        self.ports.set_real(vr, v)
-    }
-    fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError> {
-        self.ports.get_real(vr)
-    }
-    fn set_integer(&mut self, vr: ValueRef, v: i32) -> Result<(), ModelError> {
-        self.ports.set_integer(vr, v)
-    }
-    fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError> {
-        self.ports.get_integer(vr)
-    }
-    fn set_boolean(&mut self, vr: ValueRef, v: bool) -> Result<(), ModelError> {
-        self.ports.set_boolean(vr, v)
-    }
-    fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError> {
-        self.ports.get_boolean(vr)
-    }
-    fn set_string(&mut self, vr: ValueRef, v: &str) -> Result<(), ModelError> {
-        self.ports.set_string(vr, v)
-    }
-    fn get_string(&self, vr: ValueRef) -> Result<String, ModelError> {
-        self.ports.get_string(vr)
+    fn ports_mut(&mut self) -> &mut PortStore {
+        &mut self.ports
     }
     fn initialize(&mut self, t: f64) -> Result<(), ModelError> {
         self.time = t;

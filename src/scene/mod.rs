@@ -88,26 +88,50 @@ impl std::error::Error for ModelError {}
 /// point acts during the next step and does not change the outputs read at that point (no direct
 /// feedthrough; the model description declares outputs as depending on no input).
 pub trait CoSimModel: Send {
+    /// The port values (parameters, inputs, outputs) with their rules; the getters and setters
+    /// below forward to it unless a model needs more (e.g. an input that acts at once).
+    fn ports(&self) -> &store::PortStore;
+    /// Mutable access to [`CoSimModel::ports`].
+    fn ports_mut(&mut self) -> &mut store::PortStore;
+
     /// The model's static description and variable table.
-    fn info(&self) -> &'static ModelInfo;
+    fn info(&self) -> &'static ModelInfo {
+        self.ports().info()
+    }
 
     /// Sets a real parameter or input (SI unit of the port); [`store::PortStore::set_real`]
     /// implements the rules.
-    fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError>;
+    fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError> {
+        self.ports_mut().set_real(vr, value)
+    }
     /// Current value of any real port (SI unit of the port).
-    fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError>;
+    fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError> {
+        self.ports().get_real(vr)
+    }
     /// Sets an integer or enumeration parameter or input.
-    fn set_integer(&mut self, vr: ValueRef, value: i32) -> Result<(), ModelError>;
+    fn set_integer(&mut self, vr: ValueRef, value: i32) -> Result<(), ModelError> {
+        self.ports_mut().set_integer(vr, value)
+    }
     /// Current value of any integer or enumeration port.
-    fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError>;
+    fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError> {
+        self.ports().get_integer(vr)
+    }
     /// Sets a boolean parameter or input.
-    fn set_boolean(&mut self, vr: ValueRef, value: bool) -> Result<(), ModelError>;
+    fn set_boolean(&mut self, vr: ValueRef, value: bool) -> Result<(), ModelError> {
+        self.ports_mut().set_boolean(vr, value)
+    }
     /// Current value of any boolean port.
-    fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError>;
+    fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError> {
+        self.ports().get_boolean(vr)
+    }
     /// Sets a string parameter or input.
-    fn set_string(&mut self, vr: ValueRef, value: &str) -> Result<(), ModelError>;
+    fn set_string(&mut self, vr: ValueRef, value: &str) -> Result<(), ModelError> {
+        self.ports_mut().set_string(vr, value)
+    }
     /// Current value of any string port.
-    fn get_string(&self, vr: ValueRef) -> Result<String, ModelError>;
+    fn get_string(&self, vr: ValueRef) -> Result<String, ModelError> {
+        self.ports().get_string(vr)
+    }
 
     /// Builds the system from the parameters and finds consistent initial conditions at `t_start` [s].
     fn initialize(&mut self, t_start: f64) -> Result<(), ModelError>;

@@ -212,33 +212,11 @@ impl Pid {
 }
 
 impl CoSimModel for Pid {
-    fn info(&self) -> &'static ModelInfo {
-        info()
+    fn ports(&self) -> &PortStore {
+        &self.ports
     }
-
-    fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError> {
-        self.ports.set_real(vr, value)
-    }
-    fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError> {
-        self.ports.get_real(vr)
-    }
-    fn set_integer(&mut self, vr: ValueRef, value: i32) -> Result<(), ModelError> {
-        self.ports.set_integer(vr, value)
-    }
-    fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError> {
-        self.ports.get_integer(vr)
-    }
-    fn set_boolean(&mut self, vr: ValueRef, value: bool) -> Result<(), ModelError> {
-        self.ports.set_boolean(vr, value)
-    }
-    fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError> {
-        self.ports.get_boolean(vr)
-    }
-    fn set_string(&mut self, vr: ValueRef, value: &str) -> Result<(), ModelError> {
-        self.ports.set_string(vr, value)
-    }
-    fn get_string(&self, vr: ValueRef) -> Result<String, ModelError> {
-        self.ports.get_string(vr)
+    fn ports_mut(&mut self) -> &mut PortStore {
+        &mut self.ports
     }
 
     fn initialize(&mut self, t_start: f64) -> Result<(), ModelError> {

@@ -3,7 +3,7 @@
 use super::ports::*;
 use super::{PanelLock, PanelLockParams};
 use crate::scene::bytes::{ByteReader, ByteWriter};
-use crate::scene::port::{ModelInfo, ValueRef};
+use crate::scene::port::ValueRef;
 use crate::scene::store::PortStore;
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, check_step};
 use crate::state::State;
@@ -131,8 +131,11 @@ impl PanelLockModel {
 }
 
 impl CoSimModel for PanelLockModel {
-    fn info(&self) -> &'static ModelInfo {
-        info()
+    fn ports(&self) -> &PortStore {
+        &self.ports
+    }
+    fn ports_mut(&mut self) -> &mut PortStore {
+        &mut self.ports
     }
 
     fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError> {
@@ -142,27 +145,6 @@ impl CoSimModel for PanelLockModel {
                 .map_err(ModelError::InvalidValue)?;
         }
         Ok(())
-    }
-    fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError> {
-        self.ports.get_real(vr)
-    }
-    fn set_integer(&mut self, vr: ValueRef, value: i32) -> Result<(), ModelError> {
-        self.ports.set_integer(vr, value)
-    }
-    fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError> {
-        self.ports.get_integer(vr)
-    }
-    fn set_boolean(&mut self, vr: ValueRef, value: bool) -> Result<(), ModelError> {
-        self.ports.set_boolean(vr, value)
-    }
-    fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError> {
-        self.ports.get_boolean(vr)
-    }
-    fn set_string(&mut self, vr: ValueRef, value: &str) -> Result<(), ModelError> {
-        self.ports.set_string(vr, value)
-    }
-    fn get_string(&self, vr: ValueRef) -> Result<String, ModelError> {
-        self.ports.get_string(vr)
     }
 
     fn initialize(&mut self, t_start: f64) -> Result<(), ModelError> {

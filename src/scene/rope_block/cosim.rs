@@ -26,7 +26,7 @@ use super::{RopeBlockParams, RopeBlockScene};
 use crate::math::Vec3;
 use crate::scene::bytes::{ByteReader, ByteWriter};
 use crate::scene::panel_lock::ports::integrator_of;
-use crate::scene::port::{ModelInfo, PortType, ValueRef};
+use crate::scene::port::{PortType, ValueRef};
 use crate::scene::store::PortStore;
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, check_step};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -280,33 +280,11 @@ impl RopeBlockModel {
 }
 
 impl CoSimModel for RopeBlockModel {
-    fn info(&self) -> &'static ModelInfo {
-        info()
+    fn ports(&self) -> &PortStore {
+        &self.ports
     }
-
-    fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError> {
-        self.ports.set_real(vr, value)
-    }
-    fn get_real(&self, vr: ValueRef) -> Result<f64, ModelError> {
-        self.ports.get_real(vr)
-    }
-    fn set_integer(&mut self, vr: ValueRef, value: i32) -> Result<(), ModelError> {
-        self.ports.set_integer(vr, value)
-    }
-    fn get_integer(&self, vr: ValueRef) -> Result<i32, ModelError> {
-        self.ports.get_integer(vr)
-    }
-    fn set_boolean(&mut self, vr: ValueRef, value: bool) -> Result<(), ModelError> {
-        self.ports.set_boolean(vr, value)
-    }
-    fn get_boolean(&self, vr: ValueRef) -> Result<bool, ModelError> {
-        self.ports.get_boolean(vr)
-    }
-    fn set_string(&mut self, vr: ValueRef, value: &str) -> Result<(), ModelError> {
-        self.ports.set_string(vr, value)
-    }
-    fn get_string(&self, vr: ValueRef) -> Result<String, ModelError> {
-        self.ports.get_string(vr)
+    fn ports_mut(&mut self) -> &mut PortStore {
+        &mut self.ports
     }
 
     fn initialize(&mut self, t_start: f64) -> Result<(), ModelError> {
