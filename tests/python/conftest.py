@@ -48,6 +48,8 @@ SCENARIOS = {
         step=0.01,
         inputs={"measurement": lambda t: 0.8 * math.sin(3.0 * t) + 0.3},
         alt_values={"kp": 0.5, "ki": 0.2},
+        # the controller's own misuse cases (inverted output limits)
+        pid_misuse=True,
         # constant error e = 0.7: u(t) = kp*e + ki*e*t exactly, whatever the step sequence
         step_independence=dict(values={"setpoint": 1.0, "measurement": 0.3, "kp": 2.0, "ki": 1.5},
                                output="u", exact=lambda t: 2.0 * 0.7 + 1.5 * 0.7 * t),
@@ -138,9 +140,17 @@ def fmu(request, tmp_path_factory):
     return Fmu(path, _UNZIPPED[path])
 
 
+def pytest_configure(config):
+    config.addinivalue_line(
+        "markers", "scenario_key(key): run only for the models whose SCENARIOS entry has `key`")
+
+
 def pytest_generate_tests(metafunc):
     if "fmu" in metafunc.fixturenames:
         paths = fmu_paths()
+        marker = metafunc.definition.get_closest_marker("scenario_key")
+        if marker is not None:
+            paths = [p for p in paths if SCENARIOS.get(p.stem, {}).get(marker.args[0])]
         metafunc.parametrize("fmu", paths, ids=[p.stem for p in paths], indirect=True)
 
 

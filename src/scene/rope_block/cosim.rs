@@ -250,6 +250,13 @@ impl RopeBlockModel {
                     .set_hook(k, Vec3::new(c[0], c[1], c[2]), c[3])
                     .map_err(ModelError::InvalidValue)?;
                 *a = *c;
+                self.log.push(LogRecord {
+                    level: LogLevel::Event,
+                    message: format!(
+                        "hook {k}: new command at t = {:.6} s: velocity ({}, {}, {}) m/s, pay-out {} m/s (integrator restarted)",
+                        self.time, c[0], c[1], c[2], c[3]
+                    ),
+                });
             }
         }
         Ok(())
@@ -275,7 +282,19 @@ impl RopeBlockModel {
         self.applied = [[0.0; 4]; MAX_HOOKS];
         self.apply_inputs()?;
         self.clear_outputs()?;
-        self.publish()
+        self.publish()?;
+        let n_v = self
+            .scene
+            .as_ref()
+            .map_or(0, |s| s.sim.sim.system.model.n_v);
+        self.log.push(LogRecord {
+            level: LogLevel::Solver,
+            message: format!(
+                "set up at static equilibrium: {n_v} speeds, {} contact nodes",
+                self.contact_count()
+            ),
+        });
+        Ok(())
     }
 }
 
