@@ -118,12 +118,28 @@ fn main() {
             &[("free_satellite", 1.0)],
         ),
         v(
-            "all on",
+            "+ flexible panels",
+            "10 Craig-Bampton modes per panel (30 modal coordinates)",
+            &[("flexible_panels", 1.0), ("n_modes", 10.0)],
+        ),
+        v(
+            "all on (rigid)",
             "latches, cable loops, gravity, free satellite",
             &[
                 ("cable_loop", 1.0),
                 ("gravity_on", 1.0),
                 ("free_satellite", 1.0),
+            ],
+        ),
+        v(
+            "all on",
+            "latches, cable loops, gravity, free satellite, flexible panels (10 modes)",
+            &[
+                ("cable_loop", 1.0),
+                ("gravity_on", 1.0),
+                ("free_satellite", 1.0),
+                ("flexible_panels", 1.0),
+                ("n_modes", 10.0),
             ],
         ),
     ];

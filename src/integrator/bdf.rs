@@ -37,6 +37,9 @@ struct Point {
     z: [f64; 2],
 }
 
+/// How much a first Newton correction is scaled in the convergence test (see `solve_step`).
+const FIRST_CORRECTION_FACTOR: f64 = 1e4;
+
 /// BDF integrator.
 #[derive(Debug, Clone)]
 pub struct Bdf {
@@ -375,8 +378,11 @@ impl Bdf {
                 });
             }
             prev = norm;
+            // a first correction shows no contraction rate yet: it is taken as converged only
+            // when it is negligible (1e-4 of the tolerance); accepting larger first corrections
+            // of a reused matrix leaves a per-step error that makes fixed-step BDF first order
             let est = if it == 0 {
-                norm
+                norm * FIRST_CORRECTION_FACTOR
             } else {
                 norm * rate / (1.0 - rate).max(1e-3)
             };

@@ -240,8 +240,14 @@ impl RopeEffect {
                         e.contact_point.push(e.body.len() as u32);
                         e.contact_init.push((p.sigma, ci));
                         // stick stiffness along the edge: ten times a nominal segment's axial
-                        // stiffness; damping with a 0.1 ms time constant
-                        let k = 10.0 * rope.props.ea / rope.nominal_segment;
+                        // stiffness; damping with a 0.1 ms time constant. A frictionless edge
+                        // holds nothing along it: the node slides freely (the element stays
+                        // to measure the node's coordinate along the edge)
+                        let k = if rope.props.friction > 0.0 {
+                            10.0 * rope.props.ea / rope.nominal_segment
+                        } else {
+                            0.0
+                        };
                         e.holds.push(ci.hold.map(|h| (h, k, 1e-4 * k)));
                         (e.contact_point.len() - 1) as u32
                     }

@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 const MU: f64 = 0.2;
 
-fn ratio(theta: f64) -> f64 {
+pub(crate) fn ratio(theta: f64) -> f64 {
     let x = MU * (0.5 * theta).tan();
     (1.0 + x) / (1.0 - x)
 }
@@ -105,10 +105,9 @@ fn single_edge_slip_threshold_is_not_capstan() {
 }
 
 /// Ramps one end's pull slowly from `t1` and returns T2/T1 (applied forces) when every contact
-/// node of a `k`-edge polygonal wrap over 180 degrees slides.
-fn polygon_gross_slip(k: usize, t1: f64, hold: Hold, reverse: bool) -> f64 {
+/// node of a `k`-edge polygonal wrap of circumradius `r` [m] over 180 degrees slides.
+pub(crate) fn polygon_gross_slip(k: usize, r: f64, t1: f64, hold: Hold, reverse: bool) -> f64 {
     let d = PI / k as f64;
-    let r = 1.0;
     let vertices: Vec<Vec3> = (1..=k)
         .map(|j| {
             let a = 0.5 * PI + (k as f64 + 1.0 - 2.0 * j as f64) * 0.5 * d;
@@ -169,7 +168,7 @@ fn polygon_of_k_edges_approaches_capstan() {
         assert!((reference - value).abs() < 1e-4);
         for (t1, hold) in [(1e4, Hold::Fixed), (1e6, Hold::Free(1e5))] {
             for reverse in [false, true] {
-                let q = polygon_gross_slip(k, t1, hold, reverse);
+                let q = polygon_gross_slip(k, 1.0, t1, hold, reverse);
                 let want = if reverse { 1.0 / reference } else { reference };
                 let rel = (q - want) / want;
                 println!(

@@ -4,6 +4,7 @@ mod edge;
 mod friction;
 mod geometry;
 mod hanging;
+mod hard_cases;
 mod jacobian;
 mod rig;
 mod slings;

@@ -18,6 +18,10 @@ fn simulate(s: &Setting, t_end: f64) -> Result<PanelLock, String> {
     Ok(scene)
 }
 
+/// When the root lock's impact is over and no other hinge has locked yet [s] (root lock at
+/// about 4.9 s, the next at about 7.1 s).
+const FIRST_LOCK_SETTLED: f64 = 6.0;
+
 /// Deployment of the default scene (three rigid panels) over `t_end` [s] with the root, third and
 /// second hinges locking (at about 4.9, 7.1 and 10.9 s): largest lock force, first lock time,
 /// energy balance and constraint residual. `quick`: three tolerances per integrator.
@@ -30,9 +34,6 @@ pub fn deployment(t_end: f64, quick: bool) -> Problem {
     let mut settings = Vec::new();
     for kind in [GenAlpha, Bdf, Dopri5] {
         for &rtol in tolerances {
-            if kind == GenAlpha && rtol < 1e-7 {
-                continue; // second order: tighter costs more than 1e5 steps, nothing to learn
-            }
             let h_max = if kind == Dopri5 { 0.2 } else { 0.02 };
             settings.push(Setting::tolerance(kind, rtol, 1e-2, h_max));
         }
@@ -40,12 +41,17 @@ pub fn deployment(t_end: f64, quick: bool) -> Problem {
     Problem {
         name: "panel_rigid",
         title: format!(
-            "PanelLock default scene (satellite fixed, yoke and three rigid panels, Lankarani-Nikravesh latches k = 1e7 N/m^1.5), {t_end} s of deployment and lock-up. Quantities: the largest pin/groove force over all hinges, the first (root) lock time, the energy balance error relative to the spring energy released, the constraint residual at the end."
+            "PanelLock default scene (satellite fixed, yoke and three rigid panels, Lankarani-Nikravesh latches k = 1e7 N/m^1.5), {t_end} s of deployment and lock-up. Quantities: the largest pin/groove force over all hinges, the largest force of the root lock's own impact (up to {FIRST_LOCK_SETTLED} s, before the next lock), the first (root) lock time, the energy balance error relative to the spring energy released, the constraint residual at the end."
         ),
         simulated: t_end,
         quantities: vec![
             Quantity {
                 name: "peak_force",
+                unit: "N",
+                error: ErrorKind::Relative,
+            },
+            Quantity {
+                name: "first_peak_force",
                 unit: "N",
                 error: ErrorKind::Relative,
             },
@@ -76,6 +82,11 @@ pub fn deployment(t_end: f64, quick: bool) -> Problem {
             };
             let mut scene = PanelLock::new(p)?;
             let e0 = scene.sim.energy();
+            // the root lock's own impact, before the next hinge locks
+            scene
+                .advance_to(FIRST_LOCK_SETTLED.min(t_end))
+                .map_err(|e| e.0)?;
+            let first_peak = scene.outputs().hinges[0].peak_force;
             scene.advance_to(t_end).map_err(|e| e.0)?;
             let o = scene.outputs();
             let e1 = scene.sim.energy();
@@ -83,6 +94,7 @@ pub fn deployment(t_end: f64, quick: bool) -> Problem {
             Ok(Outcome {
                 values: vec![
                     o.hinges.iter().map(|h| h.peak_force).fold(0.0, f64::max),
+                    first_peak,
                     o.hinges[0].lock_time,
                     (e1.balance() - e0.balance()) / released.abs().max(f64::MIN_POSITIVE),
                     scene.sim.constraint_residual(),
@@ -93,14 +105,16 @@ pub fn deployment(t_end: f64, quick: bool) -> Problem {
     }
 }
 
-/// The smooth phase: every hinge angle at `t_end` [s] (before the first lock at 4.9 s) with
+/// The smooth phase: every hinge angle at `t_end` [s] (2 s in the report: between 2 and 3 s the
+/// scene passes a point where its forces are not smooth to fifth order, after which BDF5's
+/// fixed-step error no longer falls as h^5; the first lock is at 4.9 s) with
 /// fixed steps, for the observed order of each method: gen-alpha (2), BDF of order 1 to 5,
 /// DOPRI5 (5).
 pub fn smooth_phase(t_end: f64, quick: bool) -> Problem {
     let steps: &[f64] = if quick {
         &[0.04, 0.02, 0.01]
     } else {
-        &[0.08, 0.04, 0.02, 0.01, 0.005]
+        &[0.04, 0.02, 0.01, 0.005, 0.0025]
     };
     let mut settings = Vec::new();
     for &h in steps {
@@ -113,7 +127,7 @@ pub fn smooth_phase(t_end: f64, quick: bool) -> Problem {
         }
     }
     for &h in steps {
-        settings.push(Setting::fixed(Dopri5, 4.0 * h, 5));
+        settings.push(Setting::fixed(Dopri5, 5.0 * h, 5));
     }
     Problem {
         name: "panel_smooth",
