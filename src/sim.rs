@@ -37,6 +37,9 @@ pub struct Simulation {
     pub settings: Settings,
     /// Warnings raised while setting up (e.g. `rho_inf = 1`).
     pub warnings: Vec<String>,
+    /// Solver of [`Simulation::consistent_multipliers`], kept so its sparse pattern analysis
+    /// is done once, not at every output (scratch: no influence on results).
+    kkt: crate::dae::linear::LinearSolver,
 }
 
 impl Clone for Simulation {
@@ -47,6 +50,7 @@ impl Clone for Simulation {
             integrator: self.integrator.clone_box(),
             settings: self.settings,
             warnings: self.warnings.clone(),
+            kkt: self.kkt.clone(),
         }
     }
 }
@@ -94,6 +98,7 @@ impl Simulation {
             integrator,
             settings,
             warnings,
+            kkt: crate::dae::linear::LinearSolver::new(),
         })
     }
 
@@ -210,8 +215,7 @@ impl Simulation {
     /// own history is not touched.
     pub fn consistent_multipliers(&mut self) -> Result<Vec<f64>, SolverError> {
         let mut probe = self.state.clone();
-        let mut lin = crate::dae::linear::LinearSolver::new();
-        integrator::init::accelerations(&mut self.system, &mut lin, &mut probe)?;
+        integrator::init::accelerations(&mut self.system, &mut self.kkt, &mut probe)?;
         Ok(probe.lambda)
     }
 
