@@ -17,6 +17,7 @@ pub mod dense_lu;
 pub mod linear;
 mod modal;
 mod node_body;
+mod range_space;
 mod redundancy;
 mod rows;
 mod sink;
@@ -29,6 +30,7 @@ use crate::model::{BodyId, BodyKind, Model};
 use linear::LinearSolver;
 use modal::{ModalTerms, modal_terms};
 use node_body::{NodeBodyTerms, node_body_terms};
+pub use range_space::RangeSpace;
 use sink::TripletSink;
 use std::sync::Arc;
 
