@@ -14,7 +14,7 @@ use faer::sparse::linalg::lu::{NumericLu, SymbolicLu, factorize_symbolic_lu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 
 /// Systems up to this size use the dense LU.
-pub const DENSE_LIMIT: usize = 200;
+pub const DENSE_LIMIT: usize = 48;
 
 // One backend per solver, never stored in bulk: the size difference of the variants is harmless.
 #[allow(clippy::large_enum_variant)]
