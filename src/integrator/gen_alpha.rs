@@ -367,10 +367,6 @@ impl Integrator for GenAlpha {
                             };
                             if h == natural || fac < 1.0 {
                                 self.h = h * fac;
-                            } else {
-                                // a step shortened to reach t_end may still show that a longer
-                                // one is allowed
-                                self.h = self.h.max(h * fac);
                             }
                         }
                     }
