@@ -58,17 +58,21 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 /// In-place Cholesky `A = L L^T` of the symmetric `n x n` matrix `a`, row-major: the lower
 /// triangle `a[i * n + k]` (`k <= i`) is read and overwritten by `L`. `false` if a pivot is not
-/// positive.
+/// positive. Leading zeros of each row (its envelope, which `L` keeps) are skipped, so the
+/// banded `G M^-1 G^T` of a chain of joints costs far less than `n^3 / 6`.
 fn cholesky(a: &mut [f64], n: usize) -> bool {
     for i in 0..n {
-        for j in 0..=i {
+        let fi = (0..i).find(|&k| a[i * n + k] != 0.0).unwrap_or(i);
+        // entries before fi stay zero in L
+        for j in fi..=i {
             let (head, row_i) = a.split_at_mut(i * n);
-            let row_j: &[f64] = if j < i {
-                &head[j * n..j * n + j]
+            let s = if j < i {
+                let row_j = &head[j * n..j * n + j];
+                let k0 = fi.min(j);
+                row_i[j] - dot(&row_i[k0..j], &row_j[k0..j])
             } else {
-                &row_i[..j]
+                row_i[j] - dot(&row_i[fi..j], &row_i[fi..j])
             };
-            let s = row_i[j] - dot(&row_i[..j], row_j);
             if j < i {
                 row_i[j] = s / head[j * n + j];
             } else {
