@@ -37,6 +37,11 @@ pub struct Simulation {
     pub settings: Settings,
     /// Warnings raised while setting up (e.g. `rho_inf = 1`).
     pub warnings: Vec<String>,
+    /// Solver of [`Simulation::consistent_multipliers`], kept so its sparse pattern analysis
+    /// is done once, not at every output (scratch: no influence on results).
+    kkt: crate::dae::linear::LinearSolver,
+    /// Scratch of the range-space solve of [`Simulation::consistent_multipliers`].
+    range_space: crate::dae::RangeSpace,
 }
 
 impl Clone for Simulation {
@@ -47,6 +52,8 @@ impl Clone for Simulation {
             integrator: self.integrator.clone_box(),
             settings: self.settings,
             warnings: self.warnings.clone(),
+            kkt: self.kkt.clone(),
+            range_space: self.range_space.clone(),
         }
     }
 }
@@ -94,6 +101,8 @@ impl Simulation {
             integrator,
             settings,
             warnings,
+            kkt: crate::dae::linear::LinearSolver::new(),
+            range_space: crate::dae::RangeSpace::default(),
         })
     }
 
@@ -207,11 +216,26 @@ impl Simulation {
     /// Use these for reaction forces in outputs: the generalized-alpha multipliers come from the
     /// position-level (index-3) equations and carry round-off amplified by `1 / h^2`, which
     /// spoils them when communication points force steps below about 1e-4 s. The integrator's
-    /// own history is not touched.
+    /// own history is not touched. Solved by the range-space method (module
+    /// `dae::range_space`), by the LU of the full matrix if a mass block is singular.
     pub fn consistent_multipliers(&mut self) -> Result<Vec<f64>, SolverError> {
+        let s = &self.state;
+        let mut vdot = vec![0.0; self.system.n_v()];
+        let mut lambda = vec![0.0; self.system.n_c()];
+        let range_space = self.system.index1_range_space(
+            s.t,
+            &s.q,
+            &s.v,
+            &mut self.range_space,
+            &mut vdot,
+            &mut lambda,
+        );
+        if range_space.is_ok() {
+            return Ok(lambda);
+        }
+        // a massless body or dependent rows: the LU of the full matrix
         let mut probe = self.state.clone();
-        let mut lin = crate::dae::linear::LinearSolver::new();
-        integrator::init::accelerations(&mut self.system, &mut lin, &mut probe)?;
+        integrator::init::accelerations(&mut self.system, &mut self.kkt, &mut probe)?;
         Ok(probe.lambda)
     }
 

@@ -15,6 +15,12 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 
 /// Systems up to this size use the dense LU.
 pub const DENSE_LIMIT: usize = 48;
+/// Larger systems up to this size use the dense LU too when their pattern fills at least
+/// [`DENSE_FILL`] of the matrix (e.g. flexible bodies with full modal blocks): the in-place LU,
+/// which skips zero multipliers, then beats the sparse one's per-column graph searches.
+pub const DENSE_FILLED_LIMIT: usize = 200;
+/// Fraction of structural non-zeros above which a system up to [`DENSE_FILLED_LIMIT`] is dense.
+pub const DENSE_FILL: f64 = 0.15;
 
 // One backend per solver, never stored in bulk: the size difference of the variants is harmless.
 #[allow(clippy::large_enum_variant)]
@@ -182,7 +188,8 @@ impl LinearSolver {
         self.pattern_cols.clone_from(&self.cols);
         self.pattern_n = n;
         self.stats.symbolic_analyses += 1;
-        if n <= DENSE_LIMIT {
+        let fill = self.row_idx.len() as f64 / (n * n).max(1) as f64;
+        if n <= DENSE_LIMIT || (n <= DENSE_FILLED_LIMIT && fill >= DENSE_FILL) {
             self.backend = Backend::Dense;
         } else {
             let sym =
@@ -217,7 +224,7 @@ impl LinearSolver {
         }
         self.stats.factorizations += 1;
         let n = self.n;
-        if n <= DENSE_LIMIT {
+        if matches!(self.backend, Backend::Dense) {
             self.dense.reset(n);
             for k in 0..self.rows.len() {
                 self.dense.add(self.rows[k], self.cols[k], self.vals[k]);

@@ -17,6 +17,7 @@ pub mod dense_lu;
 pub mod linear;
 mod modal;
 mod node_body;
+mod range_space;
 mod redundancy;
 mod rows;
 mod sink;
@@ -29,6 +30,7 @@ use crate::model::{BodyId, BodyKind, Model};
 use linear::LinearSolver;
 use modal::{ModalTerms, modal_terms};
 use node_body::{NodeBodyTerms, node_body_terms};
+pub use range_space::RangeSpace;
 use sink::TripletSink;
 use std::sync::Arc;
 
@@ -67,6 +69,14 @@ pub struct System {
     nodes: Vec<NodeBodyTerms>,
     /// Force scratch of length `n_v + 6 * nodes.len()` (node-body forces past `n_v`).
     f_ext: Vec<f64>,
+    /// `(q, v)` of the last kinematics update: an update at the same point (bit for bit) is
+    /// skipped, so `forces` followed by `eval_constraints` evaluates the kinematics once.
+    kin_at: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+/// Bitwise equality of two slices (so `-0.0` and `0.0` differ and `NaN` equals itself).
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 impl System {
@@ -111,6 +121,7 @@ impl System {
             modal,
             nodes,
             f_ext,
+            kin_at: None,
             model,
         };
         let (q0, v0) = (sys.model.q0.clone(), sys.model.v0.clone());
@@ -193,6 +204,16 @@ impl System {
 
     /// Evaluates body kinematics at `(q, v)`.
     pub fn update_kinematics(&mut self, q: &[f64], v: &[f64]) {
+        match &mut self.kin_at {
+            Some((kq, kv)) if same_bits(kq, q) && same_bits(kv, v) => return,
+            Some((kq, kv)) => {
+                kq.clear();
+                kq.extend_from_slice(q);
+                kv.clear();
+                kv.extend_from_slice(v);
+            }
+            None => self.kin_at = Some((q.to_vec(), v.to_vec())),
+        }
         kinematics::evaluate(&self.model, q, v, &mut self.kins);
         for m in &mut self.modal {
             m.update(q, v, &self.kins[m.body]);
@@ -410,6 +431,10 @@ impl System {
                     }
                 }
             }
+        }
+        if ck == 0.0 && cd == 0.0 {
+            // effects contribute only K and D blocks
+            return;
         }
         let mut sink = TripletSink {
             lin,

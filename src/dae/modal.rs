@@ -20,10 +20,13 @@
 //! amount and never changes the solution.
 
 use crate::flex::ModalBodyData;
-use crate::math::{Mat3, Vec3, exp_so3};
+use crate::flex::invariants::axial;
+#[cfg(test)]
+use crate::math::exp_so3;
+use crate::math::{Mat3, Vec3, skew};
 use crate::model::kinematics::BodyKin;
 use crate::model::{BodyKind, Model};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Vector3};
 use std::sync::Arc;
 
 use super::linear::LinearSolver;
@@ -159,6 +162,163 @@ impl ModalTerms {
         self.a_dot.dot(&(self.data.damping() * &self.a_dot))
     }
 
+    /// `D_f = -df/dy` and `K_f = -df/dx` ((6 + n) square each), analytic (module doc).
+    pub fn force_jacobians(&self, g: Option<&Vec3>) -> (DMatrix<f64>, DMatrix<f64>) {
+        let inv = self.data.invariants();
+        let n = self.a.len();
+        let nv = 6 + n;
+        let (rot, om, a, ad) = (&self.rot, &self.omega, &self.a, &self.a_dot);
+        let ct = &inv.c_t;
+        let p = |i: usize, j: usize| &inv.p[i * n + j];
+        // configuration-dependent terms
+        let e: Vec<Mat3> = (0..n)
+            .map(|j| {
+                let mut e = inv.q[j];
+                for i in 0..n {
+                    e += a[i] * p(i, j);
+                }
+                e
+            })
+            .collect();
+        let s_a = inv.first_moment_at(a);
+        let j_a = inv.inertia_at(a);
+        let c = ct * ad;
+        let mut w = Mat3::zeros();
+        for j in 0..n {
+            w += ad[j] * e[j].transpose();
+        }
+        let w2 = om.norm_squared();
+        let eye = Mat3::identity();
+        let mut df = DMatrix::zeros(nv, nv);
+        let mut kf = DMatrix::zeros(nv, nv);
+        // --- speeds: omega
+        let dv_dom = rot
+            * (om * s_a.transpose() + om.dot(&s_a) * eye
+                - 2.0 * s_a * om.transpose()
+                - 2.0 * skew(&c));
+        let dw_dom = skew(om) * j_a - skew(&(j_a * om)) + 2.0 * (w.trace() * eye - w);
+        df.fixed_view_mut::<3, 3>(0, 3).copy_from(&dv_dom);
+        df.fixed_view_mut::<3, 3>(3, 3).copy_from(&dw_dom);
+        for j in 0..n {
+            let mut d = Vec3::zeros();
+            for i in 0..n {
+                d += ad[i] * axial(p(i, j));
+            }
+            let row = (e[j] + e[j].transpose()) * om - 2.0 * e[j].trace() * om + 2.0 * d;
+            for k in 0..3 {
+                df[(6 + j, 3 + k)] = row[k];
+            }
+        }
+        // --- speeds: a_dot
+        for i in 0..n {
+            let cti = Vector3::new(ct[(0, i)], ct[(1, i)], ct[(2, i)]);
+            let hv = rot * (2.0 * om.cross(&cti));
+            let hw = 2.0 * (e[i].trace() * om - e[i].transpose() * om);
+            for k in 0..3 {
+                df[(k, 6 + i)] = hv[k];
+                df[(3 + k, 6 + i)] = hw[k];
+            }
+            for j in 0..n {
+                df[(6 + j, 6 + i)] = 2.0 * om.dot(&axial(p(i, j)));
+            }
+        }
+        let damping = self.data.damping();
+        let mut dd = df.view_mut((6, 6), (n, n));
+        dd += damping;
+        // --- rotation increment: h_v = A u_v, gravity through A^T g
+        let u_v = om.cross(&om.cross(&s_a)) + 2.0 * om.cross(&c);
+        kf.fixed_view_mut::<3, 3>(0, 3)
+            .copy_from(&(-rot * skew(&u_v)));
+        let gb = g.map(|g| rot.transpose() * g);
+        if let Some(gb) = &gb {
+            let gbx = skew(gb);
+            kf.fixed_view_mut::<3, 3>(3, 3)
+                .copy_from(&(-skew(&s_a) * gbx));
+            let ctg = ct.transpose() * gbx;
+            let mut blk = kf.view_mut((6, 3), (n, 3));
+            blk -= &ctg;
+        }
+        // --- modal coordinates
+        for k in 0..n {
+            let ctk = Vector3::new(ct[(0, k)], ct[(1, k)], ct[(2, k)]);
+            let hv = rot * om.cross(&om.cross(&ctk));
+            let mut fk = Mat3::zeros();
+            let mut dwk = Mat3::zeros();
+            for j in 0..n {
+                fk += a[j] * p(k, j);
+                dwk += ad[j] * p(k, j).transpose();
+            }
+            let du = inv.q[k] + inv.q[k].transpose() + fk + fk.transpose();
+            let dj = du.trace() * eye - du;
+            let mut hw = om.cross(&(dj * om)) + 2.0 * (dwk.trace() * om - dwk * om);
+            if let Some(gb) = &gb {
+                hw -= ctk.cross(gb);
+            }
+            for r in 0..3 {
+                kf[(r, 6 + k)] = hv[r];
+                kf[(3 + r, 6 + k)] = hw[r];
+            }
+            for j in 0..n {
+                let pkj = p(k, j);
+                kf[(6 + j, 6 + k)] = om.dot(&(pkj * om)) - w2 * pkj.trace();
+            }
+        }
+        let stiffness = self.data.stiffness();
+        let mut kk = kf.view_mut((6, 6), (n, n));
+        kk += stiffness;
+        (df, kf)
+    }
+
+    /// `D_f`, `K_f` by central differences of the analytic force (the reference of the tests).
+    #[cfg(test)]
+    pub fn force_jacobians_fd(&self, g: Option<&Vec3>) -> (DMatrix<f64>, DMatrix<f64>) {
+        let n = self.a.len();
+        let nv = 6 + n;
+        let force = |rot: &Mat3, a: &DVector<f64>, om: &Vec3, ad: &DVector<f64>| {
+            generalized_force(&self.data, rot, a, om, ad, g)
+        };
+        let mut df = DMatrix::zeros(nv, nv);
+        let mut kf = DMatrix::zeros(nv, nv);
+        for c in 3..nv {
+            let eps = 1e-3;
+            let (mut op, mut om) = (self.omega, self.omega);
+            let (mut ap, mut am) = (self.a_dot.clone(), self.a_dot.clone());
+            if c < 6 {
+                op[c - 3] += eps;
+                om[c - 3] -= eps;
+            } else {
+                ap[c - 6] += eps;
+                am[c - 6] -= eps;
+            }
+            let d = (force(&self.rot, &self.a, &op, &ap) - force(&self.rot, &self.a, &om, &am))
+                / (2.0 * eps);
+            df.column_mut(c).copy_from(&(-d));
+            let (fp, fm, eps) = if c < 6 {
+                let eps = 1e-6;
+                let e = Vec3::ith(c - 3, eps);
+                let rp = self.rot * exp_so3(&e).to_rotation_matrix().into_inner();
+                let rm = self.rot * exp_so3(&-e).to_rotation_matrix().into_inner();
+                (
+                    force(&rp, &self.a, &self.omega, &self.a_dot),
+                    force(&rm, &self.a, &self.omega, &self.a_dot),
+                    eps,
+                )
+            } else {
+                let eps = 1e-3 * (1.0 + self.a.amax());
+                let (mut ap, mut am) = (self.a.clone(), self.a.clone());
+                ap[c - 6] += eps;
+                am[c - 6] -= eps;
+                (
+                    force(&self.rot, &ap, &self.omega, &self.a_dot),
+                    force(&self.rot, &am, &self.omega, &self.a_dot),
+                    eps,
+                )
+            };
+            kf.column_mut(c).copy_from(&(-(fp - fm) / (2.0 * eps)));
+        }
+        (df, kf)
+    }
+
     /// Adds `c_M M + c_D D_f + c_K K_f` of this body at `(row_off, col_off)` (module doc).
     #[allow(clippy::too_many_arguments)]
     pub fn add_newton_block(
@@ -171,63 +331,57 @@ impl ModalTerms {
         row_off: usize,
         col_off: usize,
     ) {
-        let n = self.a.len();
-        let nv = 6 + n;
+        let nv = 6 + self.a.len();
         let mut blk = &self.mass * cm;
-        let force = |rot: &Mat3, a: &DVector<f64>, om: &Vec3, ad: &DVector<f64>| {
-            generalized_force(&self.data, rot, a, om, ad, g)
-        };
-        if cd != 0.0 {
-            // speeds: omega (3) and a_dot (n); f does not depend on v
-            let eps = 1e-3;
-            for c in 3..nv {
-                let (mut op, mut om) = (self.omega, self.omega);
-                let (mut ap, mut am) = (self.a_dot.clone(), self.a_dot.clone());
-                if c < 6 {
-                    op[c - 3] += eps;
-                    om[c - 3] -= eps;
-                } else {
-                    ap[c - 6] += eps;
-                    am[c - 6] -= eps;
-                }
-                let fp = force(&self.rot, &self.a, &op, &ap);
-                let fm = force(&self.rot, &self.a, &om, &am);
-                for r in 0..nv {
-                    blk[(r, c)] -= cd * (fp[r] - fm[r]) / (2.0 * eps);
-                }
-            }
-        }
-        if ck != 0.0 {
-            for c in 3..nv {
-                let (fp, fm, eps) = if c < 6 {
-                    let eps = 1e-6;
-                    let e = Vec3::ith(c - 3, eps);
-                    let rp = self.rot * exp_so3(&e).to_rotation_matrix().into_inner();
-                    let rm = self.rot * exp_so3(&-e).to_rotation_matrix().into_inner();
-                    (
-                        force(&rp, &self.a, &self.omega, &self.a_dot),
-                        force(&rm, &self.a, &self.omega, &self.a_dot),
-                        eps,
-                    )
-                } else {
-                    let eps = 1e-3 * (1.0 + self.a.amax());
-                    let (mut ap, mut am) = (self.a.clone(), self.a.clone());
-                    ap[c - 6] += eps;
-                    am[c - 6] -= eps;
-                    (
-                        force(&self.rot, &ap, &self.omega, &self.a_dot),
-                        force(&self.rot, &am, &self.omega, &self.a_dot),
-                        eps,
-                    )
-                };
-                for r in 0..nv {
-                    blk[(r, c)] -= ck * (fp[r] - fm[r]) / (2.0 * eps);
-                }
-            }
+        if cd != 0.0 || ck != 0.0 {
+            let (df, kf) = self.force_jacobians(g);
+            blk += cd * df + ck * kf;
         }
         for c in 0..nv {
             for r in 0..nv {
                 lin.push(row_off + self.col + r, col_off + self.col + c, blk[(r, c)]);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::dae::System;
+    use crate::scene::panel_lock::{PanelLock, PanelLockParams};
+
+    /// The analytic `D_f`, `K_f` equal central differences of the force, with gravity, at a
+    /// deformed, spinning state with modal speeds.
+    #[test]
+    fn analytic_force_jacobians_match_differences() {
+        let scene = PanelLock::new(PanelLockParams::flexible(6)).unwrap();
+        let mut sys: System = scene.sim.system.clone();
+        let (mut q, mut v) = (scene.sim.state.q.clone(), scene.sim.state.v.clone());
+        for b in &sys.model.bodies {
+            for i in 0..b.kind.n_modes() {
+                q[b.q_offset + 7 + i] += 1e-3 * ((i as f64) * 0.7 + 0.2).sin();
+            }
+        }
+        for (i, x) in v.iter_mut().enumerate() {
+            *x += 0.5 * ((i as f64) * 1.3).cos();
+        }
+        sys.update_kinematics(&q, &v);
+        let g = nalgebra::Vector3::new(0.3, -9.81, 1.1);
+        for m in &sys.modal {
+            for grav in [None, Some(&g)] {
+                let (da, ka) = m.force_jacobians(grav);
+                let (dn, kn) = m.force_jacobians_fd(grav);
+                let scale = dn.amax().max(kn.amax());
+                assert!(
+                    (&da - &dn).amax() <= 1e-7 * scale,
+                    "D_f: {}",
+                    (&da - &dn).amax()
+                );
+                assert!(
+                    (&ka - &kn).amax() <= 1e-7 * scale,
+                    "K_f: {}",
+                    (&ka - &kn).amax()
+                );
             }
         }
     }

@@ -102,7 +102,7 @@ impl System {
 
     /// Calls `f(column, value)` for every structural entry of active row `r`: the 3- or 6-block
     /// of each body, then the modal columns of node frames.
-    fn for_row(&self, r: usize, mut f: impl FnMut(usize, f64)) {
+    pub(super) fn for_row(&self, r: usize, mut f: impl FnMut(usize, f64)) {
         let row = &self.rows[r];
         for (side, (col, n)) in self.row_cols(r).into_iter().enumerate() {
             if let Some(c) = col {

@@ -58,6 +58,13 @@ pub struct GenAlpha {
     tmp: Vec<f64>,
 }
 
+/// Whether a Newton matrix formed for step `a` serves step `b`: equal up to the rounding of
+/// step sizes computed from communication times (e.g. `0.5 * (t_end - t)`), so the matrix is
+/// the same to 1e-9 relative and Newton converges as with an exact one.
+fn same_step(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * b.abs()
+}
+
 enum StepOutcome {
     /// Newton converged; weighted local error estimate.
     Converged(f64),
@@ -139,7 +146,6 @@ impl GenAlpha {
         let t1 = st.t + h;
         let ca = (1.0 - self.af) / (1.0 - self.am);
         let cx = self.beta * h * h * ca;
-        let cv = self.gamma * h * ca;
         self.w.copy_from_slice(&st.vdot);
         self.lam.copy_from_slice(&st.lambda);
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
@@ -168,23 +174,27 @@ impl GenAlpha {
             if self.rhs.iter().any(|x| !x.is_finite()) {
                 return StepOutcome::Failed(format!("non-finite residual at t = {t1:.9e} s"));
             }
-            if !self.jac_valid || self.jac_h != h {
+            if !self.jac_valid || !same_step(self.jac_h, h) {
                 let restored = if self.jac_valid {
                     None
                 } else {
-                    self.pending.take().filter(|p| p.coefficient == h)
+                    self.pending.take().filter(|p| same_step(p.coefficient, h))
                 };
+                // the matrix's own step: a restored point's, so the matrix is formed identically
+                let hm = restored.as_ref().map_or(h, |p| p.coefficient);
+                let cxm = self.beta * hm * hm * ca;
+                let cvm = self.gamma * hm * ca;
                 self.lin.begin(nv + nc);
                 let lin = &mut self.lin;
                 match &restored {
                     Some(p) => p.with_recorded(sys, |sys| {
                         sys.eval_constraints(p.t, &p.q, &p.v);
-                        sys.add_dynamics_matrix(p.t, &p.q, &p.v, 1.0, cv, cx, lin, 0);
+                        sys.add_dynamics_matrix(p.t, &p.q, &p.v, 1.0, cvm, cxm, lin, 0);
                         sys.add_constraint_blocks(lin, nv, 0, 1.0, Some((0, nv, 1.0)));
                         sys.eval_constraints(t1, &self.q1, &self.v1);
                     }),
                     None => {
-                        sys.add_dynamics_matrix(t1, &self.q1, &self.v1, 1.0, cv, cx, lin, 0);
+                        sys.add_dynamics_matrix(t1, &self.q1, &self.v1, 1.0, cvm, cxm, lin, 0);
                         sys.add_constraint_blocks(lin, nv, 0, 1.0, Some((0, nv, 1.0)));
                     }
                 }
@@ -206,7 +216,7 @@ impl GenAlpha {
                     return StepOutcome::Failed(e);
                 }
                 self.jac_valid = true;
-                self.jac_h = h;
+                self.jac_h = hm;
             }
             if let Err(e) = self.lin.solve(&mut self.rhs) {
                 self.jac_valid = false;

@@ -125,7 +125,7 @@ impl PanelLockModel {
     fn lock_times(&mut self) -> Vec<f64> {
         self.scene
             .as_mut()
-            .map(|s| s.outputs().hinges.iter().map(|h| h.lock_time).collect())
+            .map(|s| s.lock_times())
             .unwrap_or_default()
     }
 }

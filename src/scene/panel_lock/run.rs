@@ -83,6 +83,22 @@ impl PanelLock {
         (self.layout.lock_angles[k] + ra.theta, ra.theta_dot)
     }
 
+    /// Lock time of every hinge [s] (NaN before its lock-up), from the latches' memory: what
+    /// [`PanelLock::outputs`] reports, without evaluating the rest.
+    pub fn lock_times(&self) -> Vec<f64> {
+        let n = self.layout.hinges.len();
+        let mut out = vec![f64::NAN; n];
+        if let (Some(latches), Some(range)) =
+            (&self.layout.latches, self.sim.system.memory_range("latch"))
+        {
+            let mem = &self.sim.state.memory[range];
+            for (k, slot) in out.iter_mut().enumerate().take(latches.elements.len()) {
+                *slot = mem[k * MEMORY_PER_LATCH + 1];
+            }
+        }
+        out
+    }
+
     /// All outputs at the current state.
     pub fn outputs(&mut self) -> PanelLockOutputs {
         let n = self.layout.hinges.len();

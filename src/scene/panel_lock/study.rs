@@ -46,6 +46,8 @@ pub struct CaseResult {
     /// CPU time [s] and accepted steps.
     pub cpu: f64,
     pub steps: u64,
+    /// All work counters of the integrator.
+    pub stats: crate::integrator::Stats,
 }
 
 impl CaseResult {
@@ -112,6 +114,7 @@ pub fn run_case(p: PanelLockParams, t_end: f64, dt: f64) -> Result<CaseResult, S
         frequency: None,
         cpu,
         steps: s.sim.stats().steps,
+        stats: s.sim.stats(),
     };
     if r.window_start().is_finite() {
         r.frequency = post_lock_frequency(r.window(), dt);
