@@ -1,6 +1,6 @@
 //! One run of the default lift (settled, hoisted at 0.2 m/s from 1 s to 9 s, held to 12 s) for
 //! profiling: `cargo run --release --example lift_once -- [integrator] [rtol] [h_max] [seconds]`
-//! with integrator `gen-alpha`, `bdf` or `dopri5`. Prints the set-up and stepping wall times,
+//! `[segments]` with integrator `gen-alpha`, `bdf`, `dopri5` or `default`. Prints the set-up and stepping wall times,
 //! the peak hook load and sling tension and the integrator counters.
 
 use mbcosim::integrator::IntegratorKind;
@@ -27,6 +27,7 @@ fn main() -> Result<(), String> {
         integrator: kind,
         rtol: num(1, base.rtol)?,
         h_max: num(2, base.h_max)?,
+        segments: num(4, base.segments as f64)? as usize,
         ..base
     };
     let duration = num(3, 12.0)?;
