@@ -268,8 +268,15 @@ impl RopeEffect {
                         e.contact_point.push(e.body.len() as u32);
                         e.contact_init.push((p.sigma, ci));
                         // stick stiffness along the edge: ten times a nominal segment's axial
-                        // stiffness; damping with a 0.1 ms time constant
-                        let k = 10.0 * rope.props.ea / rope.nominal_segment;
+                        // stiffness; damping with a 0.1 ms time constant. Frictionless edges
+                        // (friction 0: capacity 0) get no stiffness: a stiff spring released
+                        // only between steps would still push the node with the force it builds
+                        // within a step (about 100-250 N on the default lift with friction off)
+                        let k = if rope.props.friction > 0.0 {
+                            10.0 * rope.props.ea / rope.nominal_segment
+                        } else {
+                            0.0
+                        };
                         e.holds.push(ci.hold.map(|h| (h, k, 1e-4 * k)));
                         (e.contact_point.len() - 1) as u32
                     }
