@@ -11,7 +11,10 @@
 //! `cargo run --release --example bench_rope -- [csv_dir]` prints markdown tables and writes
 //! `bench_rope_{accuracy,nodes,mesh}.csv` to `csv_dir` (default: the current directory).
 //! `BENCH_ROPE_LONG=1` runs a longer sweep (more rtol values, more node counts, longer runs).
+//! A lift run that has not finished after `BENCH_ROPE_BUDGET` seconds of wall time (default 60)
+//! is abandoned and reported as not finished, with the simulated time it reached.
 
+use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::Vec3;
 use mbcosim::rope::shell::parametric::BlockShape;
 use mbcosim::scene::rope_block::demo::{Demo, run};
@@ -29,13 +32,29 @@ struct LiftRun {
     steps: u64,
     newton: u64,
     factorizations: u64,
+    /// Wall time of construction and static settling [s].
+    setup: f64,
+    /// Whether the 12 s were reached within the wall-time budget.
+    finished: bool,
 }
 
-/// Runs the lift demo (settled, hoisted 8 s at 0.2 m/s, held) with `params`.
+/// Wall-time budget of one lift run [s].
+fn budget() -> f64 {
+    std::env::var("BENCH_ROPE_BUDGET")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(60.0)
+}
+
+/// Runs the lift demo (settled, hoisted 8 s at 0.2 m/s, held) with `params`, giving up after
+/// [`budget`] seconds of wall time.
 fn lift(params: RopeBlockParams) -> Result<LiftRun, String> {
     // driven as demo::run drives it, keeping the scene to read the integrator counters
     let start = Instant::now();
     let mut scene = RopeBlockScene::new(params.clone())?;
+    let setup = start.elapsed().as_secs_f64();
+    let limit = budget();
+    let mut finished = true;
     let names = scene.output_names().to_vec();
     let load = names
         .iter()
@@ -57,6 +76,10 @@ fn lift(params: RopeBlockParams) -> Result<LiftRun, String> {
         if k == n {
             break;
         }
+        if start.elapsed().as_secs_f64() > limit {
+            finished = false;
+            break;
+        }
         let t = scene.sim.time();
         let v = if (1.0..9.0).contains(&t) { 0.2 } else { 0.0 };
         if v != v_last {
@@ -67,6 +90,8 @@ fn lift(params: RopeBlockParams) -> Result<LiftRun, String> {
     }
     let st = scene.sim.sim.stats();
     Ok(LiftRun {
+        setup,
+        finished,
         peak_load,
         peak_tension,
         wall: start.elapsed().as_secs_f64(),
@@ -133,23 +158,27 @@ fn main() -> Result<(), String> {
         rtol: 1e-7,
         atol: 1e-9,
         h_max: 0.002,
+        integrator: IntegratorKind::GenAlpha,
         ..base.clone()
     })?;
+    if !reference.finished {
+        return Err("the reference run did not finish within the budget".into());
+    }
     println!(
-        "reference (rtol 1e-7, atol 1e-9, h_max 2 ms): peak hook load {:.2} kN, peak sling tension {:.2} kN, {} steps, {:.1} s wall\n",
+        "reference (gen-alpha, rtol 1e-7, atol 1e-9, h_max 2 ms): peak hook load {:.2} kN, peak sling tension {:.2} kN, {} steps, {:.1} s wall\n",
         reference.peak_load / 1e3,
         reference.peak_tension / 1e3,
         reference.steps,
         reference.wall
     );
     println!(
-        "| rtol | wall [s] | real-time factor | peak hook load error | peak sling tension error | steps | Newton iterations | factorizations |"
+        "| integrator | rtol | wall [s] | set-up [s] | real-time factor | peak hook load error | peak sling tension error | steps | Newton iterations | factorizations |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     let rtols: &[f64] = if long {
-        &[1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 1e-5, 1e-6]
+        &[1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 1e-6]
     } else {
-        &[1e-3, 1e-4, 1e-5]
+        &[1e-3, 1e-4, 3e-5, 1e-5]
     };
     let mut rows = Vec::new();
     let mut rtol_list: Vec<f64> = rtols.to_vec();
@@ -157,33 +186,71 @@ fn main() -> Result<(), String> {
         rtol_list.push(base.rtol);
         rtol_list.sort_by(|a, b| b.total_cmp(a));
     }
-    for &rtol in &rtol_list {
-        let r = lift(RopeBlockParams {
-            rtol,
-            ..base.clone()
-        })?;
-        let el = (r.peak_load - reference.peak_load).abs() / reference.peak_load;
-        let et = (r.peak_tension - reference.peak_tension).abs() / reference.peak_tension;
-        let rtf = r.simulated / r.wall;
-        let mark = if rtol == base.rtol { " (default)" } else { "" };
-        println!(
-            "| {rtol:.0e}{mark} | {:.3} | {rtf:.0}x | {:.3} % | {:.3} % | {} | {} | {} |",
-            r.wall,
-            100.0 * el,
-            100.0 * et,
-            r.steps,
-            r.newton,
-            r.factorizations
-        );
-        rows.push(format!(
-            "{rtol:e},{},{rtf},{el},{et},{},{},{}",
-            r.wall, r.steps, r.newton, r.factorizations
-        ));
+    for kind in [IntegratorKind::GenAlpha, IntegratorKind::Bdf] {
+        for &rtol in &rtol_list {
+            let r = lift(RopeBlockParams {
+                rtol,
+                integrator: kind,
+                ..base.clone()
+            })?;
+            let mark = if rtol == base.rtol && kind == base.integrator {
+                " (default)"
+            } else {
+                ""
+            };
+            if !r.finished {
+                println!(
+                    "| {} | {rtol:.0e}{mark} | > {:.0} | {:.3} | not finished: t = {:.2} s reached | - | - | {} | {} | {} |",
+                    kind.name(),
+                    r.wall,
+                    r.setup,
+                    r.simulated,
+                    r.steps,
+                    r.newton,
+                    r.factorizations
+                );
+                rows.push(format!(
+                    "{},{rtol:e},{},{},NaN,NaN,NaN,{},{},{},{}",
+                    kind.name(),
+                    r.wall,
+                    r.setup,
+                    r.steps,
+                    r.newton,
+                    r.factorizations,
+                    r.simulated
+                ));
+                continue;
+            }
+            let el = (r.peak_load - reference.peak_load).abs() / reference.peak_load;
+            let et = (r.peak_tension - reference.peak_tension).abs() / reference.peak_tension;
+            let rtf = r.simulated / r.wall;
+            println!(
+                "| {} | {rtol:.0e}{mark} | {:.3} | {:.3} | {rtf:.0}x | {:.3} % | {:.3} % | {} | {} | {} |",
+                kind.name(),
+                r.wall,
+                r.setup,
+                100.0 * el,
+                100.0 * et,
+                r.steps,
+                r.newton,
+                r.factorizations
+            );
+            rows.push(format!(
+                "{},{rtol:e},{},{},{rtf},{el},{et},{},{},{},{}",
+                kind.name(),
+                r.wall,
+                r.setup,
+                r.steps,
+                r.newton,
+                r.factorizations,
+                r.simulated
+            ));
+        }
     }
     write_csv(
         &dir,
         "bench_rope_accuracy.csv",
-        "rtol,wall_s,real_time_factor,peak_hook_load_rel_error,peak_sling_tension_rel_error,steps,newton_iterations,factorizations",
+        "integrator,rtol,wall_s,setup_s,real_time_factor,peak_hook_load_rel_error,peak_sling_tension_rel_error,steps,newton_iterations,factorizations,simulated_s",
         &rows,
     )?;
     let demo_wall = {

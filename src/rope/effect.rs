@@ -51,6 +51,10 @@ pub(crate) struct Seg {
 
 /// Evaluates the tension-only law between two points; `rest_rate` [m/s] is the rate at which the
 /// rest length grows (winch pay-out), which enters the strain rate `l_dot/L - l L_dot/L^2`.
+/// With `taut_tangent` a slack segment reports the axial stiffness `EA/L u u^T` of a taut one as
+/// its `kd` (its force stays zero): the search direction of a static solve from a just-taut layout
+/// (see [`RopeEffect::set_taut_tangent`]).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn plain_segment(
     pa: &Vec3,
     pb: &Vec3,
@@ -59,6 +63,7 @@ pub(crate) fn plain_segment(
     rest: f64,
     rest_rate: f64,
     props: &RopeProps,
+    taut_tangent: bool,
 ) -> Seg {
     let d = pb - pa;
     let dd = vb - va;
@@ -78,6 +83,8 @@ pub(crate) fn plain_segment(
             u * u.transpose() * law.dt_dl + proj * (law.t / l) + u * h.transpose() * law.dt_dldot,
             u * u.transpose() * law.dt_dldot,
         )
+    } else if taut_tangent {
+        (u * u.transpose() * (props.ea / rest), Mat3::zeros())
     } else {
         (Mat3::zeros(), Mat3::zeros())
     };
@@ -116,6 +123,26 @@ pub struct RopeEffect {
     /// Edge friction of each contact slot with its stiffness [N/m] and damping [N s/m].
     pub(crate) holds: Vec<Option<(EdgeHold, f64, f64)>>,
     pub(crate) hooks: Vec<HookInit>,
+    /// Slack segments report a taut segment's stiffness (static solves only).
+    pub(crate) taut_tangent: TautTangent,
+}
+
+/// The switch behind [`RopeEffect::set_taut_tangent`]: shared by the model and the scene's handle
+/// of the effect (an `Arc`), so an atomic.
+#[derive(Debug, Default)]
+pub(crate) struct TautTangent(std::sync::atomic::AtomicBool);
+
+impl Clone for TautTangent {
+    fn clone(&self) -> Self {
+        TautTangent(std::sync::atomic::AtomicBool::new(self.get()))
+    }
+}
+
+impl TautTangent {
+    #[inline]
+    pub(crate) fn get(&self) -> bool {
+        self.0.load(std::sync::atomic::Ordering::Relaxed)
+    }
 }
 
 impl RopeEffect {
@@ -140,6 +167,7 @@ impl RopeEffect {
             contact_init: Vec::new(),
             holds: Vec::new(),
             hooks: hooks.to_vec(),
+            taut_tangent: TautTangent::default(),
         };
         for (k, h) in hooks.iter().enumerate() {
             let vals = [h.t0, h.payout, h.payout_rate, h.target_payout_rate, h.ramp];
@@ -306,6 +334,17 @@ impl RopeEffect {
             }
         }
         Ok(e)
+    }
+
+    /// While on, the Jacobian of a slack plain segment is that of a taut one (`EA/L` along the
+    /// segment) instead of zero; forces, energies and tensions are unchanged. A static solve that
+    /// starts from just-taut slings (zero tension, zero stiffness: the block would only fall)
+    /// turns it on for its first Newton steps, so the first step stretches the slings to carry the
+    /// load. Off for time integration.
+    pub fn set_taut_tangent(&self, on: bool) {
+        self.taut_tangent
+            .0
+            .store(on, std::sync::atomic::Ordering::Relaxed);
     }
 
     /// Number of rope points (all ropes).
@@ -487,6 +526,7 @@ impl RopeEffect {
             rest,
             rate,
             &self.props[self.rope_of[i] as usize],
+            self.taut_tangent.get(),
         )
     }
 

@@ -157,7 +157,16 @@ fn eval_modes(
         ev.sigma[k1] = s1;
         if k1 - k0 == 1 {
             let rate = e.sigma_rate_at(ctx, a + k1) - sdot0;
-            let s = plain_segment(&pos[k0], &pos[k1], &vel[k0], &vel[k1], s1 - s0, rate, props);
+            let s = plain_segment(
+                &pos[k0],
+                &pos[k1],
+                &vel[k0],
+                &vel[k1],
+                s1 - s0,
+                rate,
+                props,
+                e.taut_tangent.get(),
+            );
             ev.tension[k0] = s.law.t;
             ev.rest[k0] = s1 - s0;
             ev.energy += segment::strain_energy(props.ea, s.l, s1 - s0);

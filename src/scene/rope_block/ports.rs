@@ -154,7 +154,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
     rp(
         "rtol",
         None,
-        1e-4,
+        3e-5,
         1e-10,
         0.1,
         "Relative error tolerance of the integrator.",
@@ -170,7 +170,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
     rp(
         "h_max",
         Some("s"),
-        0.02,
+        0.05,
         1e-4,
         1.0,
         "Largest internal step.",

@@ -22,11 +22,33 @@ pub struct StaticReport {
 
 /// Moves `sim` to the static equilibrium near its current positions; `Err` when no equilibrium is
 /// found within `max_iter` iterations (the message gives the remaining force imbalance).
+///
+/// Slings laid out just taut carry no tension and have no stiffness, so the exact tangent only
+/// lets the block fall (against the pseudo-mass) and the iteration crawls. The first iterations
+/// therefore use the taut tangent of the rope effect ([`crate::rope::RopeEffect::set_taut_tangent`]:
+/// slack segments count with their axial stiffness in the matrix, not in the forces), until the
+/// force imbalance has dropped tenfold or after [`TAUT_TANGENT_ITERATIONS`]; then plain Newton on
+/// the exact tangent. The equilibrium found is the same (the residual is always exact).
 pub fn solve(
     sim: &mut RopeBlockSim,
     force_tol: f64,
     max_iter: usize,
 ) -> Result<StaticReport, String> {
+    sim.map.rope.set_taut_tangent(true);
+    let r = solve_inner(sim, force_tol, max_iter);
+    sim.map.rope.set_taut_tangent(false);
+    r
+}
+
+/// Most iterations with the taut tangent.
+pub const TAUT_TANGENT_ITERATIONS: usize = 10;
+
+fn solve_inner(
+    sim: &mut RopeBlockSim,
+    force_tol: f64,
+    max_iter: usize,
+) -> Result<StaticReport, String> {
+    let rope = sim.map.rope.clone();
     let s = &mut sim.sim;
     let (nv, nc) = (s.system.n_v(), s.system.n_c());
     let t = s.state.t;
@@ -48,8 +70,13 @@ pub fn solve(
         };
     let mut lam = s.state.lambda.clone();
     let (mut fmax, _) = residual(&mut s.system, &s.state.q, &s.state.v, &lam, &mut f);
+    let f_start = fmax;
     for it in 0..max_iter {
+        if it >= TAUT_TANGENT_ITERATIONS || fmax < 0.1 * f_start {
+            rope.set_taut_tangent(false);
+        }
         if fmax <= force_tol {
+            rope.set_taut_tangent(false);
             s.state.vdot.fill(0.0);
             s.state.lambda.copy_from_slice(&lam);
             s.restart().map_err(|e| e.0)?;
