@@ -1,13 +1,14 @@
 //! Stability suite, RopeBlock: the hook dragged 9 m along the block, so that the sling contact
-//! nodes slide along the deck edges (with friction, and frictionless), run as the FMU runs it.
-//! The case either completes with finite outputs, a mechanical energy that never exceeds its
+//! nodes slide along the deck edges (with friction, and frictionless), and a 2000-node sling,
+//! run as the FMU runs them. Every case either completes with finite outputs, a mechanical energy that never exceeds its
 //! start plus the work put in (the scene is passive) and a hook load near the block's weight, or
 //! stops with a message naming the cause. The geometric corners (chamfer, 32 edges
 //! within one segment, a rope sliding off its edge's end) are in tests/rope/hard_cases.rs.
 //! `cargo test --release --test stability_rope_geometry -- --nocapture` prints the figures.
 
 use mbcosim::math::Vec3;
-use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
+use mbcosim::rope::shell::parametric::BlockShape;
+use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene, Route, SlingParams};
 
 /// What a run showed: largest mechanical energy gain beyond the work put in (kinetic +
 /// potential - input - rebuild events, from its start) and largest bookkeeping error of the full
@@ -148,4 +149,42 @@ fn frictionless_slings_dragged_along_their_edges() {
         weight,
         rtol,
     );
+}
+
+#[test]
+fn two_thousand_rope_nodes() {
+    // the block below the hook on one sling of 2000 segments (1999 rope nodes, 9.5 mm each,
+    // node-to-block mass ratio 1.4e6), settled hanging at rest and hoisted at 0.3 m/s
+    let base = RopeBlockParams::default();
+    let h = base.shape.height;
+    let p = RopeBlockParams {
+        segments: 2000,
+        contact: false,
+        hooks: vec![Vec3::new(0.0, 0.0, h + 19.0)],
+        slings: vec![SlingParams {
+            hook: 0,
+            lug: Vec3::new(0.0, 0.0, h),
+            length_factor: 1.0,
+            route: Route::Straight,
+        }],
+        shape: BlockShape {
+            bilge_radius: 0.0,
+            ..base.shape
+        },
+        ..base
+    };
+    let weight = p.block_mass * p.gravity;
+    let rtol = p.rtol;
+    let hoist = |t: f64| {
+        let v = if t < 0.5 { 0.0 } else { 0.3 };
+        vec![(0, Vec3::new(0.0, 0.0, v))]
+    };
+    let start = std::time::Instant::now();
+    let r = check("2000 rope nodes", run(p, 2.0, hoist), weight, rtol)
+        .expect("the 2000-node lift must complete");
+    println!(
+        "2000 rope nodes: 2 s in {:.2} s",
+        start.elapsed().as_secs_f64()
+    );
+    assert!(r.block_z > 0.0, "block height {}", r.block_z);
 }
