@@ -18,7 +18,7 @@ use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::Vec3;
 use mbcosim::rope::shell::parametric::BlockShape;
 use mbcosim::scene::rope_block::demo::{Demo, run};
-use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene, Route, SlingParams};
+use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -278,23 +278,7 @@ fn main() -> Result<(), String> {
     let mut pts = Vec::new();
     let mut rows = Vec::new();
     for &seg in counts {
-        let h = base.shape.height;
-        let p = RopeBlockParams {
-            segments: seg,
-            contact: false,
-            hooks: vec![Vec3::new(0.0, 0.0, h + 19.0)],
-            slings: vec![SlingParams {
-                hook: 0,
-                lug: Vec3::new(0.0, 0.0, h),
-                length_factor: 1.0,
-                route: Route::Straight,
-            }],
-            shape: BlockShape {
-                bilge_radius: 0.0,
-                ..base.shape
-            },
-            ..base.clone()
-        };
+        let p = RopeBlockParams::single_sling(seg);
         let (c, steps) = cost_per_step(p, duration)?;
         let nodes = seg - 1;
         pts.push((nodes as f64, c));

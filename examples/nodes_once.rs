@@ -1,32 +1,14 @@
 //! Cost per step of one straight sling with N segments (bench_rope part b), for profiling:
 //! `cargo run --release --example nodes_once -- [segments] [seconds]`.
 use mbcosim::math::Vec3;
-use mbcosim::rope::shell::parametric::BlockShape;
-use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene, Route, SlingParams};
+use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 use std::time::Instant;
 
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let seg: usize = args.first().and_then(|s| s.parse().ok()).unwrap_or(5000);
     let dur: f64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(0.5);
-    let base = RopeBlockParams::default();
-    let h = base.shape.height;
-    let p = RopeBlockParams {
-        segments: seg,
-        contact: false,
-        hooks: vec![Vec3::new(0.0, 0.0, h + 19.0)],
-        slings: vec![SlingParams {
-            hook: 0,
-            lug: Vec3::new(0.0, 0.0, h),
-            length_factor: 1.0,
-            route: Route::Straight,
-        }],
-        shape: BlockShape {
-            bilge_radius: 0.0,
-            ..base.shape
-        },
-        ..base.clone()
-    };
+    let p = RopeBlockParams::single_sling(seg);
     let t0 = Instant::now();
     let mut scene = RopeBlockScene::new(p)?;
     let setup = t0.elapsed().as_secs_f64();

@@ -7,8 +7,7 @@
 //! `cargo test --release --test stability_rope_geometry -- --nocapture` prints the figures.
 
 use mbcosim::math::Vec3;
-use mbcosim::rope::shell::parametric::BlockShape;
-use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene, Route, SlingParams};
+use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 
 /// What a run showed: largest mechanical energy gain beyond the work put in (kinetic +
 /// potential - input - rebuild events, from its start) and largest bookkeeping error of the full
@@ -155,24 +154,7 @@ fn frictionless_slings_dragged_along_their_edges() {
 fn two_thousand_rope_nodes() {
     // the block below the hook on one sling of 2000 segments (1999 rope nodes, 9.5 mm each,
     // node-to-block mass ratio 1.4e6), settled hanging at rest and hoisted at 0.3 m/s
-    let base = RopeBlockParams::default();
-    let h = base.shape.height;
-    let p = RopeBlockParams {
-        segments: 2000,
-        contact: false,
-        hooks: vec![Vec3::new(0.0, 0.0, h + 19.0)],
-        slings: vec![SlingParams {
-            hook: 0,
-            lug: Vec3::new(0.0, 0.0, h),
-            length_factor: 1.0,
-            route: Route::Straight,
-        }],
-        shape: BlockShape {
-            bilge_radius: 0.0,
-            ..base.shape
-        },
-        ..base
-    };
+    let p = RopeBlockParams::single_sling(2000);
     let weight = p.block_mass * p.gravity;
     let rtol = p.rtol;
     let hoist = |t: f64| {

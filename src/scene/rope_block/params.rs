@@ -294,6 +294,30 @@ fn nearest_edge(mesh: &ShellMesh, x: &Vec3) -> (usize, f64) {
 }
 
 impl RopeBlockParams {
+    /// The default block hanging straight below the hook from one sling of `segments` segments
+    /// (19 m, from the deck's centre), without contact and with a plain box shape: the rope-
+    /// resolution scene of the benchmarks and the stability suite.
+    pub fn single_sling(segments: usize) -> Self {
+        let base = Self::default();
+        let h = base.shape.height;
+        RopeBlockParams {
+            segments,
+            contact: false,
+            hooks: vec![Vec3::new(0.0, 0.0, h + 19.0)],
+            slings: vec![SlingParams {
+                hook: 0,
+                lug: Vec3::new(0.0, 0.0, h),
+                length_factor: 1.0,
+                route: Route::Straight,
+            }],
+            shape: BlockShape {
+                bilge_radius: 0.0,
+                ..base.shape
+            },
+            ..base
+        }
+    }
+
     /// A turn-over in the air: crane A holds two slings over the deck edge at `y = +B/2`, crane B
     /// two slings from lugs under the bottom plate around the bottom edge at `y = -B/2`; lowering
     /// hook B turns the block about its length.
