@@ -17,7 +17,7 @@
 use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::Vec3;
 use mbcosim::rope::shell::parametric::BlockShape;
-use mbcosim::scene::rope_block::demo::{Demo, run};
+use mbcosim::scene::rope_block::demo::{Demo, lift_hook_speed, run};
 use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -81,7 +81,7 @@ fn lift(params: RopeBlockParams) -> Result<LiftRun, String> {
             break;
         }
         let t = scene.sim.time();
-        let v = if (1.0..9.0).contains(&t) { 0.2 } else { 0.0 };
+        let v = lift_hook_speed(t);
         if v != v_last {
             scene.set_hook(0, Vec3::new(0.0, 0.0, v), 0.0)?;
             v_last = v;

@@ -5,6 +5,7 @@
 
 use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::Vec3;
+use mbcosim::scene::rope_block::demo::lift_hook_speed;
 use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 use std::time::Instant;
 
@@ -53,7 +54,7 @@ fn main() -> Result<(), String> {
             break;
         }
         let t = scene.sim.time();
-        let v = if (1.0..9.0).contains(&t) { 0.2 } else { 0.0 };
+        let v = lift_hook_speed(t);
         if v != v_last {
             scene.set_hook(0, Vec3::new(0.0, 0.0, v), 0.0)?;
             v_last = v;

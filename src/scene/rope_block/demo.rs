@@ -39,13 +39,15 @@ pub struct DemoSummary {
 /// How long crane B lowers in the turnover demo [s].
 pub const TURNOVER_LOWERING: f64 = 32.0;
 
+/// Vertical hook speed of the lift demo at time `t` [s]: 0.2 m/s from 1 s to 9 s, else 0 [m/s].
+pub fn lift_hook_speed(t: f64) -> f64 {
+    if (1.0..9.0).contains(&t) { 0.2 } else { 0.0 }
+}
+
 /// The hook inputs of a demo at time `t` [s]: (hook, velocity [m/s]) pairs.
 fn schedule(demo: Demo, t: f64) -> Vec<(usize, Vec3)> {
     match demo {
-        Demo::Lift => {
-            let v = if (1.0..9.0).contains(&t) { 0.2 } else { 0.0 };
-            vec![(0, Vec3::new(0.0, 0.0, v))]
-        }
+        Demo::Lift => vec![(0, Vec3::new(0.0, 0.0, lift_hook_speed(t)))],
         Demo::Turnover => {
             let v = if t < TURNOVER_LOWERING { -0.4 } else { 0.0 };
             vec![(1, Vec3::new(0.0, 0.0, v))]
