@@ -30,6 +30,10 @@ use crate::scene::port::{PortType, ValueRef};
 use crate::scene::store::PortStore;
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, check_step};
 use std::panic::{AssertUnwindSafe, catch_unwind};
+
+/// Version of the serialized FMU state (2 adds the friction-slide dissipation; version 1
+/// states are still read, with none booked).
+const STATE_FORMAT: u32 = 2;
 use std::path::{Path, PathBuf};
 
 /// A new RopeBlock instance at default parameters.
@@ -378,7 +382,7 @@ impl CoSimModel for RopeBlockModel {
 
     fn serialize(&self) -> Vec<u8> {
         let mut w = ByteWriter::new();
-        w.header(IDENTIFIER, 1);
+        w.header(IDENTIFIER, STATE_FORMAT);
         self.ports.write(&mut w);
         w.f64(self.time);
         for c in &self.applied {
@@ -396,7 +400,7 @@ impl CoSimModel for RopeBlockModel {
 
     fn deserialize(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
         let mut r = ByteReader::new(bytes);
-        r.header(IDENTIFIER, 1)?;
+        let version = r.header(IDENTIFIER, STATE_FORMAT)?;
         let ports = self.ports.read(&mut r)?;
         let time = r.finite_f64("time")?;
         let mut applied = [[0.0; 4]; MAX_HOOKS];
@@ -415,7 +419,7 @@ impl CoSimModel for RopeBlockModel {
         };
         if r.bool("initialized scene")? {
             let params = restored.params()?;
-            let sim = read_sim(&mut r, &params)?;
+            let sim = read_sim(&mut r, &params, version)?;
             let scene = RopeBlockScene::from_sim(params, sim).map_err(ModelError::BadState)?;
             restored.targets = Self::map_targets(&scene);
             restored.scene = Some(scene);

@@ -85,8 +85,12 @@ pub struct Manager<'a> {
     pub map: &'a BuildMap,
     pub settings: &'a ContactSettings,
     pub counters: &'a mut Counters,
+    /// Energy [J] removed by friction slides along the edges so far (added to).
+    pub slide_dissipation: &'a mut f64,
     pub edits: Vec<Edit>,
     scratch: Vec<usize>,
+    /// Kinetic plus potential energy [J] before this step's first slide.
+    energy_before_slides: Option<f64>,
 }
 
 impl<'a> Manager<'a> {
@@ -96,14 +100,17 @@ impl<'a> Manager<'a> {
         map: &'a BuildMap,
         settings: &'a ContactSettings,
         counters: &'a mut Counters,
+        slide_dissipation: &'a mut f64,
     ) -> Self {
         Manager {
             structure,
             map,
             settings,
             counters,
+            slide_dissipation,
             edits: Vec::new(),
             scratch: Vec::new(),
+            energy_before_slides: None,
         }
     }
 }
@@ -269,6 +276,11 @@ impl Manager<'_> {
                     + stiff(seg.t_next, seg.rest_next, rep.l_next, &rep.e_next);
                 // the spring pushes the node along +F: the rope pulls it the other way
                 let du = -fe.signum() * (fe.abs() - cap) / k.max(1e-300);
+                if self.energy_before_slides.is_none() {
+                    // the system still holds the step's memory and these positions
+                    let (kinetic, potential) = sys.energy(st.t, &st.q, &st.v);
+                    self.energy_before_slides = Some(kinetic + potential);
+                }
                 st.memory[o + 3] += du;
                 let body = self.map.nodes[rep.rope][rep.node];
                 let qo = sys.model.bodies[body.index().unwrap_or(0)].q_offset;
@@ -382,18 +394,25 @@ impl StepHook for Manager<'_> {
         } else {
             self.manage_nodes(sys, st)
         };
+        if changed {
+            sys.memory.copy_from_slice(&st.memory);
+        }
+        if let Some(before) = self.energy_before_slides.take() {
+            // a slide jumps the node (and its anchor) to the friction limit: the energy the
+            // jump removes is what friction (and the skipped slip motion) dissipated
+            let (kinetic, potential) = sys.energy(st.t, &st.q, &st.v);
+            *self.slide_dissipation += before - (kinetic + potential);
+        }
         if self.settings.detect {
             self.detect(sys, st);
         }
         if !self.edits.is_empty() {
             return Ok(StepAction::Stop);
         }
-        if changed {
-            // Slip-state switches happen where the two laws agree (the friction limit) and a node
-            // moves along its edge by micrometres to millimetres per step: the integrator goes on
-            // without a restart (a restart per switch would cost a factorization each).
-            sys.memory.copy_from_slice(&st.memory);
-        }
+        // Slip-state switches happen where the two laws agree (the friction limit) and a node
+        // moves along its edge by micrometres to millimetres per step: the integrator goes on
+        // without a restart (a restart per switch would cost a factorization each); the system
+        // took the changed memory above.
         Ok(StepAction::Continue)
     }
 }

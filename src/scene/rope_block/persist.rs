@@ -35,6 +35,7 @@ pub fn clone_sim(s: &RopeBlockSim) -> RopeBlockSim {
         contact: s.contact,
         counters: s.counters,
         event_energy: s.event_energy,
+        slide_dissipation: s.slide_dissipation,
         max_rebuilds_per_call: s.max_rebuilds_per_call,
         hook_ramp: s.hook_ramp,
     }
@@ -336,14 +337,17 @@ pub fn write_sim(w: &mut ByteWriter, s: &RopeBlockSim) {
         w.u64(n);
     }
     w.f64(s.event_energy);
+    w.f64(s.slide_dissipation);
     w.u64(s.max_rebuilds_per_call);
     w.f64(s.hook_ramp);
 }
 
-/// Reads what [`write_sim`] wrote for a scene with parameters `params`.
+/// Reads what [`write_sim`] wrote for a scene with parameters `params`, in state format
+/// `version` (1 had no slide dissipation).
 pub fn read_sim(
     r: &mut ByteReader<'_>,
     params: &RopeBlockParams,
+    version: u32,
 ) -> Result<RopeBlockSim, ModelError> {
     let design = params.design_mesh().map_err(ModelError::BadState)?;
     let (com, _) = shell_mass_properties(&design, params.block_mass);
@@ -366,6 +370,11 @@ pub fn read_sim(
         *n = r.u64(&format!("contact counter {k}"))?;
     }
     let event_energy = r.f64("event energy")?;
+    let slide_dissipation = if version >= 2 {
+        r.finite_f64("slide dissipation")?
+    } else {
+        0.0
+    };
     let max_rebuilds_per_call = r.u64("rebuild bound")?;
     let hook_ramp = r.finite_f64("hook ramp")?;
     let (model, map) = build(&structure).map_err(ModelError::BadState)?;
@@ -393,6 +402,7 @@ pub fn read_sim(
             rebuilds: c[5],
         },
         event_energy,
+        slide_dissipation,
         max_rebuilds_per_call,
         hook_ramp,
     })

@@ -27,6 +27,9 @@ pub struct RopeBlockSim {
     /// Change of kinetic + potential energy at structural events [J] (inelastic insertion
     /// impulses and node moves; negative is a loss).
     pub event_energy: f64,
+    /// Energy removed by friction slides of contact nodes along their edges [J] (positive is a
+    /// loss); part of the reported dissipated energy.
+    pub slide_dissipation: f64,
     /// Bound on rebuilds within one `advance_to` call.
     pub max_rebuilds_per_call: u64,
     /// Time over which a hook reaches a newly commanded velocity or pay-out rate [s].
@@ -59,6 +62,7 @@ impl RopeBlockSim {
             contact,
             counters: Counters::default(),
             event_energy: 0.0,
+            slide_dissipation: 0.0,
             max_rebuilds_per_call: 100_000,
             hook_ramp: 0.5,
         })
@@ -78,6 +82,7 @@ impl RopeBlockSim {
                 &self.map,
                 &self.contact,
                 &mut self.counters,
+                &mut self.slide_dissipation,
             );
             self.sim.advance_with(t_end, &mut mgr).map_err(|e| e.0)?;
             let edits = std::mem::take(&mut mgr.edits);

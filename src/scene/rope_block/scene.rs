@@ -257,7 +257,7 @@ impl RopeBlockScene {
         out.extend([
             e.kinetic,
             e.potential,
-            e.dissipated,
+            e.dissipated + sim.slide_dissipation,
             e.input,
             sim.event_energy,
         ]);
