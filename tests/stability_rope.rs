@@ -177,3 +177,32 @@ fn slack_to_taut_snap_and_stiff_rope() {
     }
     println!("stopped with a message: {stopped:#?}");
 }
+
+#[test]
+fn axial_damping_from_default_to_extreme() {
+    // Kelvin-Voigt damping of the slings from the default (retardation time 1 ms) to 5e6 N s
+    // (31 ms, node-scale axial modes overdamped about 400-fold): gen-alpha's friction slides
+    // go unstable there in longer hoists (kinetic energy 9 kJ -> 700 kJ in 6 s before the
+    // energy guard; now a stop with a message), BDF's Newton iteration diverges; up to 1e6 N s
+    // both run passively
+    let mut stopped = Vec::new();
+    for damping in [1.6e5, 1e6, 5e6] {
+        for integrator in [1.0, 2.0] {
+            let case = format!("rope_damping {damping:e} N s, integrator {integrator}");
+            let r = lift(
+                &[
+                    ("segments", 20.0),
+                    ("rope_damping", damping),
+                    ("integrator", integrator),
+                ],
+                3.0,
+                hoist,
+            );
+            if let Err(msg) = &r {
+                assert!(damping > 1e6, "{case}: {msg}");
+            }
+            check(&case, r, 1e-3, &mut stopped);
+        }
+    }
+    println!("stopped with a message: {stopped:#?}");
+}

@@ -165,3 +165,30 @@ fn two_thousand_rope_nodes() {
     );
     assert!(r.block_z > 0.0, "block height {}", r.block_z);
 }
+
+#[test]
+fn energy_guard_stops_an_unstable_run() {
+    // slings with 5e6 N s axial damping (31 ms retardation time) hoisted at 0.3 m/s under
+    // gen-alpha: the friction slides of the contact nodes go unstable after about 2.3 s (the
+    // kinetic energy rose from 9 kJ to 700 kJ by 8 s before the guard); the run must stop with
+    // the cause and the parameters to change, not return the growing solution
+    let mut p = RopeBlockParams {
+        segments: 20,
+        ..RopeBlockParams::default()
+    };
+    p.rope.axial_damping = 5e6;
+    let hoist = |t: f64| vec![(0, Vec3::new(0.0, 0.0, if t < 0.5 { 0.0 } else { 0.3 }))];
+    match run(p, 4.0, hoist) {
+        Ok(r) => panic!("the unstable run completed: {r:?}"),
+        Err(msg) => {
+            println!("{msg}");
+            assert!(
+                msg.contains("numerical instability")
+                    && msg.contains("energy balance grew")
+                    && msg.contains("rope_damping")
+                    && msg.contains("bdf"),
+                "{msg}"
+            );
+        }
+    }
+}

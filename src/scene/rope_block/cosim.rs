@@ -31,8 +31,9 @@ use crate::scene::store::PortStore;
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, check_step};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-/// Version of the serialized FMU state (2 adds the friction-slide dissipation; version 1
-/// states are still read, with none booked).
+/// Version of the serialized FMU state (2 adds the friction-slide dissipation and the energy
+/// guard's reference; version 1 states are still read, with none booked and the guard's
+/// reference taken anew).
 const STATE_FORMAT: u32 = 2;
 use std::path::{Path, PathBuf};
 

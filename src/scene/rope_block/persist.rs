@@ -36,6 +36,7 @@ pub fn clone_sim(s: &RopeBlockSim) -> RopeBlockSim {
         counters: s.counters,
         event_energy: s.event_energy,
         slide_dissipation: s.slide_dissipation,
+        energy_reference: s.energy_reference,
         max_rebuilds_per_call: s.max_rebuilds_per_call,
         hook_ramp: s.hook_ramp,
     }
@@ -338,6 +339,7 @@ pub fn write_sim(w: &mut ByteWriter, s: &RopeBlockSim) {
     }
     w.f64(s.event_energy);
     w.f64(s.slide_dissipation);
+    w.f64(s.energy_reference.unwrap_or(f64::NAN));
     w.u64(s.max_rebuilds_per_call);
     w.f64(s.hook_ramp);
 }
@@ -370,10 +372,12 @@ pub fn read_sim(
         *n = r.u64(&format!("contact counter {k}"))?;
     }
     let event_energy = r.f64("event energy")?;
-    let slide_dissipation = if version >= 2 {
-        r.finite_f64("slide dissipation")?
+    let (slide_dissipation, energy_reference) = if version >= 2 {
+        let slides = r.finite_f64("slide dissipation")?;
+        let reference = r.f64("energy reference")?;
+        (slides, reference.is_finite().then_some(reference))
     } else {
-        0.0
+        (0.0, None)
     };
     let max_rebuilds_per_call = r.u64("rebuild bound")?;
     let hook_ramp = r.finite_f64("hook ramp")?;
@@ -403,6 +407,7 @@ pub fn read_sim(
         },
         event_energy,
         slide_dissipation,
+        energy_reference,
         max_rebuilds_per_call,
         hook_ramp,
     })

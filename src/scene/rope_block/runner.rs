@@ -14,6 +14,11 @@ use crate::sim::Simulation;
 use crate::state::State;
 use std::sync::Arc;
 
+/// Largest growth of the energy balance a run may show, as a share of the weight of all
+/// bodies times 1 m (plus that share of the energy moved in and out), before it is stopped as
+/// unstable. Stable runs stay below 1e-3 of it (tests/stability_rope.rs).
+pub const ENERGY_GROWTH_LIMIT: f64 = 1e-2;
+
 /// A rope-and-block simulation.
 #[derive(Debug)]
 pub struct RopeBlockSim {
@@ -30,6 +35,9 @@ pub struct RopeBlockSim {
     /// Energy removed by friction slides of contact nodes along their edges [J] (positive is a
     /// loss); part of the reported dissipated energy.
     pub slide_dissipation: f64,
+    /// Energy balance (kinetic + potential + dissipated - input - events) [J] when the run
+    /// started (`None` before the first advance); see [`RopeBlockSim::check_energy`].
+    pub energy_reference: Option<f64>,
     /// Bound on rebuilds within one `advance_to` call.
     pub max_rebuilds_per_call: u64,
     /// Time over which a hook reaches a newly commanded velocity or pay-out rate [s].
@@ -63,6 +71,7 @@ impl RopeBlockSim {
             counters: Counters::default(),
             event_energy: 0.0,
             slide_dissipation: 0.0,
+            energy_reference: None,
             max_rebuilds_per_call: 100_000,
             hook_ramp: 0.5,
         })
@@ -73,8 +82,59 @@ impl RopeBlockSim {
         self.sim.state.t
     }
 
-    /// Advances to `t_end` [s], managing contact nodes after every step.
+    /// Energy balance [J]: kinetic + potential + dissipated (friction slides included) - work
+    /// of the hooks - change at structural events. Constant for an exact solution; the
+    /// integrators' own numerical damping only lowers it.
+    pub fn energy_balance(&mut self) -> f64 {
+        let e = self.sim.energy();
+        e.kinetic + e.potential + e.dissipated + self.slide_dissipation
+            - e.input
+            - self.event_energy
+    }
+
+    /// The passivity guard: the scene has no energy source but the hooks, so a balance grown by
+    /// more than [`ENERGY_GROWTH_LIMIT`] of the weight of everything times 1 m (plus that share
+    /// of the energy that flowed in and out) is an unstable integration; it stops the run with
+    /// a message naming what to change instead of returning garbage.
+    pub fn check_energy(&mut self) -> Result<(), String> {
+        let b = self.energy_balance();
+        let Some(b0) = self.energy_reference else {
+            self.energy_reference = Some(b);
+            return Ok(());
+        };
+        let e = self.sim.energy();
+        let mass: f64 = self
+            .sim
+            .system
+            .model
+            .bodies
+            .iter()
+            .map(|b| b.kind.mass())
+            .sum();
+        let scale =
+            mass * 9.81 * 1.0 + e.input.abs() + e.dissipated.abs() + self.slide_dissipation.abs();
+        let growth = b - b0;
+        if growth > ENERGY_GROWTH_LIMIT * scale || !b.is_finite() {
+            return Err(format!(
+                "numerical instability at t = {:.4} s: the energy balance grew by {growth:.4e} J ({:.2} % of the weight of the rigging and block times 1 m) although the scene has no energy source but the hooks; use integrator = bdf, a smaller rtol or h_max, or lower rope_damping / mu",
+                self.time(),
+                100.0 * growth / (mass * 9.81)
+            ));
+        }
+        Ok(())
+    }
+
+    /// Advances to `t_end` [s], managing contact nodes after every step; checks the energy
+    /// balance at the end ([`RopeBlockSim::check_energy`]).
     pub fn advance_to(&mut self, t_end: f64) -> Result<(), String> {
+        if self.energy_reference.is_none() {
+            self.check_energy()?;
+        }
+        self.advance_contacts(t_end)?;
+        self.check_energy()
+    }
+
+    fn advance_contacts(&mut self, t_end: f64) -> Result<(), String> {
         let mut rebuilds = 0;
         loop {
             let mut mgr = Manager::new(
