@@ -1,5 +1,6 @@
 //! Cost per step of one straight sling with N segments (bench_rope part b), for profiling:
-//! `cargo run --release --example nodes_once -- [segments] [seconds]`.
+//! `cargo run --release --example nodes_once -- [segments] [seconds] [rtol]` (default rtol: the
+//! scene's).
 use mbcosim::math::Vec3;
 use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 use std::time::Instant;
@@ -8,7 +9,10 @@ fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let seg: usize = args.first().and_then(|s| s.parse().ok()).unwrap_or(5000);
     let dur: f64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(0.5);
-    let p = RopeBlockParams::single_sling(seg);
+    let mut p = RopeBlockParams::single_sling(seg);
+    if let Some(rtol) = args.get(2).and_then(|s| s.parse().ok()) {
+        p.rtol = rtol;
+    }
     let t0 = Instant::now();
     let mut scene = RopeBlockScene::new(p)?;
     let setup = t0.elapsed().as_secs_f64();

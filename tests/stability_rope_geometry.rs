@@ -169,7 +169,7 @@ fn two_thousand_rope_nodes() {
 #[test]
 fn energy_guard_stops_an_unstable_run() {
     // slings with 5e6 N s axial damping (31 ms retardation time) hoisted at 0.3 m/s under
-    // gen-alpha: the friction slides of the contact nodes go unstable after about 2.3 s (the
+    // gen-alpha: the friction slides of the contact nodes go unstable after about 1.3 s (the
     // kinetic energy rose from 9 kJ to 700 kJ by 8 s before the guard); the run must stop with
     // the cause and the parameters to change, not return the growing solution
     let mut p = RopeBlockParams {

@@ -341,8 +341,16 @@ impl Integrator for GenAlpha {
             let remaining = t_end - st.t;
             let h = if natural >= remaining - time_eps(t_end) {
                 remaining
-            } else if adaptive && natural > 0.5 * remaining {
-                0.5 * remaining
+            } else if adaptive && !self.s.equal_steps {
+                if natural > 0.5 * remaining {
+                    0.5 * remaining
+                } else {
+                    natural
+                }
+            } else if adaptive {
+                // equal steps to the end of the call: the same step size (and Newton matrix)
+                // for all of them, and for the next call when its length is the same
+                remaining / (remaining / natural).ceil()
             } else {
                 natural
             };
@@ -365,8 +373,16 @@ impl Integrator for GenAlpha {
                             } else {
                                 3.0
                             };
-                            if h == natural || fac < 1.0 {
-                                self.h = h * fac;
+                            // grow only by more than 20 % (a new step size costs a new
+                            // Newton matrix); shrink whenever the error asks for it
+                            let proposed = h * fac;
+                            let grow = if self.s.equal_steps {
+                                proposed > 1.2 * natural
+                            } else {
+                                h == natural
+                            };
+                            if fac < 1.0 || grow {
+                                self.h = proposed;
                             }
                         }
                     }

@@ -63,6 +63,12 @@ pub struct Settings {
     pub max_order: usize,
     /// Bound on the number of steps in one `advance_to` call.
     pub max_steps: u64,
+    /// Gen-alpha, adaptive: split each `advance_to` interval into equal steps and grow the step
+    /// only by more than 20 %, so that one Newton matrix serves many steps (each new step size
+    /// costs a factorization). Off by default: on contact impacts the changed step placement
+    /// moved gen-alpha's energy errors past the stability suite's bounds; RopeBlock turns it on
+    /// (long slings: factorizations per step 0.76 -> 0.32 at 5000 segments).
+    pub equal_steps: bool,
 }
 
 impl Default for Settings {
@@ -76,6 +82,7 @@ impl Default for Settings {
             rho_inf: 0.8,
             max_order: 5,
             max_steps: 200_000,
+            equal_steps: false,
         }
     }
 }

@@ -145,6 +145,10 @@ pub struct Body {
     pub q_offset: usize,
     /// Offset of the body's first generalized speed in `v`.
     pub v_offset: usize,
+    /// Characteristic length [m] of the body's translations: the relative part of the position
+    /// error weights is `rtol * length_scale` (translation-invariant); `None`: `rtol * |r|`, the
+    /// distance from the world origin (see [`crate::model::Model::position_scale`]).
+    pub length_scale: Option<f64>,
 }
 
 /// Initial pose and velocity of a body.

@@ -31,6 +31,20 @@ pub struct ModelBuilder {
     inputs: Vec<String>,
     /// Node frames used by force effects, in order of first use (see [`ModelBuilder::node_body`]).
     node_bodies: Vec<NodeBody>,
+    /// Characteristic lengths [m] set per body (index = body index; `None`: the model's).
+    length_scales: Vec<Option<f64>>,
+    /// The model's characteristic length [m] (`None`: distances from the origin).
+    length_scale: Option<f64>,
+}
+
+fn check_length(what: &str, l: f64) -> Result<(), String> {
+    if l.is_finite() && l > 0.0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "{what}: characteristic length must be finite and positive, got {l} m"
+        ))
+    }
 }
 
 fn finite3(v: &Vec3) -> bool {
@@ -95,6 +109,7 @@ impl ModelBuilder {
         self.bodies
             .push((name.to_string(), BodyKind::Rigid { mass, inertia }, init));
         self.modal_init.push((Vec::new(), Vec::new()));
+        self.length_scales.push(None);
         Ok(BodyId(self.bodies.len() - 1))
     }
 
@@ -116,6 +131,7 @@ impl ModelBuilder {
         self.bodies
             .push((name.to_string(), BodyKind::Particle { mass }, init));
         self.modal_init.push((Vec::new(), Vec::new()));
+        self.length_scales.push(None);
         Ok(BodyId(self.bodies.len() - 1))
     }
 
@@ -148,7 +164,30 @@ impl ModelBuilder {
         self.bodies
             .push((name.to_string(), BodyKind::Modal { data }, init));
         self.modal_init.push((a0.to_vec(), a_dot0.to_vec()));
+        self.length_scales.push(None);
         Ok(BodyId(self.bodies.len() - 1))
+    }
+
+    /// Sets the model's characteristic length [m]: the scale of the relative position error
+    /// weights (`rtol * length`) of every body without a length of its own. Without one, a
+    /// body's weights scale with its distance from the world origin (see
+    /// [`Model::position_scale`]).
+    pub fn set_length_scale(&mut self, length: f64) -> Result<(), String> {
+        check_length("model", length)?;
+        self.length_scale = Some(length);
+        Ok(())
+    }
+
+    /// Sets one body's characteristic length [m] (see [`ModelBuilder::set_length_scale`]), e.g.
+    /// the segment length for a rope node.
+    pub fn set_body_length_scale(&mut self, body: BodyId, length: f64) -> Result<(), String> {
+        let i = body
+            .index()
+            .filter(|&i| i < self.bodies.len())
+            .ok_or_else(|| "characteristic length for an unknown body".to_string())?;
+        check_length(&format!("body '{}'", self.bodies[i].0), length)?;
+        self.length_scales[i] = Some(length);
+        Ok(())
     }
 
     /// Declares a model input (a controller signal) and returns its index for [`Profile::Input`].
@@ -404,12 +443,13 @@ impl ModelBuilder {
     pub fn build(self) -> Result<Model, String> {
         let mut bodies = Vec::with_capacity(self.bodies.len());
         let (mut n_q, mut n_v) = (0, 0);
-        for (name, kind, _) in &self.bodies {
+        for ((name, kind, _), l) in self.bodies.iter().zip(&self.length_scales) {
             bodies.push(Body {
                 name: name.clone(),
                 kind: kind.clone(),
                 q_offset: n_q,
                 v_offset: n_v,
+                length_scale: l.or(self.length_scale),
             });
             n_q += kind.n_q();
             n_v += kind.n_v();

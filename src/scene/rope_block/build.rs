@@ -91,6 +91,9 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
                 n.position,
                 n.velocity,
             )?;
+            // accuracy at the scale of the rope's resolution: a loaded segment's whole stretch
+            // is a fraction of a percent of its length
+            b.set_body_length_scale(id, rope.nominal_segment)?;
             ids.push(id);
             let contact = match n.contact {
                 Some(c) => {
@@ -175,6 +178,17 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
             torque_direction: Vec3::zeros(),
             torque: Profile::constant(0.0),
         })?;
+    }
+    // blocks and loads: the shortest nominal segment, since their positions set the stretch of
+    // the end segments
+    if let Some(l) = s
+        .ropes
+        .iter()
+        .map(|r| r.nominal_segment)
+        .filter(|l| l.is_finite() && *l > 0.0)
+        .reduce(f64::min)
+    {
+        b.set_length_scale(l)?;
     }
     let rope = Arc::new(RopeEffect::new(&layouts, &s.hooks)?);
     b.add_force_effect(rope.clone());

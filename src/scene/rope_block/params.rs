@@ -118,9 +118,10 @@ impl Default for RopeBlockParams {
             contact: true,
             settle: true,
             integrator: IntegratorKind::GenAlpha,
-            // 2 steps per 0.05 s communication step, peak sling tension of the lift demo to
-            // 0.25 % (docs/rope_speed_bench.md)
-            rtol: 3e-5,
+            // with the translation-invariant error weights (rope nodes on their segment length):
+            // peak sling tension of the lift demo to 0.02 %; gen-alpha completes the lift from
+            // 1e-4 to 1e-3 (docs/rope_speed_bench.md)
+            rtol: 3e-4,
             atol: 1e-6,
             h_max: 0.05,
             contact_outputs: 8,

@@ -154,7 +154,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
     rp(
         "rtol",
         None,
-        3e-5,
+        3e-4,
         1e-10,
         0.1,
         "Relative error tolerance of the integrator.",

@@ -99,6 +99,8 @@ pub fn solver_settings(params: &RopeBlockParams) -> (Settings, ContactSettings) 
         // allow, so the error control throttles them to sub-millisecond steps (or they blow up).
         // BDF2 is A-stable: the lift runs in about 5,500 steps instead of not finishing.
         max_order: BDF_MAX_ORDER,
+        // equal steps per communication step, one Newton matrix for many of them (long slings)
+        equal_steps: true,
         ..Settings::default()
     };
     let contact = ContactSettings {
