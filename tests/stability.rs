@@ -111,10 +111,10 @@ fn isolated_impacts_over_stiffness_exponent_restitution_speed_and_integrator() {
                             Ok((v_out, peak_ke)) => {
                                 let ke0 = 0.5 * speed * speed;
                                 // passive: never more energy than brought in, up to the
-                                // tolerance (gen-alpha controls its speed error on unconstrained
-                                // bodies and measures below 1e-5 here)
+                                // tolerance (gen-alpha rejects steps that gain energy and
+                                // measures 2e-5 at most here)
                                 let allowed = if kind == IntegratorKind::GenAlpha {
-                                    5e-5
+                                    1e-4
                                 } else {
                                     1e-3
                                 };

@@ -123,21 +123,6 @@ impl System {
         }
     }
 
-    /// Marks in `out` (length `n_v`) the speed columns of every body that one of the last
-    /// evaluated rows acts on: all of the body's columns, as its mass matrix couples them.
-    pub fn mark_constrained_columns(&self, out: &mut [bool]) {
-        out.fill(false);
-        for r in 0..self.rows.len() {
-            self.for_row(r, |c, _| out[c] = true);
-        }
-        for b in &self.model.bodies {
-            let cols = b.v_offset..b.v_offset + b.kind.n_v();
-            if out[cols.clone()].iter().any(|x| *x) {
-                out[cols].fill(true);
-            }
-        }
-    }
-
     /// `out += G^T y` for the last evaluated rows.
     pub fn gt_mul_add(&self, y: &[f64], out: &mut [f64]) {
         for (r, &yr) in y.iter().enumerate().take(self.rows.len()) {
