@@ -42,6 +42,8 @@ pub struct GenAlpha {
     e_prev: Option<(f64, f64)>,
     /// Dissipated and input power at the end of the step just tried [W] (adaptive mode).
     p_tried: Option<(f64, f64)>,
+    /// Energy gained by the step just tried, relative to its tolerance (adaptive mode).
+    gain_ratio: f64,
     lin: LinearSolver,
     jac_h: f64,
     jac_valid: bool,
@@ -97,6 +99,7 @@ impl GenAlpha {
             p_prev: (0.0, 0.0),
             e_prev: None,
             p_tried: None,
+            gain_ratio: 0.0,
             lin: LinearSolver::new(),
             jac_h: 0.0,
             jac_valid: false,
@@ -260,7 +263,8 @@ impl GenAlpha {
                     for i in 0..nv {
                         self.tmp[i] = c * h * h * (self.a1[i] - self.a[i]);
                     }
-                    err = wrms(&self.tmp, &self.wx).max(self.energy_gain(sys, st, h));
+                    err = wrms(&self.tmp, &self.wx);
+                    self.gain_ratio = self.energy_gain(sys, st, h);
                 }
                 return StepOutcome::Converged(err);
             }
@@ -280,10 +284,12 @@ impl GenAlpha {
     /// errors of 1e-2 in the penetration, and an impact then returns up to several percent more
     /// energy than it took (an elastic 0.01 m/s impact with exponent 0.9 gained 6 %).
     ///
-    /// The tolerance is `10 rtol` times the energy in play (kinetic and potential energy, work
-    /// and dissipation of the step): local errors of `rtol` in positions and speeds move the
-    /// energy by a few `rtol`, and the factor keeps the check off steps the position control
-    /// serves (the PanelLock runs take the same steps, up to 1 % fewer at rtol 1e-7). The
+    /// The tolerance is `100 rtol` times the energy in play (kinetic and potential energy, work
+    /// and dissipation of the step): the discrete energy of a second-order scheme fluctuates
+    /// by more than `rtol` from step to step, and a tighter check (`10 rtol` was tried) keeps
+    /// rejecting steps at tight tolerances (rtol 1e-11: 3.7 rejections per step, and a worse
+    /// result from the step-size changes). With `100 rtol` the PanelLock runs take the same
+    /// steps as without the check, and impacts at rtol 1e-6 gain at most 1.6e-4. The
     /// potential energy counts with its magnitude, zero level included: a scene with a large
     /// gravity potential (a lifted block) is checked loosely. Only growth rejects a step; the
     /// scheme's numerical damping (energy lost) never does. Speeds are not error-controlled
@@ -317,7 +323,7 @@ impl GenAlpha {
         let in_play = k0.max(k1) + u0.abs().max(u1.abs()) + dissipated.abs() + input.abs();
         // round-off of the energy sums
         let floor = 1e3 * f64::EPSILON * (k0 + k1 + u0.abs() + u1.abs());
-        let tol = 10.0 * self.s.rtol * in_play + floor;
+        let tol = 100.0 * self.s.rtol * in_play + floor;
         if tol > 0.0 { gain / tol } else { 0.0 }
     }
 
@@ -415,9 +421,13 @@ impl Integrator for GenAlpha {
             };
             match self.try_step(sys, st, h) {
                 StepOutcome::Converged(err) => {
-                    if adaptive && err > 1.0 {
+                    // a step that gains energy beyond the tolerance is rejected like one with too
+                    // large an error; the next step is proposed from the position error alone,
+                    // so runs the energy check never rejects take the same steps as without it
+                    let reject = err.max(self.gain_ratio);
+                    if adaptive && reject > 1.0 {
                         self.stats.rejected += 1;
-                        self.h = h * (0.9 * err.powf(-1.0 / 3.0)).clamp(0.1, 0.9);
+                        self.h = h * (0.9 * reject.powf(-1.0 / 3.0)).clamp(0.1, 0.9);
                     } else {
                         self.accept(sys, st, h);
                         refreshed = false;
