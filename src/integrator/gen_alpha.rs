@@ -291,7 +291,9 @@ impl GenAlpha {
     /// result from the step-size changes). With `100 rtol` the PanelLock runs take the same
     /// steps as without the check, and impacts at rtol 1e-6 gain at most 1.6e-4. The
     /// potential energy counts with its magnitude, zero level included: a scene with a large
-    /// gravity potential (a lifted block) is checked loosely. Only growth rejects a step; the
+    /// gravity potential (a lifted block) is checked loosely. Only passive steps (no work put
+    /// in) that exchange potential energy are checked (see the code for why). If the steps keep
+    /// gaining however small, the run stops with a message. Only growth rejects a step; the
     /// scheme's numerical damping (energy lost) never does. Speeds are not error-controlled
     /// themselves: on the index-3 form their estimate is polluted by the multipliers' transient
     /// on constrained bodies, and on free stiff structures (rope nodes) it would resolve the
@@ -300,7 +302,7 @@ impl GenAlpha {
         let (k0, u0) = match self.e_prev {
             Some(e) => e,
             None => {
-                let e = sys.energy(st.t, &st.q, &st.v);
+                let e = sys.energy_with(st.t, &st.q, &st.v, &mut self.tmp);
                 self.e_prev = Some(e);
                 e
             }
@@ -312,11 +314,18 @@ impl GenAlpha {
             .zip(&self.lam)
             .map(|(r, l)| l * r.phi_t)
             .sum();
-        let (k1, u1) = sys.energy(t1, &self.q1, &self.v1);
+        let (k1, u1) = sys.energy_with(t1, &self.q1, &self.v1, &mut self.tmp);
         let (pd, pi) = sys.powers(t1, &self.q1, &self.v1);
         let pi = pi + drive;
         self.p_tried = Some((pd, pi));
         let (pd0, pi0) = self.p_prev;
+        if pi0 != 0.0 || pi != 0.0 || u1 == u0 {
+            // work put in (a driven joint, a motor): not a passive step, and the trapezoidal
+            // input work (with index-3 multipliers in it) is no reference to check against;
+            // no potential energy exchanged (a free body): nothing for the check to add to the
+            // position control
+            return 0.0;
+        }
         let dissipated = 0.5 * h * (pd0 + pd);
         let input = 0.5 * h * (pi0 + pi);
         let gain = (k1 + u1) - (k0 + u0) + dissipated - input;
@@ -428,6 +437,12 @@ impl Integrator for GenAlpha {
                     if adaptive && reject > 1.0 {
                         self.stats.rejected += 1;
                         self.h = h * (0.9 * reject.powf(-1.0 / 3.0)).clamp(0.1, 0.9);
+                        if self.gain_ratio > 1.0 && self.h < 1e-14 * st.t.abs().max(1.0) {
+                            return Err(SolverError(format!(
+                                "step size fell below {:.1e} s at t = {:.9e} s: the steps keep gaining energy ({:.2e} of the allowed 100 rtol of the energy in play) however small; a force whose potential energy disagrees with it, or a contact stiffer than the solver can resolve: check the force and contact parameters (stiffness, damping) or loosen rtol",
+                                self.h, st.t, self.gain_ratio
+                            )));
+                        }
                     } else {
                         self.accept(sys, st, h);
                         refreshed = false;
