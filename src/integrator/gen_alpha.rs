@@ -299,6 +299,22 @@ impl GenAlpha {
     /// on constrained bodies, and on free stiff structures (rope nodes) it would resolve the
     /// high frequencies the scheme is meant to damp (the RopeBlock lift took 19x the steps).
     fn energy_gain(&mut self, sys: &mut System, st: &State, h: f64) -> f64 {
+        let t1 = st.t + h;
+        let drive: f64 = sys
+            .rows
+            .iter()
+            .zip(&self.lam)
+            .map(|(r, l)| l * r.phi_t)
+            .sum();
+        let (pd, pi) = sys.powers(t1, &self.q1, &self.v1);
+        let pi = pi + drive;
+        self.p_tried = Some((pd, pi));
+        let (pd0, pi0) = self.p_prev;
+        if pi0 != 0.0 || pi != 0.0 {
+            // work put in (a driven joint, a motor): not a passive step, and the trapezoidal
+            // input work (with index-3 multipliers in it) is no reference to check against
+            return 0.0;
+        }
         let (k0, u0) = match self.e_prev {
             Some(e) => e,
             None => {
@@ -307,21 +323,8 @@ impl GenAlpha {
                 e
             }
         };
-        let t1 = st.t + h;
-        let drive: f64 = sys
-            .rows
-            .iter()
-            .zip(&self.lam)
-            .map(|(r, l)| l * r.phi_t)
-            .sum();
         let (k1, u1) = sys.energy_with(t1, &self.q1, &self.v1, &mut self.tmp);
-        let (pd, pi) = sys.powers(t1, &self.q1, &self.v1);
-        let pi = pi + drive;
-        self.p_tried = Some((pd, pi));
-        let (pd0, pi0) = self.p_prev;
-        if pi0 != 0.0 || pi != 0.0 || u1 == u0 {
-            // work put in (a driven joint, a motor): not a passive step, and the trapezoidal
-            // input work (with index-3 multipliers in it) is no reference to check against;
+        if u1 == u0 {
             // no potential energy exchanged (a free body): nothing for the check to add to the
             // position control
             return 0.0;
