@@ -93,9 +93,11 @@ fn bounce(law: ContactLaw, speed: f64, kind: IntegratorKind) -> Result<(f64, f64
 #[test]
 fn isolated_impacts_over_stiffness_exponent_restitution_speed_and_integrator() {
     let mut tally = Tally::default();
-    let mut worst = [f64::NEG_INFINITY; 3];
+    const EXPONENTS: [f64; 3] = [0.9, 1.5, 2.0];
+    // largest kinetic energy gain per integrator and exponent
+    let mut worst = [[f64::NEG_INFINITY; 3]; 3];
     for k in [1e5, 1e6, 1e7, 1e8, 1e9, 1e10] {
-        for n in [0.9, 1.5, 2.0] {
+        for (ni, n) in EXPONENTS.into_iter().enumerate() {
             for e in [0.2, 0.5, 1.0] {
                 let law = if e == 1.0 {
                     ContactLaw::hertz(k, n).unwrap()
@@ -108,20 +110,16 @@ fn isolated_impacts_over_stiffness_exponent_restitution_speed_and_integrator() {
                         match bounce(law, speed, kind) {
                             Ok((v_out, peak_ke)) => {
                                 let ke0 = 0.5 * speed * speed;
-                                // passive: never more energy than brought in
-                                // known limit (README envelope): gen-alpha misses part of the
-                                // onset of n < 1 laws (infinite stiffness at first touch) in
-                                // slow impacts much shorter than its step and gains up to ~6 %
-                                // there; the others hold 1e-3
-                                let allowed = if kind == IntegratorKind::GenAlpha && n < 1.0 {
-                                    1e-1
-                                } else if kind == IntegratorKind::GenAlpha {
-                                    1e-2
+                                // passive: never more energy than brought in, up to the
+                                // tolerance (gen-alpha rejects steps that gain energy and
+                                // measures 1.6e-4 at most here)
+                                let allowed = if kind == IntegratorKind::GenAlpha {
+                                    5e-4
                                 } else {
                                     1e-3
                                 };
-                                worst[kind as usize] =
-                                    worst[kind as usize].max(peak_ke / ke0 - 1.0);
+                                let w = &mut worst[kind as usize][ni];
+                                *w = w.max(peak_ke / ke0 - 1.0);
                                 assert!(
                                     peak_ke <= ke0 * (1.0 + allowed),
                                     "{case}: kinetic energy grew to {peak_ke} from {ke0}"
@@ -146,10 +144,17 @@ fn isolated_impacts_over_stiffness_exponent_restitution_speed_and_integrator() {
     }
     tally.print("isolated impacts (6 stiffnesses x 3 exponents x 3 restitutions x 3 speeds x 3 integrators)");
     for kind in KINDS {
+        let w = worst[kind as usize];
         println!(
-            "{}: largest kinetic energy gain {:.1e} of the impact energy",
+            "{}: largest kinetic energy gain {:.1e} of the impact energy (n {}: {:.1e}, n {}: {:.1e}, n {}: {:.1e})",
             kind.name(),
-            worst[kind as usize]
+            w.iter().fold(f64::NEG_INFINITY, |a, b| a.max(*b)),
+            EXPONENTS[0],
+            w[0],
+            EXPONENTS[1],
+            w[1],
+            EXPONENTS[2],
+            w[2]
         );
     }
     assert!(tally.ok >= 400, "too few completed runs: {}", tally.ok);

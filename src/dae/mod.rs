@@ -452,10 +452,15 @@ impl System {
 
     /// Kinetic and potential energy [J] at `(q, v, t)`.
     pub fn energy(&mut self, t: f64, q: &[f64], v: &[f64]) -> (f64, f64) {
-        self.update_kinematics(q, v);
         let mut mv = vec![0.0; v.len()];
-        self.mass_mul(v, &mut mv);
-        let kinetic = 0.5 * v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>();
+        self.energy_with(t, q, v, &mut mv)
+    }
+
+    /// [`System::energy`] with caller-provided scratch `mv` (length `n_v`): no allocation.
+    pub fn energy_with(&mut self, t: f64, q: &[f64], v: &[f64], mv: &mut [f64]) -> (f64, f64) {
+        self.update_kinematics(q, v);
+        self.mass_mul(v, mv);
+        let kinetic = 0.5 * v.iter().zip(mv.iter()).map(|(a, b)| a * b).sum::<f64>();
         let potential = self
             .model
             .forces
