@@ -16,8 +16,11 @@ use std::sync::Arc;
 
 /// Largest growth of the energy balance a run may show, as a share of the weight of all
 /// bodies times 1 m (plus that share of the energy moved in and out), before it is stopped as
-/// unstable. Stable runs stay below 1e-3 of it (tests/stability_rope.rs).
-pub const ENERGY_GROWTH_LIMIT: f64 = 1e-2;
+/// unstable. The lift cases of tests/stability_rope.rs stay below 1e-4 of it; the turn-over
+/// (hooks lowering the block by 8 MJ of work) drifts by up to 0.7 % of that work at tight
+/// tolerances (rtol 1e-5: 57 kJ), which a 1 % limit stopped at rtol 3e-5; the unstable runs it
+/// exists for grow by orders of magnitude more (4.8 MJ in the earlier turn-over's swing).
+pub const ENERGY_GROWTH_LIMIT: f64 = 5e-2;
 
 /// A rope-and-block simulation.
 #[derive(Debug)]
