@@ -62,6 +62,12 @@ pub struct System {
     memory_offsets: Vec<usize>,
     /// Current effect memory (copied from the state before each evaluation).
     pub memory: Vec<f64>,
+    /// Decisions of each force effect frozen within a Newton iteration (see
+    /// [`System::freeze_decisions`]); seen by the effects only while `frozen_on`.
+    frozen: Vec<Vec<f64>>,
+    frozen_on: bool,
+    /// Scratch for the next frozen decisions (the effects see the current ones when deciding).
+    frozen_next: Vec<Vec<f64>>,
     /// Floating-frame terms of the modal bodies, at the last kinematics update.
     modal: Vec<ModalTerms>,
     /// Node bodies (frames on modal-body nodes where force effects act), same order as
@@ -107,6 +113,9 @@ impl System {
         let mut sys = System {
             memory_offsets,
             memory: vec![0.0; n_mem],
+            frozen: vec![Vec::new(); model.forces.len()],
+            frozen_on: false,
+            frozen_next: vec![Vec::new(); model.forces.len()],
             inputs: vec![0.0; model.n_inputs()],
             row_bodies,
             row_nodes,
@@ -259,7 +268,51 @@ impl System {
             kins: &self.kins,
             inputs: &self.inputs,
             memory: m,
+            frozen: if self.frozen_on { &self.frozen[i] } else { &[] },
         }
+    }
+
+    /// Freezes the discrete decisions the force effects take inside an evaluation at `(t, q, v)`
+    /// (rope slip modes, see [`crate::effect::ForceEffect::freeze`]): later evaluations use them
+    /// until [`System::thaw`]. For a step's Newton iteration, which then solves one smooth
+    /// branch. Called while frozen, the effects see the decisions they replace.
+    pub fn freeze_decisions(&mut self, t: f64, q: &[f64], v: &[f64]) {
+        self.update_kinematics(q, v);
+        for i in 0..self.model.forces.len() {
+            let mut out = std::mem::take(&mut self.frozen_next[i]);
+            out.clear();
+            self.model.forces[i].freeze(&self.ctx(t, i), &mut out);
+            self.frozen_next[i] = std::mem::replace(&mut self.frozen[i], out);
+        }
+        self.frozen_on = true;
+    }
+
+    /// Ends [`System::freeze_decisions`]: the effects decide at every evaluation again.
+    pub fn thaw(&mut self) {
+        self.frozen_on = false;
+    }
+
+    /// Whether decisions are frozen.
+    pub fn is_frozen(&self) -> bool {
+        self.frozen_on
+    }
+
+    /// Whether the frozen decisions are the ones the effects take themselves at `(t, q, v)`
+    /// to the position tolerance `rtol`, `atol` (true when nothing is frozen).
+    pub fn frozen_consistent(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        rtol: f64,
+        atol: f64,
+    ) -> bool {
+        if !self.frozen_on {
+            return true;
+        }
+        self.update_kinematics(q, v);
+        (0..self.model.forces.len())
+            .all(|i| self.model.forces[i].frozen_consistent(&self.ctx(t, i), rtol, atol))
     }
 
     /// Range of the memory of the first force effect called `name` in the state's memory.

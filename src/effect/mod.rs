@@ -32,6 +32,9 @@ pub struct EvalCtx<'a> {
     pub inputs: &'a [f64],
     /// This effect's own discrete memory (see [`ForceEffect::n_memory`]).
     pub memory: &'a [f64],
+    /// Decisions frozen for the rest of a Newton iteration (see [`ForceEffect::freeze`]); empty
+    /// outside a frozen iteration, and then the effect decides everything itself.
+    pub frozen: &'a [f64],
 }
 
 /// How an effect's memory changed after an accepted step.
@@ -94,5 +97,20 @@ pub trait ForceEffect: Send + Sync + std::fmt::Debug {
     /// Updates the memory after an accepted step (the context's `memory` holds the old values).
     fn update_memory(&self, _ctx: &EvalCtx, _memory: &mut [f64]) -> MemoryChange {
         MemoryChange::None
+    }
+
+    /// Writes into `out` (cleared by the caller) the discrete decisions the effect takes inside
+    /// an evaluation at `ctx` (slip modes of rope contact nodes), for an integrator to hold
+    /// within a step's Newton iteration: evaluated with them as `ctx.frozen`, the forces are the
+    /// smooth branch through `ctx`, and Newton cannot cycle between branches. Nothing written:
+    /// the effect has no such decisions. A non-empty `ctx.frozen` holds the decisions being
+    /// replaced (they failed [`ForceEffect::frozen_consistent`] at `ctx`).
+    fn freeze(&self, _ctx: &EvalCtx, _out: &mut Vec<f64>) {}
+
+    /// Whether the decisions `ctx.frozen` are the ones the effect takes itself at `ctx` (checked
+    /// on a converged Newton iterate: if not, the iteration continues with them re-decided), to
+    /// the integrator's position tolerance `atol + rtol * scale` (the effect knows its scales).
+    fn frozen_consistent(&self, _ctx: &EvalCtx, _rtol: f64, _atol: f64) -> bool {
+        true
     }
 }

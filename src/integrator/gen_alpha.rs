@@ -66,6 +66,13 @@ pub struct GenAlpha {
     tmp: Vec<f64>,
 }
 
+/// Newton iterate (0: the predictor) at which the effects' discrete decisions are frozen for
+/// the rest of a step's iteration (see [`GenAlpha::solve_step`]).
+const FREEZE_AT: usize = 1;
+
+/// How often a step's frozen decisions may be taken again on a converged iterate.
+const MAX_REDECIDE: usize = 3;
+
 /// Whether a Newton matrix formed for step `a` serves step `b`: equal up to the rounding of
 /// step sizes computed from communication times (e.g. `0.5 * (t_end - t)`), so the matrix is
 /// the same to 1e-9 relative and Newton converges as with an exact one.
@@ -152,7 +159,24 @@ impl GenAlpha {
         sys.model.retract(&st.q, &self.dx, &mut self.q1);
     }
 
+    /// Solves step `h` (see [`GenAlpha::solve_step`]) with the discrete decisions of the force
+    /// effects thawed again afterwards.
     fn try_step(&mut self, sys: &mut System, st: &State, h: f64) -> StepOutcome {
+        sys.thaw();
+        let out = self.solve_step(sys, st, h);
+        sys.thaw();
+        out
+    }
+
+    /// The step's Newton iteration. The effects' discrete decisions (rope slip modes) are taken
+    /// freely at the predictor and the first iterate, then frozen at the iterate of
+    /// [`FREEZE_AT`] so the remaining iterations solve one smooth branch (without, iterates near
+    /// a slip reversal switch modes back and forth and Newton stalls at rate ~1). A converged
+    /// iterate counts only if the effects take the frozen decisions there themselves; if not,
+    /// the decisions are taken again there and the iteration continues (at most
+    /// [`MAX_REDECIDE`] times, then the step fails and is retried smaller), so the converged
+    /// state is the one without freezing.
+    fn solve_step(&mut self, sys: &mut System, st: &State, h: f64) -> StepOutcome {
         let (nv, nc) = (sys.n_v(), sys.n_c());
         let t1 = st.t + h;
         let ca = (1.0 - self.af) / (1.0 - self.am);
@@ -161,8 +185,14 @@ impl GenAlpha {
         self.lam.copy_from_slice(&st.lambda);
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
         let mut prev_norm = f64::INFINITY;
-        for it in 0..12 {
+        let mut redecided = 0;
+        // iterations since the decisions were last taken (the divergence test restarts there)
+        let mut it = 0;
+        while it < 12 {
             self.kinematics(sys, st, h);
+            if it == FREEZE_AT && redecided == 0 {
+                sys.freeze_decisions(t1, &self.q1, &self.v1);
+            }
             sys.forces(t1, &self.q1, &self.v1, &mut self.f);
             sys.eval_constraints(t1, &self.q1, &self.v1);
             self.stats.rhs_evaluations += 1;
@@ -255,8 +285,22 @@ impl GenAlpha {
             } else {
                 norm * rate / (1.0 - rate).max(1e-3)
             };
+            it += 1;
             if (est <= 0.02 || norm <= 1e-12) && phi_max <= 10.0 * self.s.atol {
                 self.kinematics(sys, st, h);
+                if !sys.frozen_consistent(t1, &self.q1, &self.v1, self.s.rtol, self.s.atol) {
+                    if redecided == MAX_REDECIDE {
+                        return StepOutcome::Failed(format!(
+                            "slip modes not settled at t = {t1:.9e} s"
+                        ));
+                    }
+                    redecided += 1;
+                    sys.freeze_decisions(t1, &self.q1, &self.v1);
+                    prev_norm = f64::INFINITY;
+                    it = 0;
+                    continue;
+                }
+                sys.thaw();
                 let mut err = 0.0;
                 if self.s.fixed_step == 0.0 {
                     let c = self.gamma / 2.0 - self.beta - 1.0 / 12.0;

@@ -536,6 +536,17 @@ impl RopeEffect {
     }
 }
 
+/// How far [m], in position weights of a segment (`atol + rtol * rest length`), the material
+/// coordinate of a contact node on the slip modes frozen for a Newton iteration may lie from the
+/// one the return mapping settles on at the converged iterate (see
+/// [`ForceEffect::frozen_consistent`]). One weight: the Newton test is a weighted RMS over all
+/// coordinates, so a converged iterate's error at a single node can be of that order (0.02 of
+/// the weight times the square root of the number of coordinates); near a slip reversal the
+/// sticking band of a node is narrower than that, and a tighter check (0.1 was tried) keeps
+/// re-deciding: the default lift at rtol 3e-5 took 3.3 s and 3104 Newton failures, against
+/// 0.30 s and 75 with one weight, at the same peak tension.
+const FROZEN_SLIP_TOL: f64 = 1.0;
+
 impl ForceEffect for RopeEffect {
     fn name(&self) -> &str {
         "rope"
@@ -772,6 +783,57 @@ impl ForceEffect for RopeEffect {
             }
             memory[o + 5] = 0.0;
         }
+    }
+
+    fn freeze(&self, ctx: &EvalCtx, out: &mut Vec<f64>) {
+        if self.runs.is_empty() {
+            return;
+        }
+        let free = EvalCtx {
+            frozen: &[],
+            ..*ctx
+        };
+        out.resize(self.n_contacts(), SlipMode::Stick.code());
+        for r in 0..self.runs.len() {
+            let ev = self.eval_run(&free, r);
+            for k in 1..ev.points.len() - 1 {
+                let c = self.contact[ev.points[k]] as usize;
+                let code = ev.modes[k].code();
+                // a slide that converged where the node slides the other way: the reversal
+                // passes through sticking, which the return mapping from the step's start skips
+                // (its trial stick already leaves the band on one side or the other)
+                out[c] = match ctx.frozen.get(c) {
+                    Some(&old) if old * code < 0.0 => SlipMode::Stick.code(),
+                    _ => code,
+                };
+            }
+        }
+    }
+
+    fn frozen_consistent(&self, ctx: &EvalCtx, rtol: f64, atol: f64) -> bool {
+        if ctx.frozen.is_empty() {
+            return true;
+        }
+        let free = EvalCtx {
+            frozen: &[],
+            ..*ctx
+        };
+        (0..self.runs.len()).all(|r| {
+            let ev = self.eval_run(&free, r);
+            let np = ev.points.len();
+            if (1..np - 1)
+                .all(|k| ctx.frozen[self.contact[ev.points[k]] as usize] == ev.modes[k].code())
+            {
+                return true;
+            }
+            // modes differ: the two branches' material coordinates must agree to the position
+            // tolerance of a segment (the Newton iterate itself is only that accurate)
+            let fz = self.eval_run(ctx, r);
+            (1..np - 1).all(|k| {
+                let l = ev.rest[k - 1].min(ev.rest[k]).abs();
+                (fz.sigma[k] - ev.sigma[k]).abs() <= FROZEN_SLIP_TOL * (atol + rtol * l)
+            })
+        })
     }
 
     fn update_memory(&self, ctx: &EvalCtx, memory: &mut [f64]) -> MemoryChange {

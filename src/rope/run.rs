@@ -14,6 +14,12 @@
 //! and the memory, and a node can never slide against its friction. Every pair of the run's points
 //! gets a Jacobian block at every evaluation (zero where uncoupled), so the sparsity pattern only
 //! changes when nodes are inserted or removed.
+//!
+//! Within a step's Newton iteration the integrator may freeze the modes (`ctx.frozen`, one code
+//! per contact slot, see [`RopeEffect`]'s `freeze`): the run is then evaluated on that smooth
+//! branch without the return mapping, so successive iterates near a slip reversal cannot cycle
+//! between modes; the integrator accepts the converged iterate only if the return mapping there
+//! settles on the same modes.
 
 use super::assemble::{PointRef, add_pair};
 use super::effect::{RopeEffect, plain_segment};
@@ -62,6 +68,13 @@ pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32)) -> RunEval
         sigma_mem.push(e.sigma_at(ctx, i));
     }
     let mut modes = vec![SlipMode::Stick; np];
+    if !ctx.frozen.is_empty() {
+        // modes frozen for a Newton iteration (see `RopeEffect::freeze`)
+        for (k, m) in modes.iter_mut().enumerate().take(np - 1).skip(1) {
+            *m = SlipMode::from_code(ctx.frozen[e.contact[a + k] as usize]);
+        }
+        return eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes);
+    }
     let mut ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes);
     for _ in 0..4 * np {
         let mut changed = false;

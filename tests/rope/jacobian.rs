@@ -42,6 +42,7 @@ fn forces(model: &Model, e: &RopeEffect, mem: &[f64], t: f64, q: &[f64], v: &[f6
         kins: &kins,
         inputs: &[],
         memory: mem,
+        frozen: &[],
     };
     let mut f = vec![0.0; model.n_v];
     e.add_forces(&ctx, &mut f);
@@ -59,6 +60,7 @@ fn check(model: &Model, e: &RopeEffect, mem: &[f64]) -> (f64, f64) {
         kins: &kins,
         inputs: &[],
         memory: mem,
+        frozen: &[],
     };
     let mut sink = Dense {
         k: DMatrix::zeros(n, n),
@@ -245,6 +247,7 @@ fn setup_with(
         kins: &kins,
         inputs: &[],
         memory: &[],
+        frozen: &[],
     };
     e.init_memory(&ctx, &mut mem);
     (model, e, mem)
@@ -274,6 +277,7 @@ fn modes(model: &Model, e: &RopeEffect, mem: &[f64]) -> Vec<SlipMode> {
         kins: &kins,
         inputs: &[],
         memory: mem,
+        frozen: &[],
     };
     e.contact_modes(&ctx)
 }

@@ -126,6 +126,7 @@ impl PanelLock {
                 kins: sim.system.kins(),
                 inputs: &sim.system.inputs,
                 memory: mem,
+                frozen: &[],
             };
             for (k, l) in latches.elements.iter().enumerate() {
                 let m = &mem[k * MEMORY_PER_LATCH..(k + 1) * MEMORY_PER_LATCH];

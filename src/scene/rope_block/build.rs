@@ -279,5 +279,6 @@ pub fn rope_ctx<'a>(
         kins,
         inputs,
         memory: &state.memory[map.rope_memory..map.rope_memory + map.rope.n_memory()],
+        frozen: &[],
     }
 }
