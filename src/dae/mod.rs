@@ -529,6 +529,12 @@ impl System {
         (kinetic, potential)
     }
 
+    /// Power [W] the driven (rheonomic) constraint rows put in with the multipliers `lambda`:
+    /// the sum of `lambda_i dphi_i/dt` over the active rows.
+    pub fn drive_power(&self, lambda: &[f64]) -> f64 {
+        self.rows.iter().zip(lambda).map(|(r, l)| l * r.phi_t).sum()
+    }
+
     /// Dissipated power and input power [W] at `(q, v, t)`.
     pub fn powers(&mut self, t: f64, q: &[f64], v: &[f64]) -> (f64, f64) {
         self.update_kinematics(q, v);

@@ -516,12 +516,7 @@ impl Bdf {
     fn accept(&mut self, sys: &mut System, st: &mut State, h: f64, alpha0_k: usize) {
         let t1 = self.hist[0].t + h;
         // quadrature of powers with the same BDF formula (explicit in z)
-        let drive: f64 = sys
-            .rows
-            .iter()
-            .zip(&self.lam)
-            .map(|(r, l)| l * r.phi_t)
-            .sum();
+        let drive = sys.drive_power(&self.lam);
         let (pd, pi) = sys.powers(t1, &self.q1, &self.v);
         let pi = pi + drive;
         let k = alpha0_k;

@@ -148,12 +148,7 @@ impl Dopri5 {
         self.stats.rhs_evaluations += 1;
         self.stats.factorizations += 1;
         self.kv[i].copy_from_slice(&self.rhs[..nv]);
-        let drive: f64 = sys
-            .rows
-            .iter()
-            .zip(&self.rhs[nv..])
-            .map(|(r, l)| l * r.phi_t)
-            .sum();
+        let drive = sys.drive_power(&self.rhs[nv..]);
         let (pd, pi) = sys.powers(t, &self.qs, &self.vs);
         self.pw[i] = (pd, pi + drive);
         let mut kx = std::mem::take(&mut self.kx[i]);

@@ -344,12 +344,7 @@ impl GenAlpha {
     /// high frequencies the scheme is meant to damp (the RopeBlock lift took 19x the steps).
     fn energy_gain(&mut self, sys: &mut System, st: &State, h: f64) -> f64 {
         let t1 = st.t + h;
-        let drive: f64 = sys
-            .rows
-            .iter()
-            .zip(&self.lam)
-            .map(|(r, l)| l * r.phi_t)
-            .sum();
+        let drive = sys.drive_power(&self.lam);
         let (pd, pi) = sys.powers(t1, &self.q1, &self.v1);
         let pi = pi + drive;
         self.p_tried = Some((pd, pi));
@@ -390,12 +385,7 @@ impl GenAlpha {
         st.vdot.copy_from_slice(&self.w);
         st.lambda.copy_from_slice(&self.lam);
         self.a.copy_from_slice(&self.a1);
-        let drive: f64 = sys
-            .rows
-            .iter()
-            .zip(&st.lambda)
-            .map(|(r, l)| l * r.phi_t)
-            .sum();
+        let drive = sys.drive_power(&st.lambda);
         let (pd, pi) = match self.p_tried.take() {
             Some(p) => p,
             None => {
@@ -428,12 +418,7 @@ impl Integrator for GenAlpha {
             (0.5 * (2.0 / acc).sqrt()).min(self.s.h_max)
         };
         sys.eval_constraints(st.t, &st.q, &st.v);
-        let drive: f64 = sys
-            .rows
-            .iter()
-            .zip(&st.lambda)
-            .map(|(r, l)| l * r.phi_t)
-            .sum();
+        let drive = sys.drive_power(&st.lambda);
         let (pd, pi) = sys.powers(st.t, &st.q, &st.v);
         self.p_prev = (pd, pi + drive);
         self.e_prev = None;
