@@ -17,7 +17,7 @@
 use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::Vec3;
 use mbcosim::rope::shell::parametric::BlockShape;
-use mbcosim::scene::rope_block::demo::{Demo, lift_hook_speed, run};
+use mbcosim::scene::rope_block::demo::{Demo, hoist, run};
 use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -54,46 +54,15 @@ fn lift(params: RopeBlockParams) -> Result<LiftRun, String> {
     let mut scene = RopeBlockScene::new(params.clone())?;
     let setup = start.elapsed().as_secs_f64();
     let limit = budget();
-    let mut finished = true;
-    let names = scene.output_names().to_vec();
-    let load = names
-        .iter()
-        .position(|n| n == "hook0.load")
-        .ok_or("no hook0.load output")?;
-    let slings: Vec<usize> = (0..names.len())
-        .filter(|&i| names[i].starts_with("sling"))
-        .collect();
-    let (duration, interval): (f64, f64) = (12.0, 0.05);
-    let n = (duration / interval).round() as usize;
-    let (mut peak_load, mut peak_tension) = (0.0f64, 0.0f64);
-    let mut v_last = f64::NAN;
-    for k in 0..=n {
-        let row = scene.outputs();
-        peak_load = peak_load.max(row[load]);
-        for &i in &slings {
-            peak_tension = peak_tension.max(row[i]);
-        }
-        if k == n {
-            break;
-        }
-        if start.elapsed().as_secs_f64() > limit {
-            finished = false;
-            break;
-        }
-        let t = scene.sim.time();
-        let v = lift_hook_speed(t);
-        if v != v_last {
-            scene.set_hook(0, Vec3::new(0.0, 0.0, v), 0.0)?;
-            v_last = v;
-        }
-        scene.step(interval)?;
-    }
+    let peaks = hoist(&mut scene, 12.0, 0.05, |_| {
+        start.elapsed().as_secs_f64() <= limit
+    })?;
     let st = scene.sim.sim.stats();
     Ok(LiftRun {
         setup,
-        finished,
-        peak_load,
-        peak_tension,
+        finished: peaks.finished,
+        peak_load: peaks.hook_load,
+        peak_tension: peaks.sling_tension,
         wall: start.elapsed().as_secs_f64(),
         simulated: scene.sim.time(),
         steps: st.steps,

@@ -4,8 +4,7 @@
 //! the peak hook load and sling tension and the integrator counters.
 
 use mbcosim::integrator::IntegratorKind;
-use mbcosim::math::Vec3;
-use mbcosim::scene::rope_block::demo::lift_hook_speed;
+use mbcosim::scene::rope_block::demo::hoist;
 use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 use std::time::Instant;
 
@@ -37,29 +36,7 @@ fn main() -> Result<(), String> {
     let mut scene = RopeBlockScene::new(params)?;
     let setup = start.elapsed().as_secs_f64();
     let names = scene.output_names().to_vec();
-    let load = names.iter().position(|n| n == "hook0.load").unwrap();
-    let slings: Vec<usize> = (0..names.len())
-        .filter(|&i| names[i].starts_with("sling"))
-        .collect();
-    let (mut peak_load, mut peak_t) = (0.0f64, 0.0f64);
-    let mut v_last = f64::NAN;
-    let n = (duration / 0.05).round() as usize;
-    for k in 0..=n {
-        let row = scene.outputs();
-        peak_load = peak_load.max(row[load]);
-        for &i in &slings {
-            peak_t = peak_t.max(row[i]);
-        }
-        if k == n {
-            break;
-        }
-        let t = scene.sim.time();
-        let v = lift_hook_speed(t);
-        if v != v_last {
-            scene.set_hook(0, Vec3::new(0.0, 0.0, v), 0.0)?;
-            v_last = v;
-        }
-        scene.step(0.05)?;
+    let peaks = hoist(&mut scene, duration, 0.05, |scene| {
         if std::env::var_os("LIFT_ROWS").is_some() {
             let row = scene.outputs();
             let pick: Vec<String> = names
@@ -92,7 +69,9 @@ fn main() -> Result<(), String> {
                 scene.sim.counters
             );
         }
-    }
+        true
+    })?;
+    let (peak_load, peak_t) = (peaks.hook_load, peaks.sling_tension);
     let wall = start.elapsed().as_secs_f64();
     let st = scene.sim.sim.stats();
     println!(

@@ -55,6 +55,63 @@ fn schedule(demo: Demo, t: f64) -> Vec<(usize, Vec3)> {
     }
 }
 
+/// Peaks of a lift driven by [`hoist`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LiftPeaks {
+    /// Largest hook-0 load [N] and largest sling tension [N] at the communication points.
+    pub hook_load: f64,
+    pub sling_tension: f64,
+    /// False when `after_step` stopped the run early.
+    pub finished: bool,
+}
+
+/// Drives `scene` through the lift schedule ([`lift_hook_speed`] on hook 0) for `duration` [s]
+/// in communication steps of `interval` [s], tracking the peaks at every communication point;
+/// `after_step` runs after each step (traces, wall-time budgets) and returns whether to go on.
+pub fn hoist(
+    scene: &mut RopeBlockScene,
+    duration: f64,
+    interval: f64,
+    mut after_step: impl FnMut(&mut RopeBlockScene) -> bool,
+) -> Result<LiftPeaks, String> {
+    let names = scene.output_names().to_vec();
+    let load = names
+        .iter()
+        .position(|n| n == "hook0.load")
+        .ok_or("no hook0.load output")?;
+    let slings: Vec<usize> = (0..names.len())
+        .filter(|&i| names[i].starts_with("sling"))
+        .collect();
+    let mut peaks = LiftPeaks {
+        hook_load: 0.0,
+        sling_tension: 0.0,
+        finished: true,
+    };
+    let mut v_last = f64::NAN;
+    let n = (duration / interval).round() as usize;
+    for k in 0..=n {
+        let row = scene.outputs();
+        peaks.hook_load = peaks.hook_load.max(row[load]);
+        for &i in &slings {
+            peaks.sling_tension = peaks.sling_tension.max(row[i]);
+        }
+        if k == n {
+            break;
+        }
+        let v = lift_hook_speed(scene.sim.time());
+        if v != v_last {
+            scene.set_hook(0, Vec3::new(0.0, 0.0, v), 0.0)?;
+            v_last = v;
+        }
+        scene.step(interval)?;
+        if !after_step(scene) {
+            peaks.finished = false;
+            break;
+        }
+    }
+    Ok(peaks)
+}
+
 /// Runs `demo` for `duration` [s] with outputs every `interval` [s], writing CSV to `out`.
 pub fn run(
     demo: Demo,
