@@ -25,22 +25,14 @@ fn frictionless_edge_equal_tensions_and_bisector_reaction() {
             ..RopeProps::default()
         };
         let rig = Wrap {
-            mesh: Arc::new(wedge(0.5 * (std::f64::consts::PI - turn))),
-            vertices: vec![Vec3::zeros()],
-            e1,
-            e2,
-            strand: 2.0,
-            nodes: 3,
-            props,
             t_init: vec![1.3 * t, 0.8 * t],
-            end_mass: 50.0,
-            f1: Profile::constant(t),
-            f2: Profile::constant(t),
-            hold: Hold::Fixed,
-            gravity: None,
-            mode: SlipMode::SlipForward,
-            grad: [0.0; 2],
-            contact_mass: 1.0,
+            ..Wrap::pulled(
+                wedge(0.5 * (std::f64::consts::PI - turn)),
+                vec![Vec3::zeros()],
+                (e1, e2),
+                props,
+                t,
+            )
         };
         // starts out of balance (1.3 T and 0.8 T), slides and settles
         let mut sim = rig.sim(settings(0.01));

@@ -8,11 +8,9 @@ use crate::friction::{polygon_gross_slip, ratio};
 use crate::rig::*;
 use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::Vec3;
-use mbcosim::model::Profile;
-use mbcosim::rope::{RopeProps, SlipMode};
+use mbcosim::rope::RopeProps;
 use mbcosim::scene::rope_block::{ContactSettings, RopeBlockSim};
 use std::f64::consts::PI;
-use std::sync::Arc;
 
 fn frictionless() -> RopeProps {
     RopeProps {
@@ -36,26 +34,22 @@ fn frictionless_chamfer_two_close_nodes_share_the_turn() {
     let g = 0.5 * (PI - turn);
     let t = 5.0e4;
     let rig = Wrap {
-        mesh: Arc::new(prism(&section, 1.0)),
-        vertices: vec![
-            Vec3::new(-0.5 * c, -0.5 * c, 0.0),
-            Vec3::new(0.5 * c, -0.5 * c, 0.0),
-        ],
-        e1: Vec3::new(-g.sin(), -g.cos(), 0.0),
-        e2: Vec3::new(g.sin(), -g.cos(), 0.0),
-        strand: 2.0,
         // segments of 0.18 m: longer than the 0.1 m between the two contact nodes
         nodes: 10,
-        props: frictionless(),
         t_init: vec![1.3 * t, t, 0.8 * t],
-        end_mass: 50.0,
-        f1: Profile::constant(t),
-        f2: Profile::constant(t),
-        hold: Hold::Fixed,
-        gravity: None,
-        mode: SlipMode::SlipForward,
-        grad: [0.0; 2],
-        contact_mass: 1.0,
+        ..Wrap::pulled(
+            prism(&section, 1.0),
+            vec![
+                Vec3::new(-0.5 * c, -0.5 * c, 0.0),
+                Vec3::new(0.5 * c, -0.5 * c, 0.0),
+            ],
+            (
+                Vec3::new(-g.sin(), -g.cos(), 0.0),
+                Vec3::new(g.sin(), -g.cos(), 0.0),
+            ),
+            frictionless(),
+            t,
+        )
     };
     // starts out of balance, slides through both nodes and settles
     let mut sim = rig.sim(settings(0.01));
@@ -99,22 +93,14 @@ fn rope_sliding_off_the_end_of_its_edge_leaves_the_corner() {
     let lean = |x: f64| Vec3::new(x * g.sin(), -g.cos(), 0.3).normalize();
     let t = 1.0e4;
     let rig = Wrap {
-        mesh: Arc::new(wedge(0.5 * PI)),
-        vertices: vec![Vec3::new(0.0, 0.0, 0.8)],
-        e1: level(-1.0),
-        e2: level(1.0),
-        strand: 2.0,
         nodes: 8,
-        props: frictionless(),
-        t_init: vec![t, t],
-        end_mass: 50.0,
-        f1: Profile::constant(t),
-        f2: Profile::constant(t),
-        hold: Hold::Fixed,
-        gravity: None,
-        mode: SlipMode::SlipForward,
-        grad: [0.0; 2],
-        contact_mass: 1.0,
+        ..Wrap::pulled(
+            wedge(0.5 * PI),
+            vec![Vec3::new(0.0, 0.0, 0.8)],
+            (level(-1.0), level(1.0)),
+            frictionless(),
+            t,
+        )
     };
     let mut structure = rig.structure();
     structure.forces[0].direction = lean(-1.0);

@@ -104,6 +104,38 @@ pub fn edge_at(mesh: &ShellMesh, p: &Vec3) -> usize {
 }
 
 impl Wrap {
+    /// A rope over `vertices` of `mesh` leaving along `e1` and `e2`, both ends pulled by a
+    /// constant `t` [N] on 50 kg loads, starting at `t` everywhere in forward slip without
+    /// gravity: 2 m strands of 3 interior nodes, contact nodes keeping their whole mass, the
+    /// nodes fixed on their edges. Tests change what they need with `..Wrap::pulled(..)`.
+    pub fn pulled(
+        mesh: ShellMesh,
+        vertices: Vec<Vec3>,
+        (e1, e2): (Vec3, Vec3),
+        props: RopeProps,
+        t: f64,
+    ) -> Wrap {
+        let chords = vertices.len().saturating_sub(1);
+        Wrap {
+            mesh: Arc::new(mesh),
+            vertices,
+            e1,
+            e2,
+            strand: 2.0,
+            nodes: 3,
+            props,
+            t_init: vec![t; chords + 2],
+            end_mass: 50.0,
+            f1: Profile::constant(t),
+            f2: Profile::constant(t),
+            hold: Hold::Fixed,
+            gravity: None,
+            mode: SlipMode::SlipForward,
+            grad: [0.0; 2],
+            contact_mass: 1.0,
+        }
+    }
+
     /// The structure: block 0, loads 0 (end 1) and 1 (end 2), one rope.
     pub fn structure(&self) -> Structure {
         let ea = self.props.ea;
