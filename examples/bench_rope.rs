@@ -167,7 +167,28 @@ fn main() -> Result<(), String> {
             } else {
                 ""
             };
-            if !r.finished {
+            let (rtf, el, et) = if r.finished {
+                (
+                    r.simulated / r.wall,
+                    (r.peak_load - reference.peak_load).abs() / reference.peak_load,
+                    (r.peak_tension - reference.peak_tension).abs() / reference.peak_tension,
+                )
+            } else {
+                (f64::NAN, f64::NAN, f64::NAN)
+            };
+            if r.finished {
+                println!(
+                    "| {} | {rtol:.0e}{mark} | {:.3} | {:.3} | {rtf:.0}x | {:.3} % | {:.3} % | {} | {} | {} |",
+                    kind.name(),
+                    r.wall,
+                    r.setup,
+                    100.0 * el,
+                    100.0 * et,
+                    r.steps,
+                    r.newton,
+                    r.factorizations
+                );
+            } else {
                 println!(
                     "| {} | {rtol:.0e}{mark} | > {:.0} | {:.3} | not finished: t = {:.2} s reached | - | - | {} | {} | {} |",
                     kind.name(),
@@ -178,32 +199,7 @@ fn main() -> Result<(), String> {
                     r.newton,
                     r.factorizations
                 );
-                rows.push(format!(
-                    "{},{rtol:e},{},{},NaN,NaN,NaN,{},{},{},{}",
-                    kind.name(),
-                    r.wall,
-                    r.setup,
-                    r.steps,
-                    r.newton,
-                    r.factorizations,
-                    r.simulated
-                ));
-                continue;
             }
-            let el = (r.peak_load - reference.peak_load).abs() / reference.peak_load;
-            let et = (r.peak_tension - reference.peak_tension).abs() / reference.peak_tension;
-            let rtf = r.simulated / r.wall;
-            println!(
-                "| {} | {rtol:.0e}{mark} | {:.3} | {:.3} | {rtf:.0}x | {:.3} % | {:.3} % | {} | {} | {} |",
-                kind.name(),
-                r.wall,
-                r.setup,
-                100.0 * el,
-                100.0 * et,
-                r.steps,
-                r.newton,
-                r.factorizations
-            );
             rows.push(format!(
                 "{},{rtol:e},{},{},{rtf},{el},{et},{},{},{},{}",
                 kind.name(),

@@ -66,6 +66,8 @@ pub struct System {
     /// [`System::freeze_decisions`]); seen by the effects only while `frozen_on`.
     frozen: Vec<Vec<f64>>,
     frozen_on: bool,
+    /// Whether any force effect takes such decisions (else freezing is skipped).
+    decides: bool,
     /// Scratch for the next frozen decisions (the effects see the current ones when deciding).
     frozen_next: Vec<Vec<f64>>,
     /// Floating-frame terms of the modal bodies, at the last kinematics update.
@@ -115,6 +117,7 @@ impl System {
             memory: vec![0.0; n_mem],
             frozen: vec![Vec::new(); model.forces.len()],
             frozen_on: false,
+            decides: model.forces.iter().any(|e| e.has_decisions()),
             frozen_next: vec![Vec::new(); model.forces.len()],
             inputs: vec![0.0; model.n_inputs()],
             row_bodies,
@@ -277,6 +280,9 @@ impl System {
     /// until [`System::thaw`]. For a step's Newton iteration, which then solves one smooth
     /// branch. Called while frozen, the effects see the decisions they replace.
     pub fn freeze_decisions(&mut self, t: f64, q: &[f64], v: &[f64]) {
+        if !self.decides {
+            return;
+        }
         self.update_kinematics(q, v);
         for i in 0..self.model.forces.len() {
             let mut out = std::mem::take(&mut self.frozen_next[i]);
@@ -290,11 +296,6 @@ impl System {
     /// Ends [`System::freeze_decisions`]: the effects decide at every evaluation again.
     pub fn thaw(&mut self) {
         self.frozen_on = false;
-    }
-
-    /// Whether decisions are frozen.
-    pub fn is_frozen(&self) -> bool {
-        self.frozen_on
     }
 
     /// Whether the frozen decisions are the ones the effects take themselves at `(t, q, v)`

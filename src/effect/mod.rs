@@ -107,6 +107,12 @@ pub trait ForceEffect: Send + Sync + std::fmt::Debug {
     /// replaced (they failed [`ForceEffect::frozen_consistent`] at `ctx`).
     fn freeze(&self, _ctx: &EvalCtx, _out: &mut Vec<f64>) {}
 
+    /// Whether the effect takes decisions [`ForceEffect::freeze`] can hold (fixed for the
+    /// effect's lifetime); models without any skip freezing altogether.
+    fn has_decisions(&self) -> bool {
+        false
+    }
+
     /// Whether the decisions `ctx.frozen` are the ones the effect takes itself at `ctx` (checked
     /// on a converged Newton iterate: if not, the iteration continues with them re-decided), to
     /// the integrator's position tolerance `atol + rtol * scale` (the effect knows its scales).

@@ -162,7 +162,6 @@ impl GenAlpha {
     /// Solves step `h` (see [`GenAlpha::solve_step`]) with the discrete decisions of the force
     /// effects thawed again afterwards.
     fn try_step(&mut self, sys: &mut System, st: &State, h: f64) -> StepOutcome {
-        sys.thaw();
         let out = self.solve_step(sys, st, h);
         sys.thaw();
         out
@@ -507,6 +506,10 @@ impl Integrator for GenAlpha {
                             };
                             if fac < 1.0 || grow {
                                 self.h = proposed;
+                            } else if !self.s.equal_steps {
+                                // a step shortened to reach t_end may still show that a longer
+                                // one is allowed
+                                self.h = self.h.max(proposed);
                             }
                         }
                     }

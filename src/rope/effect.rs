@@ -785,6 +785,10 @@ impl ForceEffect for RopeEffect {
         }
     }
 
+    fn has_decisions(&self) -> bool {
+        !self.runs.is_empty()
+    }
+
     fn freeze(&self, ctx: &EvalCtx, out: &mut Vec<f64>) {
         if self.runs.is_empty() {
             return;

@@ -91,6 +91,8 @@ pub struct Manager<'a> {
     scratch: Vec<usize>,
     /// Kinetic plus potential energy [J] before this step's first slide.
     energy_before_slides: Option<f64>,
+    /// Scratch for the energy evaluations (mass times speeds).
+    energy_scratch: Vec<f64>,
 }
 
 impl<'a> Manager<'a> {
@@ -111,6 +113,7 @@ impl<'a> Manager<'a> {
             edits: Vec::new(),
             scratch: Vec::new(),
             energy_before_slides: None,
+            energy_scratch: Vec::new(),
         }
     }
 }
@@ -225,6 +228,13 @@ pub fn contact_rows(sys: &System, map: &BuildMap) -> Vec<[usize; 2]> {
 }
 
 impl Manager<'_> {
+    /// Kinetic plus potential energy [J] of the system at the state `st`.
+    fn mechanical_energy(&mut self, sys: &mut System, st: &State) -> f64 {
+        self.energy_scratch.resize(st.v.len(), 0.0);
+        let (kinetic, potential) = sys.energy_with(st.t, &st.q, &st.v, &mut self.energy_scratch);
+        kinetic + potential
+    }
+
     /// Decides the slip state and structural changes of every contact node; returns whether the
     /// memory changed.
     fn manage_nodes(&mut self, sys: &mut System, st: &mut State) -> bool {
@@ -278,8 +288,7 @@ impl Manager<'_> {
                 let du = -fe.signum() * (fe.abs() - cap) / k.max(1e-300);
                 if self.energy_before_slides.is_none() {
                     // the system still holds the step's memory and these positions
-                    let (kinetic, potential) = sys.energy(st.t, &st.q, &st.v);
-                    self.energy_before_slides = Some(kinetic + potential);
+                    self.energy_before_slides = Some(self.mechanical_energy(sys, st));
                 }
                 st.memory[o + 3] += du;
                 let body = self.map.nodes[rep.rope][rep.node];
@@ -400,8 +409,7 @@ impl StepHook for Manager<'_> {
         if let Some(before) = self.energy_before_slides.take() {
             // a slide jumps the node (and its anchor) to the friction limit: the energy the
             // jump removes is what friction (and the skipped slip motion) dissipated
-            let (kinetic, potential) = sys.energy(st.t, &st.q, &st.v);
-            *self.slide_dissipation += before - (kinetic + potential);
+            *self.slide_dissipation += before - self.mechanical_energy(sys, st);
         }
         if self.settings.detect {
             self.detect(sys, st);

@@ -10,7 +10,7 @@ use crate::effect::ForceEffect;
 use crate::integrator::{IntegratorKind, Settings};
 use crate::math::Vec3;
 use crate::rope::SlipMode;
-use crate::sim::Simulation;
+use crate::sim::{Energy, Simulation};
 use crate::state::State;
 use std::sync::Arc;
 
@@ -88,8 +88,7 @@ impl RopeBlockSim {
     /// Energy balance [J]: kinetic + potential + dissipated (friction slides included) - work
     /// of the hooks - change at structural events. Constant for an exact solution; the
     /// integrators' own numerical damping only lowers it.
-    pub fn energy_balance(&mut self) -> f64 {
-        let e = self.sim.energy();
+    fn balance_of(&self, e: &Energy) -> f64 {
         e.kinetic + e.potential + e.dissipated + self.slide_dissipation
             - e.input
             - self.event_energy
@@ -100,12 +99,12 @@ impl RopeBlockSim {
     /// of the energy that flowed in and out) is an unstable integration; it stops the run with
     /// a message naming what to change instead of returning garbage.
     pub fn check_energy(&mut self) -> Result<(), String> {
-        let b = self.energy_balance();
+        let e = self.sim.energy();
+        let b = self.balance_of(&e);
         let Some(b0) = self.energy_reference else {
             self.energy_reference = Some(b);
             return Ok(());
         };
-        let e = self.sim.energy();
         let mass: f64 = self
             .sim
             .system
