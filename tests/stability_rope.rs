@@ -181,10 +181,11 @@ fn slack_to_taut_snap_and_stiff_rope() {
 #[test]
 fn axial_damping_from_default_to_extreme() {
     // Kelvin-Voigt damping of the slings from the default (retardation time 1 ms) to 5e6 N s
-    // (31 ms, node-scale axial modes overdamped about 400-fold): gen-alpha's friction slides
-    // go unstable there in longer hoists (kinetic energy 9 kJ -> 700 kJ in 6 s before the
-    // energy guard; now a stop with a message), BDF's Newton iteration diverges; up to 1e6 N s
-    // both run passively
+    // (31 ms, node-scale axial modes overdamped about 400-fold): with rho_inf 0.8 gen-alpha's
+    // friction slides went unstable there in longer hoists (kinetic energy 9 kJ -> 700 kJ in
+    // 6 s; tests/stability_rope_geometry.rs keeps that run for the energy guard), with the
+    // RopeBlock default rho_inf 0 it runs passively; BDF's Newton iteration may diverge there
+    // (a stop with a message); up to 1e6 N s both run passively
     let mut stopped = Vec::new();
     for damping in [1.6e5, 1e6, 5e6] {
         for integrator in [1.0, 2.0] {
@@ -199,7 +200,7 @@ fn axial_damping_from_default_to_extreme() {
                 hoist,
             );
             if let Err(msg) = &r {
-                assert!(damping > 1e6, "{case}: {msg}");
+                assert!(damping > 1e6 && integrator == 2.0, "{case}: {msg}");
             }
             check(&case, r, 1e-3, &mut stopped);
         }
@@ -267,9 +268,10 @@ fn gen_alpha_lift_completes_at_loose_tolerances() {
 
 /// Tight tolerances at the rope's slip reversals (t ~ 1.3 s and ~4.6 s of the lift): with the
 /// slip modes re-decided at every Newton iterate, successive iterates switched modes and Newton
-/// cycled (rate ~1), so steps failed and shrank: rtol 1e-4 took 1226 steps, 3e-5 2948. With the
-/// modes frozen after the first iterate (gen-alpha) they take 472 and 652 steps, at the same
-/// peak tension.
+/// cycled (rate ~1), so steps failed and shrank: rtol 1e-4 took 1226 steps, 3e-5 2948 (h_max
+/// 0.025 s, at least 480 steps). With the modes frozen after the first iterate (gen-alpha) they
+/// took 472 and 652 steps, at the same peak tension; at today's h_max of 0.0125 s (at least
+/// 960 steps) they take about 1130 and 1180.
 #[test]
 fn gen_alpha_lift_tight_tolerances_without_newton_cycling() {
     for rtol in [1e-4, 3e-5] {
@@ -280,9 +282,10 @@ fn gen_alpha_lift_tight_tolerances_without_newton_cycling() {
             err <= 1e-3,
             "rtol {rtol}: peak tension {peak} N, {err:.3e} off the reference (allowed 1e-3)"
         );
+        let fewest = 12.0 / mbcosim::scene::rope_block::RopeBlockParams::default().h_max;
         assert!(
-            steps < 1000,
-            "rtol {rtol}: {steps} steps (Newton cycling at slip reversals?)"
+            (steps as f64) < 1.5 * fewest,
+            "rtol {rtol}: {steps} steps, the step limit allows {fewest} (Newton cycling at slip reversals?)"
         );
     }
 }

@@ -10,13 +10,14 @@ use mbcosim::math::Vec3;
 use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 
 /// What a run showed: largest mechanical energy gain beyond the work put in (kinetic +
-/// potential - input - rebuild events, from its start) and largest bookkeeping error of the full
-/// balance (dissipation included), both relative to the block's weight times 1 m; largest
-/// total hook load [N], most contact nodes at once, final block height [m].
+/// potential - input - rebuild events, from its start), and the largest growth and largest loss
+/// of the full balance (dissipation included), all relative to the block's weight times 1 m;
+/// largest total hook load [N], most contact nodes at once, final block height [m].
 #[derive(Debug)]
 struct Run {
     gain: f64,
-    balance_error: f64,
+    balance_growth: f64,
+    balance_loss: f64,
     peak_load: f64,
     max_contacts: usize,
     block_z: f64,
@@ -46,7 +47,8 @@ fn run(
     let (m0, d0) = (mechanical(&first), first[energy[2]]);
     let mut r = Run {
         gain: 0.0,
-        balance_error: 0.0,
+        balance_growth: 0.0,
+        balance_loss: 0.0,
         peak_load: 0.0,
         max_contacts: 0,
         block_z: f64::NAN,
@@ -69,7 +71,8 @@ fn run(
         let gain = mechanical(&o) - m0;
         r.gain = r.gain.max(gain / weight);
         let balance = gain + o[energy[2]] - d0;
-        r.balance_error = r.balance_error.max(balance.abs() / weight);
+        r.balance_growth = r.balance_growth.max(balance / weight);
+        r.balance_loss = r.balance_loss.max(-balance / weight);
         r.peak_load = r.peak_load.max(loads.iter().map(|&i| o[i]).sum());
         r.max_contacts = r.max_contacts.max(scene.sim.contact_reports().len());
         r.block_z = o[z];
@@ -90,11 +93,17 @@ fn check(case: &str, r: Result<Run, String>, weight: f64, rtol: f64) -> Option<R
                 run.gain
             );
             // every joule is booked: damping and drag by the integrator, the friction slides
-            // of the contact nodes by the contact manager (this was 4.7e-2 before they were)
+            // of the contact nodes by the contact manager (this was 4.7e-2 before they were);
+            // the one unbooked flow is generalized-alpha's numerical damping (rho_inf 0), a loss
             assert!(
-                run.balance_error <= 1e-4,
-                "{case}: energy balance off by {} x weight x 1 m",
-                run.balance_error
+                run.balance_growth <= 1e-4,
+                "{case}: energy balance grew by {} x weight x 1 m",
+                run.balance_growth
+            );
+            assert!(
+                run.balance_loss <= 5e-3,
+                "{case}: energy balance lost {} x weight x 1 m",
+                run.balance_loss
             );
             assert!(
                 run.peak_load > 0.9 * weight && run.peak_load < 3.0 * weight,
@@ -169,11 +178,15 @@ fn two_thousand_rope_nodes() {
 #[test]
 fn energy_guard_stops_an_unstable_run() {
     // slings with 5e6 N s axial damping (31 ms retardation time) hoisted at 0.3 m/s under
-    // gen-alpha: the friction slides of the contact nodes go unstable after about 1.3 s (the
-    // kinetic energy rose from 9 kJ to 700 kJ by 8 s before the guard); the run must stop with
-    // the cause and the parameters to change, not return the growing solution
+    // gen-alpha with little numerical damping (rho_inf 0.8, the default before it became 0):
+    // the friction slides of the contact nodes go unstable after about 1.3 s (the kinetic
+    // energy rose from 9 kJ to 700 kJ by 8 s before the guard); the run must stop with the
+    // cause and the parameters to change, not return the growing solution (at rho_inf 0 the
+    // same run completes passively: tests/stability_rope.rs)
     let mut p = RopeBlockParams {
         segments: 20,
+        rho_inf: 0.8,
+        h_max: 0.025,
         ..RopeBlockParams::default()
     };
     p.rope.axial_damping = 5e6;

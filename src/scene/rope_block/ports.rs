@@ -170,7 +170,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
     rp(
         "h_max",
         Some("s"),
-        0.025,
+        0.0125,
         1e-4,
         1.0,
         "Largest internal step.",
