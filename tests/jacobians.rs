@@ -265,3 +265,86 @@ fn constraint_jacobian_and_gamma_match_finite_differences() {
         }
     }
 }
+
+#[test]
+fn ground_contact_jacobians_match_finite_differences() {
+    use mbcosim::contact::{ContactLaw, LawKind};
+    use mbcosim::effect::ground_contact::GroundContact;
+    use mbcosim::effect::plane_contact::PlaneContact;
+    // a tilted, spinning, sliding box whose four lower corners sink into a tilted plane: normal
+    // law (Hunt-Crossley at its reference speed) and friction with a regularization speed of the
+    // order of the corners' tangential speeds
+    let mut b = ModelBuilder::new();
+    let inertia = Mat3::new(2.0, 0.1, -0.2, 0.1, 3.0, 0.15, -0.2, 0.15, 2.5);
+    let init = BodyInit::at(Vec3::new(0.1, -0.2, 0.45))
+        .oriented(Quat::from_euler_angles(0.05, -0.08, 0.6))
+        .moving(Vec3::new(0.3, -0.2, -0.1), Vec3::new(0.2, -0.3, 0.9));
+    let body = b.add_rigid_body("box", 3.0, inertia, init).unwrap();
+    let n = Vec3::new(0.05, -0.08, 1.0).normalize();
+    let law = ContactLaw::new(LawKind::HuntCrossley, 2e4, 1.5, 0.6)
+        .and_then(|l| l.with_min_approach_speed(0.8))
+        .unwrap();
+    let corners = [(-0.4, -0.3), (0.4, -0.3), (0.4, 0.3), (-0.4, 0.3)];
+    let contacts: Vec<PlaneContact> = corners
+        .iter()
+        .enumerate()
+        .map(|(i, &(x, y))| PlaneContact {
+            name: format!("c{i}"),
+            point: Frame::new(body, Vec3::new(x, y, -0.5)),
+            normal: n,
+            offset: 0.02,
+            law,
+        })
+        .collect();
+    let effect = GroundContact {
+        contacts,
+        mu: 0.4,
+        slip_speed: 0.3,
+    };
+    b.add_force_effect(Arc::new(effect));
+    let model = b.build().unwrap();
+    let mut sys = System::new(Arc::new(model.clone())).unwrap();
+    let (q, v) = (model.q0.clone(), model.v0.clone());
+    let nv = sys.n_v();
+    let k_an = assembled(&mut sys, &q, &v, [0.0, 0.0, 1.0]);
+    let d_an = assembled(&mut sys, &q, &v, [0.0, 1.0, 0.0]);
+    let f_at = |sys: &mut System, q: &[f64], v: &[f64]| {
+        let mut f = vec![0.0; nv];
+        sys.forces(0.3, q, v, &mut f);
+        f
+    };
+    let f0 = f_at(&mut sys, &q, &v);
+    assert!(
+        f0[2] > 1.0 && f0[0].abs() > 0.1,
+        "the corners must press and rub: {f0:?}"
+    );
+    let eps = 1e-7;
+    let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
+    for j in 0..nv {
+        let mut dx = vec![0.0; nv];
+        dx[j] = eps;
+        let (mut qp, mut qm) = (q.clone(), q.clone());
+        model.retract(&q, &dx, &mut qp);
+        dx[j] = -eps;
+        model.retract(&q, &dx, &mut qm);
+        let fp = f_at(&mut sys, &qp, &v);
+        let fm = f_at(&mut sys, &qm, &v);
+        let (mut vp, mut vm) = (v.clone(), v.clone());
+        vp[j] += eps;
+        vm[j] -= eps;
+        let gp = f_at(&mut sys, &q, &vp);
+        let gm = f_at(&mut sys, &q, &vm);
+        for i in 0..nv {
+            let k_fd = -(fp[i] - fm[i]) / (2.0 * eps);
+            let d_fd = -(gp[i] - gm[i]) / (2.0 * eps);
+            worst = worst
+                .max((k_fd - k_an[i][j]).abs())
+                .max((d_fd - d_an[i][j]).abs());
+            scale = scale.max(k_fd.abs()).max(d_fd.abs());
+        }
+    }
+    assert!(
+        worst < 1e-6 * scale,
+        "ground contact: worst K/D mismatch {worst:.3e} (scale {scale:.3e})"
+    );
+}

@@ -201,6 +201,10 @@ fn axial_damping_from_default_to_extreme() {
             );
             if let Err(msg) = &r {
                 assert!(damping > 1e6 && integrator == 2.0, "{case}: {msg}");
+                assert!(
+                    msg.contains("rope_damping"),
+                    "{case}: no remedy named: {msg}"
+                );
             }
             check(&case, r, 1e-3, &mut stopped);
         }

@@ -12,6 +12,7 @@ pub mod applied;
 pub mod cable_loop;
 pub mod constraint;
 pub mod gravity;
+pub mod ground_contact;
 pub mod latch;
 pub mod plane_contact;
 pub mod point_force;

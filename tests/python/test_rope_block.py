@@ -139,3 +139,22 @@ def test_negative_values_are_refused_whatever_the_switch():
         _sim({"drag": False, "drag_coefficient": -1.0}, stop=0.1)
     with pytest.raises(Exception):
         _sim({"scenario": 2}, stop=0.1)
+
+
+def test_ground_contact_carries_what_the_hook_does_not():
+    # ground 5 cm below the block's bottom: the settled block rests on it (the slings would
+    # stretch by about 8 cm under the full weight), then the hook is lowered 2 cm at 0.1 m/s
+    # through its input; at rest again, ground + hook carry the total weight
+    w = _default_lift_weight()
+    inputs = np.array([(0.0, -0.1), (0.2, -0.1), (0.2001, 0.0), (3.0, 0.0)],
+                      dtype=[("time", np.float64), ("hook0_vz", np.float64)])
+    res = _sim({"ground_contact": True, "ground_height": -0.05}, stop=3.0, input=inputs)
+    normal, hook = res["ground_normal"][-1], -res["hook0_fz"][-1]
+    assert normal + hook == pytest.approx(w, rel=2e-3)
+    assert normal > 0.3 * w and hook > 0.3 * w
+    assert res["ground_friction"][-1] < 1e-3 * w
+    # off (the default): no ground, whatever its values say
+    off = _final({"ground_height": 3.0, "ground_mu": 1.0})
+    assert off["ground_normal"] == 0.0 and off["ground_friction"] == 0.0
+    with pytest.raises(Exception):
+        _sim({"ground_contact": True, "ground_mu": -0.1}, stop=0.1)

@@ -288,6 +288,7 @@ impl Wrap {
                 nodes,
             }],
             forces,
+            ground: None,
         }
     }
 

@@ -70,6 +70,16 @@ pub struct ShellMesh {
     pub min_edge_angle: f64,
 }
 
+impl ShellMesh {
+    /// Vertices of the convex hull of the mesh [m], block frame: the points by which the block
+    /// can touch a plane (the ground).
+    pub fn hull_vertices(&self) -> Vec<Vec3> {
+        let pts: Vec<GVec> = self.vertices.iter().map(to_g).collect();
+        let (hull, _) = parry3d_f64::transformation::convex_hull(&pts);
+        hull.into_iter().map(from_g).collect()
+    }
+}
+
 pub(crate) fn to_g(v: &Vec3) -> GVec {
     GVec::new(v.x, v.y, v.z)
 }

@@ -5,9 +5,12 @@
 //! point-on-line joint per contact node (the node on its plate edge's line, two Lagrange
 //! multipliers: the paper's fixed joint across the edge, while along the edge the rope effect's
 //! elastic-plastic friction element holds it), then one fixed joint per welded block. Force
-//! effects: gravity, constant applied forces, and the one rope effect.
+//! effects: gravity, constant applied forces, the block-ground contact when the scene has a
+//! ground, and the one rope effect (last).
 
 use super::structure::{BodyRef, EndSpec, Structure};
+use crate::effect::ground_contact::GroundContact;
+use crate::effect::plane_contact::PlaneContact;
 use crate::effect::{EvalCtx, ForceEffect};
 use crate::math::Vec3;
 use crate::model::kinematics::{BodyKin, evaluate, quat_at};
@@ -30,6 +33,17 @@ pub struct BuildMap {
     pub rope_memory: usize,
     /// The rope effect (shared with the model).
     pub rope: Arc<RopeEffect>,
+    /// The block-ground contact, when assembled.
+    pub ground: Option<GroundMap>,
+}
+
+/// Where the block-ground contact ended up in the model.
+#[derive(Debug, Clone)]
+pub struct GroundMap {
+    /// Index in `model.forces`.
+    pub effect: usize,
+    /// The effect (shared with the model).
+    pub contact: Arc<GroundContact>,
 }
 
 impl BuildMap {
@@ -190,6 +204,27 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
     {
         b.set_length_scale(l)?;
     }
+    let ground = s.ground.as_ref().map(|g| {
+        let contacts = g
+            .points
+            .iter()
+            .enumerate()
+            .map(|(k, &(blk, p))| PlaneContact {
+                name: format!("ground{k}"),
+                point: Frame::new(blocks[blk], p),
+                normal: Vec3::z(),
+                offset: g.height,
+                law: g.law,
+            })
+            .collect();
+        let contact = Arc::new(GroundContact {
+            contacts,
+            mu: g.mu,
+            slip_speed: g.slip_speed,
+        });
+        b.add_force_effect(contact.clone());
+        contact
+    });
     let rope = Arc::new(RopeEffect::new(&layouts, &s.hooks)?);
     b.add_force_effect(rope.clone());
     let model = b.build()?;
@@ -198,6 +233,10 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
         .iter()
         .map(|e| e.n_memory())
         .sum();
+    let ground = ground.map(|contact| GroundMap {
+        effect: rope_effect - 1,
+        contact,
+    });
     Ok((
         model,
         BuildMap {
@@ -208,6 +247,7 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
             rope_effect,
             rope_memory,
             rope,
+            ground,
         },
     ))
 }

@@ -20,6 +20,7 @@
 //! The scene starts hanging at rest in static equilibrium (settled with the rope sliding freely
 //! over the edges, then every contact node sticking), at `t = 0` only.
 
+use super::params::GroundParams;
 use super::persist::{clone_sim, read_sim, write_sim};
 use super::ports::*;
 use super::{RopeBlockParams, RopeBlockScene};
@@ -166,6 +167,17 @@ impl RopeBlockModel {
             0.0
         };
         p.contact = on(bvr::CONTACT)?;
+        p.ground = if on(bvr::GROUND_CONTACT)? {
+            Some(GroundParams {
+                height: r(rvr::GROUND_HEIGHT),
+                stiffness: r(rvr::GROUND_STIFFNESS),
+                restitution: r(rvr::GROUND_RESTITUTION),
+                mu: r(rvr::GROUND_MU),
+                slip_speed: r(rvr::GROUND_SLIP_SPEED),
+            })
+        } else {
+            None
+        };
         p.settle = true;
         p.segments = self.ports.get_integer(ivr::SEGMENTS)? as usize;
         p.integrator = integrator_of(self.ports.get_integer(ivr::INTEGRATOR)?);
@@ -350,7 +362,8 @@ impl CoSimModel for RopeBlockModel {
             Ok(Ok(())) => {}
             Ok(Err(e)) => {
                 return Err(ModelError::SolverFailure(format!(
-                    "RopeBlock solver failed in the step from t = {t0} s to {t_end} s: {e}"
+                    "RopeBlock solver failed in the step from t = {t0} s to {t_end} s: {e}{}",
+                    remedy(&e)
                 )));
             }
             Err(p) => {
@@ -443,5 +456,15 @@ impl CoSimModel for RopeBlockModel {
     fn set_resource_dir(&mut self, dir: &Path) -> Result<(), ModelError> {
         self.resource_dir = Some(dir.to_path_buf());
         Ok(())
+    }
+}
+
+/// RopeBlock's advice for a step the integrator could not complete (the integrator's own message
+/// is model-neutral).
+fn remedy(message: &str) -> &'static str {
+    if message.contains("step size fell below") {
+        "; in RopeBlock this comes from slings too stiff or too strongly damped for the integrator (BDF's Newton iteration diverges at rope_damping 5e6 N s): use integrator = gen_alpha, lower rope_damping or rope_ea, or use fewer segments (longer segments are softer)"
+    } else {
+        ""
     }
 }

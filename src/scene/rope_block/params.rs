@@ -6,7 +6,8 @@
 //! shifted to the centre of mass. The world frame has `z` up, gravity `-z`.
 
 use super::rigging::{Waypoint, lay_rope, wrap_edge};
-use super::structure::{BlockSpec, EndSpec, Structure};
+use super::structure::{BlockSpec, EndSpec, GroundSpec, Structure};
+use crate::contact::{ContactLaw, LawKind};
 use crate::integrator::IntegratorKind;
 use crate::math::{Mat3, Quat, Vec3};
 use crate::rope::shell::ShellMesh;
@@ -40,6 +41,75 @@ pub struct SlingParams {
     pub route: Route,
 }
 
+/// Contact of the block with a flat, level ground (a turn-over that starts from or ends on the
+/// ground, a block set down). The block touches it with the vertices of its hull, each through a
+/// linear Flores law `k delta (1 + chi(e) delta_dot / v_ref)` ([`GROUND_REFERENCE_SPEED`]) and regularized Coulomb
+/// friction ([`crate::effect::ground_contact`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroundParams {
+    /// Height of the ground [m], world z.
+    pub height: f64,
+    /// Stiffness per hull vertex [N/m] (the default 1e9 N/m sinks a 200 t block resting on four
+    /// bottom corners by 0.5 mm: stiff supports such as steel or concrete blocks).
+    pub stiffness: f64,
+    /// Coefficient of restitution of an impact [-], in (0, 1].
+    pub restitution: f64,
+    /// Coulomb friction coefficient of the block on the ground [-] (steel on timber or concrete:
+    /// about 0.3-0.5).
+    pub mu: f64,
+    /// Speed below which friction turns viscous [m/s] (no sticking: a block held at a fraction
+    /// `r` of the friction limit creeps at `slip_speed r / sqrt(1 - r^2)`).
+    pub slip_speed: f64,
+}
+
+/// Impact speed [m/s] at which the ground's restitution holds (a set-down speed): the contact
+/// damping is `chi(e) k delta delta_dot / GROUND_REFERENCE_SPEED`, independent of the speed at
+/// which a point touched down (see [`crate::effect::ground_contact`]).
+pub const GROUND_REFERENCE_SPEED: f64 = 0.1;
+
+impl Default for GroundParams {
+    fn default() -> Self {
+        GroundParams {
+            height: 0.0,
+            stiffness: 1e9,
+            restitution: 0.5,
+            mu: 0.3,
+            slip_speed: 1e-3,
+        }
+    }
+}
+
+impl GroundParams {
+    /// The normal law; `Err` names a bad value (also of the friction and the height).
+    pub fn law(&self) -> Result<ContactLaw, String> {
+        if !(self.mu.is_finite() && self.mu >= 0.0) {
+            return Err(format!(
+                "ground mu must be finite and >= 0, got {}",
+                self.mu
+            ));
+        }
+        positive("ground slip speed [m/s]", self.slip_speed)?;
+        if !self.height.is_finite() {
+            return Err(format!("ground height must be finite, got {}", self.height));
+        }
+        ContactLaw::new(LawKind::Flores, self.stiffness, 1.0, self.restitution)
+            .and_then(|l| l.with_min_approach_speed(GROUND_REFERENCE_SPEED))
+            .map_err(|e| format!("ground contact: {e}"))
+    }
+
+    /// The ground of the scene for a block whose shell mesh (block frame) is `mesh`.
+    pub fn spec(&self, mesh: &ShellMesh) -> Result<GroundSpec, String> {
+        let law = self.law()?;
+        Ok(GroundSpec {
+            height: self.height,
+            law,
+            mu: self.mu,
+            slip_speed: self.slip_speed,
+            points: mesh.hull_vertices().into_iter().map(|p| (0, p)).collect(),
+        })
+    }
+}
+
 /// Everything that defines a RopeBlock scene. `Default` is the default lift: a 200 t block of
 /// 18 m x 12 m x 7 m (2 m bilge in 8 facets) hanging from one hook by four 60 mm steel slings of
 /// about 22 m with 100 segments each, from lugs on the side shell 1 m below the deck edge, over the
@@ -70,6 +140,8 @@ pub struct RopeBlockParams {
     pub gravity: f64,
     /// Rope-edge contact on or off (off: ropes pass through the block).
     pub contact: bool,
+    /// Block-ground contact (`None`: no ground, not assembled).
+    pub ground: Option<GroundParams>,
     /// Start from the static equilibrium (hanging at rest).
     pub settle: bool,
     /// Integrator, tolerances, largest step [s].
@@ -123,6 +195,7 @@ impl Default for RopeBlockParams {
             ],
             gravity: 9.81,
             contact: true,
+            ground: None,
             settle: true,
             integrator: IntegratorKind::GenAlpha,
             // with the translation-invariant error weights (rope nodes on their segment length):
@@ -157,6 +230,9 @@ impl RopeBlockParams {
         positive("rtol", self.rtol)?;
         positive("atol", self.atol)?;
         positive("h_max [s]", self.h_max)?;
+        if let Some(g) = &self.ground {
+            g.law()?;
+        }
         if !(0.0..=1.0).contains(&self.rho_inf) {
             return Err(format!("rho_inf must be in [0, 1], got {}", self.rho_inf));
         }
@@ -292,6 +368,7 @@ impl RopeBlockParams {
             hooks: self.hooks.iter().map(|h| HookInit::at(*h)).collect(),
             ropes,
             forces: vec![],
+            ground: self.ground.map(|g| g.spec(&mesh)).transpose()?,
         })
     }
 }

@@ -354,7 +354,13 @@ pub fn read_sim(
     let design = params.design_mesh().map_err(ModelError::BadState)?;
     let (com, _) = shell_mass_properties(&design, params.block_mass);
     let mesh = Arc::new(design.translated(&(-com)).map_err(ModelError::BadState)?);
-    let structure = read_structure(r, &mesh)?;
+    let mut structure = read_structure(r, &mesh)?;
+    // the ground comes from the parameters (its contact has no memory)
+    structure.ground = params
+        .ground
+        .map(|g| g.spec(&mesh))
+        .transpose()
+        .map_err(ModelError::BadState)?;
     let state = State {
         t: r.finite_f64("state time")?,
         q: r.f64s("positions")?,

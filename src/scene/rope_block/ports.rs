@@ -73,6 +73,11 @@ pub mod rvr {
     pub const ATOL: ValueRef = 11;
     pub const H_MAX: ValueRef = 12;
     pub const MESH_SCALE: ValueRef = 13;
+    pub const GROUND_HEIGHT: ValueRef = 14;
+    pub const GROUND_STIFFNESS: ValueRef = 15;
+    pub const GROUND_RESTITUTION: ValueRef = 16;
+    pub const GROUND_MU: ValueRef = 17;
+    pub const GROUND_SLIP_SPEED: ValueRef = 18;
 }
 
 /// Real parameters, value references 0.. in this order (see [`rvr`]). All are fixed (structural:
@@ -183,6 +188,46 @@ pub static REAL_PARAMS: &[RealParam] = &[
         1e6,
         "Factor from the units of `mesh_file` to metres.",
     ),
+    rp(
+        "ground_height",
+        Some("m"),
+        0.0,
+        -1e3,
+        1e3,
+        "Height of the level ground, world z; used only when `ground_contact`.",
+    ),
+    rp(
+        "ground_stiffness",
+        Some("N/m"),
+        1e9,
+        1e5,
+        1e13,
+        "Ground stiffness per block hull vertex (linear Flores law); used only when `ground_contact`.",
+    ),
+    rp(
+        "ground_restitution",
+        None,
+        0.5,
+        0.01,
+        1.0,
+        "Coefficient of restitution of the block hitting the ground; used only when `ground_contact`.",
+    ),
+    rp(
+        "ground_mu",
+        None,
+        0.3,
+        0.0,
+        2.0,
+        "Coulomb friction coefficient of the block on the ground; used only when `ground_contact`.",
+    ),
+    rp(
+        "ground_slip_speed",
+        Some("m/s"),
+        1e-3,
+        1e-6,
+        1.0,
+        "Speed below which ground friction turns viscous (no sticking: a block held at a fraction r of the friction limit creeps at ground_slip_speed r / sqrt(1 - r^2)); used only when `ground_contact`.",
+    ),
 ];
 
 /// Integer value references (parameters first, then outputs; slot `i`'s sling and slip at
@@ -212,6 +257,7 @@ pub mod bvr {
     pub const DRAG: ValueRef = 2;
     pub const CONTACT: ValueRef = 3;
     pub const GRAVITY_ON: ValueRef = 4;
+    pub const GROUND_CONTACT: ValueRef = 5;
 }
 
 /// String value reference of `mesh_file`.
@@ -308,6 +354,15 @@ pub const ENERGY_OUTPUTS: [(&str, &str); 5] = [
     ),
 ];
 
+/// Ground outputs (scene suffixes after `ground.`).
+pub const GROUND_OUTPUTS: [(&str, &str); 2] = [
+    ("normal", "total normal force of the ground on the block"),
+    (
+        "friction",
+        "magnitude of the total friction force of the ground on the block",
+    ),
+];
+
 /// Real value references of the outputs, in table order.
 pub fn vr_output(index: usize) -> ValueRef {
     (first_output() + index) as ValueRef
@@ -356,6 +411,13 @@ pub fn real_outputs() -> Vec<(String, Option<&'static str>, String)> {
             format!("energy_{s}"),
             Some("J"),
             format!("Energy: {d} [J]."),
+        ));
+    }
+    for (s, d) in GROUND_OUTPUTS {
+        v.push((
+            format!("ground_{s}"),
+            Some("N"),
+            format!("Ground: {d} [N]; 0 without `ground_contact`."),
         ));
     }
     v
@@ -423,6 +485,7 @@ pub fn info() -> &'static ModelInfo {
             (bvr::DRAG, "drag", false, "Quadratic fluid drag on the rope nodes (off: not assembled, `drag_coefficient` and `fluid_density` ignored)."),
             (bvr::CONTACT, "contact", true, "Rope-plate contact (off: slings run straight and pass through the block)."),
             (bvr::GRAVITY_ON, "gravity_on", true, "Gravity along world -z (off: `gravity` ignored)."),
+            (bvr::GROUND_CONTACT, "ground_contact", false, "Contact of the block's hull vertices with a level ground at `ground_height`, with friction (off: no ground, not assembled, the `ground_*` values ignored)."),
         ] {
             ports.push(PortSpec::boolean_parameter(name, vr, Variability::Fixed, start, desc));
         }
@@ -459,7 +522,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{9d2e7c41-5b8a-4f03-a6e2-71c4b0d93f58}",
+            guid: "{4c1f8a2e-93d7-4b6a-8e05-d2a7c6b19e34}",
             description: "Ship-block lift with lumped-mass wire-rope slings contacting the block's shell plate edges through contact nodes with Coulomb friction; one-hook lift or two-hook turn-over.",
             ports,
             default_stop_time: 10.0,

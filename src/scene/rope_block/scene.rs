@@ -161,6 +161,10 @@ impl RopeBlockScene {
         for c in ["kinetic", "potential", "dissipated", "input", "events"] {
             names.push(format!("energy.{c}"));
         }
+        if params.ground.is_some() {
+            names.push("ground.normal".into());
+            names.push("ground.friction".into());
+        }
         Ok(RopeBlockScene {
             params,
             sim,
@@ -264,6 +268,9 @@ impl RopeBlockScene {
             e.input,
             sim.event_energy,
         ]);
+        if let Some((normal, friction)) = sim.ground_forces() {
+            out.extend([normal, friction]);
+        }
         out
     }
 

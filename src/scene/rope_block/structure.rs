@@ -5,6 +5,7 @@
 //! Before an edit the structure is synchronized from the running state (positions, velocities,
 //! contact memory), so a rebuild carries the motion over exactly.
 
+use crate::contact::ContactLaw;
 use crate::math::{Mat3, Quat, Vec3};
 use crate::model::Profile;
 use crate::rope::shell::ShellMesh;
@@ -31,6 +32,21 @@ pub struct BlockSpec {
     pub omega: Vec3,
     /// Welded to the ground (a test rig or a fixed structure).
     pub fixed: bool,
+}
+
+/// Contact of block points with the ground plane `z = height` (world frame): a normal contact law
+/// per point and regularized Coulomb friction ([`crate::effect::ground_contact`]).
+#[derive(Debug, Clone)]
+pub struct GroundSpec {
+    /// Height of the ground plane [m], world z.
+    pub height: f64,
+    /// Normal law of each point.
+    pub law: ContactLaw,
+    /// Friction coefficient [-] and regularization speed [m/s].
+    pub mu: f64,
+    pub slip_speed: f64,
+    /// Contact points: (block, point [m] in the block frame).
+    pub points: Vec<(usize, Vec3)>,
 }
 
 /// A point mass that is not part of a rope (a hook block, a test weight).
@@ -145,6 +161,8 @@ pub struct Structure {
     pub hooks: Vec<HookInit>,
     pub ropes: Vec<RopeSpec>,
     pub forces: Vec<ForceSpec>,
+    /// Block-ground contact (`None`: not assembled).
+    pub ground: Option<GroundSpec>,
 }
 
 impl Structure {

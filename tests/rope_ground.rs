@@ -1,0 +1,156 @@
+//! Block-ground contact: the default 200 t block set down on a level ground by lowering the hook,
+//! and dragged along the ground by the hook. Checked against the static balance of the whole
+//! rigging, Coulomb's law through the whole model, and the energy balance.
+//! `cargo test --release --test rope_ground -- --nocapture` prints the figures.
+
+use mbcosim::math::Vec3;
+use mbcosim::scene::rope_block::params::GroundParams;
+use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
+
+/// The default lift with 20 segments per sling over a ground at `height` [m] (the block's
+/// bottom starts at 0).
+fn scene(height: f64) -> RopeBlockScene {
+    let p = RopeBlockParams {
+        segments: 20,
+        ground: Some(GroundParams {
+            height,
+            ..GroundParams::default()
+        }),
+        ..RopeBlockParams::default()
+    };
+    RopeBlockScene::new(p).unwrap()
+}
+
+struct Probe {
+    names: Vec<String>,
+}
+
+impl Probe {
+    fn new(s: &RopeBlockScene) -> Self {
+        Probe {
+            names: s.output_names().to_vec(),
+        }
+    }
+    fn get(&self, row: &[f64], name: &str) -> f64 {
+        row[self.names.iter().position(|n| n == name).unwrap()]
+    }
+    /// Kinetic + potential + dissipated - input - events [J].
+    fn balance(&self, row: &[f64]) -> f64 {
+        let e = |c: &str| self.get(row, &format!("energy.{c}"));
+        e("kinetic") + e("potential") + e("dissipated") - e("input") - e("events")
+    }
+}
+
+/// Weight of everything [N]: block, rope nodes, contact nodes.
+fn weight(s: &RopeBlockScene) -> f64 {
+    let m: f64 = s
+        .sim
+        .sim
+        .system
+        .model
+        .bodies
+        .iter()
+        .map(|b| b.kind.mass())
+        .sum();
+    m * 9.81
+}
+
+#[test]
+fn block_partly_set_down_balances_hook_and_ground() {
+    // ground 5 cm below the block's bottom: the slings stretch by about 7.6 cm under the full
+    // weight, so the block settles on the ground; lowering the hook by 2 cm moves more of the
+    // weight onto the ground
+    let mut s = scene(-0.05);
+    let probe = Probe::new(&s);
+    let b0 = probe.balance(&s.outputs());
+    let w = weight(&s);
+    let mut drift: f64 = 0.0;
+    for k in 0..160 {
+        let v = if k < 4 { -0.1 } else { 0.0 };
+        s.set_hook(0, Vec3::new(0.0, 0.0, v), 0.0).unwrap();
+        s.step(0.05).unwrap();
+        drift = drift.max((probe.balance(&s.outputs()) - b0).abs());
+    }
+    let row = s.outputs();
+    let normal = probe.get(&row, "ground.normal");
+    let hook = -probe.get(&row, "hook0.fz");
+    let friction = probe.get(&row, "ground.friction");
+    let steps = s.sim.sim.stats().steps;
+    println!(
+        "ground {normal:.1} N, hook {hook:.1} N, sum {:.1} N, weight {w:.1} N, friction {friction:.3} N, balance drift {drift:.1} J, {steps} steps",
+        normal + hook,
+    );
+    // at rest the ground and the hook carry everything
+    assert!(
+        ((normal + hook) / w - 1.0).abs() < 1e-3,
+        "ground {normal} N + hook {hook} N against a weight of {w} N"
+    );
+    assert!(
+        normal > 0.3 * w && hook > 0.3 * w,
+        "both must carry: ground {normal} N, hook {hook} N"
+    );
+    // symmetric slings: no net horizontal load, no friction to speak of
+    assert!(friction < 1e-3 * w, "friction {friction} N at rest");
+    assert!(drift < 1e-3 * w, "energy balance drifted by {drift} J");
+    assert!(steps < 2000, "{steps} steps for 8 s at rest");
+}
+
+#[test]
+fn block_dragged_along_the_ground_slides_at_the_friction_limit() {
+    // the partly set-down block (as above) dragged along its length by the hook at 0.2 m/s:
+    // while it slides, the ground's friction is mu times its normal force, and over the run the
+    // hook's horizontal pull balances the friction on average (the block ends at the hook's
+    // speed, so its momentum hardly changed)
+    let mut s = scene(-0.05);
+    let probe = Probe::new(&s);
+    let b0 = probe.balance(&s.outputs());
+    let w = weight(&s);
+    let mu = GroundParams::default().mu;
+    let (mut pull, mut fric, mut n_avg) = (0.0, 0.0, 0);
+    let mut worst_ratio: f64 = 0.0;
+    let mut drift: f64 = 0.0;
+    for k in 0..300 {
+        let vz = if k < 4 { -0.1 } else { 0.0 };
+        let vx = if k >= 40 { 0.2 } else { 0.0 };
+        s.set_hook(0, Vec3::new(vx, 0.0, vz), 0.0).unwrap();
+        s.step(0.05).unwrap();
+        let row = s.outputs();
+        drift = drift.max((probe.balance(&row) - b0).abs());
+        if k >= 100 {
+            let h = (probe.get(&row, "hook0.load").powi(2) - probe.get(&row, "hook0.fz").powi(2))
+                .sqrt();
+            let (f, n) = (
+                probe.get(&row, "ground.friction"),
+                probe.get(&row, "ground.normal"),
+            );
+            pull += h;
+            fric += f;
+            n_avg += 1;
+            if probe.get(&row, "block.vx").abs() > 0.1 {
+                worst_ratio = worst_ratio.max((f / n / mu - 1.0).abs());
+            }
+        }
+    }
+    let (pull, fric) = (pull / n_avg as f64, fric / n_avg as f64);
+    let dissipated = probe.get(&s.outputs(), "energy.dissipated");
+    println!(
+        "mean pull {pull:.0} N, mean friction {fric:.0} N, friction/normal off mu by {worst_ratio:.2e} while sliding, balance drift {drift:.0} J of {dissipated:.0} J dissipated, {} steps",
+        s.sim.sim.stats().steps
+    );
+    assert!(
+        worst_ratio < 1e-2,
+        "friction/normal off mu by {worst_ratio}"
+    );
+    assert!(
+        fric > 0.05 * w,
+        "the block must be dragged: mean friction {fric} N"
+    );
+    assert!(
+        (pull / fric - 1.0).abs() < 0.03,
+        "mean pull {pull} N against mean friction {fric} N"
+    );
+    assert!(
+        drift < 1e-2 * dissipated,
+        "energy balance drifted by {drift} J ({dissipated} J dissipated)"
+    );
+}
