@@ -154,3 +154,33 @@ fn block_dragged_along_the_ground_slides_at_the_friction_limit() {
         "energy balance drifted by {drift} J ({dissipated} J dissipated)"
     );
 }
+
+#[test]
+fn the_ground_is_assembled_only_when_switched_on() {
+    let names = |s: &RopeBlockScene| -> Vec<String> {
+        s.sim
+            .sim
+            .system
+            .model
+            .forces
+            .iter()
+            .map(|f| f.name().to_string())
+            .collect()
+    };
+    let off = RopeBlockScene::new(RopeBlockParams {
+        segments: 4,
+        ..RopeBlockParams::default()
+    })
+    .unwrap();
+    let on = scene(-0.05);
+    assert!(!names(&off).iter().any(|n| n == "ground-contact"));
+    assert_eq!(
+        names(&on).iter().filter(|n| *n == "ground-contact").count(),
+        1
+    );
+    assert!(!off.output_names().iter().any(|n| n.starts_with("ground.")));
+    // the block touches the ground with the vertices of its hull (the parametric block: the
+    // bottom corners, the bilge facets and the deck corners)
+    let points = on.sim.structure.ground.as_ref().unwrap().points.len();
+    assert!((8..=64).contains(&points), "{points} hull vertices");
+}
