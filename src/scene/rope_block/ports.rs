@@ -12,9 +12,25 @@
 //! mass.
 
 use super::params::RopeBlockParams;
-use crate::scene::panel_lock::ports::INTEGRATORS;
 use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, ValueRef, Variability};
 use std::sync::OnceLock;
+
+/// Integrator enumeration items (1-based, the same codes as PanelLock's), as RopeBlock runs them
+/// (see [`super::scene::solver_settings`]).
+pub static INTEGRATORS: &[(&str, &str)] = &[
+    (
+        "gen_alpha",
+        "Generalized-alpha, index 3, adaptive, rho_inf 0 (unresolved rope modes removed within a step)",
+    ),
+    (
+        "bdf",
+        "Variable-order BDF 1-2 on the stabilized index-2 form (orders 3-5 are not A-stable on the sling modes)",
+    ),
+    (
+        "dopri5",
+        "Dormand-Prince 5(4), index 1 with projection (explicit: only for very coarse slings)",
+    ),
+];
 
 /// Model identifier.
 pub const IDENTIFIER: &str = "RopeBlock";
