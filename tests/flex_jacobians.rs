@@ -5,8 +5,8 @@
 
 mod common;
 use common::flex::panel;
+use common::jacobian::{assembled, force_jacobian_mismatch};
 use mbcosim::dae::System;
-use mbcosim::dae::linear::LinearSolver;
 use mbcosim::flex::ModalBodyData;
 use mbcosim::math::{Mat3, Quat, Vec3};
 use mbcosim::model::*;
@@ -141,29 +141,6 @@ fn flexible_model(kind: JointKind) -> (Model, Arc<ModalBodyData>) {
     (b.build().unwrap(), data)
 }
 
-/// The matrix `c[0] M + c[1] D + c[2] K` as assembled by the system (recovered through solves).
-fn assembled(sys: &mut System, q: &[f64], v: &[f64], c: [f64; 3]) -> nalgebra::DMatrix<f64> {
-    let n = sys.n_v();
-    let mut lin = LinearSolver::new();
-    lin.begin(n);
-    sys.add_dynamics_matrix_at(0.3, q, v, c, &mut lin, 0, 0);
-    let big = 1e3;
-    for i in 0..n {
-        lin.push(i, i, big);
-    }
-    lin.factor().unwrap();
-    let mut inv = nalgebra::DMatrix::zeros(n, n);
-    for j in 0..n {
-        let mut e = vec![0.0; n];
-        e[j] = 1.0;
-        lin.solve(&mut e).unwrap();
-        for i in 0..n {
-            inv[(i, j)] = e[i];
-        }
-    }
-    inv.try_inverse().unwrap() - nalgebra::DMatrix::identity(n, n) * big
-}
-
 #[test]
 fn joint_rows_at_flexible_nodes_match_finite_differences() {
     let kinds = [
@@ -273,39 +250,8 @@ fn modal_force_jacobians_and_mass_matrix_are_consistent() {
     let mut sys = System::new(Arc::new(model.clone())).unwrap();
     let (q, v) = (model.q0.clone(), model.v0.clone());
     let n = sys.n_v();
-    let k_an = assembled(&mut sys, &q, &v, [0.0, 0.0, 1.0]);
-    let d_an = assembled(&mut sys, &q, &v, [0.0, 1.0, 0.0]);
-    let m_an = assembled(&mut sys, &q, &v, [1.0, 0.0, 0.0]);
-    let f_at = |sys: &mut System, q: &[f64], v: &[f64]| {
-        let mut f = vec![0.0; n];
-        sys.forces(0.3, q, v, &mut f);
-        f
-    };
-    let eps = 1e-6;
-    let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
-    for j in 0..n {
-        let mut dx = vec![0.0; n];
-        dx[j] = eps;
-        let (mut qp, mut qm) = (q.clone(), q.clone());
-        model.retract(&q, &dx, &mut qp);
-        dx[j] = -eps;
-        model.retract(&q, &dx, &mut qm);
-        let fp = f_at(&mut sys, &qp, &v);
-        let fm = f_at(&mut sys, &qm, &v);
-        let (mut vp, mut vm) = (v.clone(), v.clone());
-        vp[j] += eps;
-        vm[j] -= eps;
-        let gp = f_at(&mut sys, &q, &vp);
-        let gm = f_at(&mut sys, &q, &vm);
-        for i in 0..n {
-            let k_fd = -(fp[i] - fm[i]) / (2.0 * eps);
-            let d_fd = -(gp[i] - gm[i]) / (2.0 * eps);
-            worst = worst
-                .max((k_fd - k_an[(i, j)]).abs())
-                .max((d_fd - d_an[(i, j)]).abs());
-            scale = scale.max(k_fd.abs()).max(d_fd.abs());
-        }
-    }
+    let m_an = assembled(&mut sys, 0.3, &q, &v, [1.0, 0.0, 0.0]);
+    let (worst, scale) = force_jacobian_mismatch(&model, &mut sys, 0.3, &q, &v, 1e-6);
     println!("K/D: worst mismatch {worst:.3e}, scale {scale:.3e}");
     assert!(
         worst < 1e-8 * scale,

@@ -2,8 +2,8 @@
 //! and constraint rows (G against dPhi/dx, gamma against the directional second derivative).
 
 mod common;
+use common::jacobian::force_jacobian_mismatch;
 use mbcosim::dae::System;
-use mbcosim::dae::linear::LinearSolver;
 use mbcosim::math::{Mat3, Quat, Vec3};
 use mbcosim::model::*;
 use std::sync::Arc;
@@ -89,40 +89,6 @@ fn two_body_model(kind: JointKind) -> Model {
     b.build().unwrap()
 }
 
-/// Records the entries pushed into a `LinearSolver` by assembling with given factors, by
-/// solving with unit vectors (the solver is the only public view of the matrix).
-fn assembled(sys: &mut System, q: &[f64], v: &[f64], c: [f64; 3]) -> Vec<Vec<f64>> {
-    let n = sys.n_v();
-    let mut lin = LinearSolver::new();
-    lin.begin(n);
-    // add a big identity so the matrix is invertible, then recover A = inv(solve) - I * big
-    sys.add_dynamics_matrix_at(0.3, q, v, c, &mut lin, 0, 0);
-    let big = 1e3;
-    for i in 0..n {
-        lin.push(i, i, big);
-    }
-    lin.factor().unwrap();
-    let mut inv = vec![vec![0.0; n]; n];
-    for j in 0..n {
-        let mut e = vec![0.0; n];
-        e[j] = 1.0;
-        lin.solve(&mut e).unwrap();
-        for i in 0..n {
-            inv[i][j] = e[i];
-        }
-    }
-    // invert `inv` with nalgebra
-    let m = nalgebra::DMatrix::from_fn(n, n, |i, j| inv[i][j]);
-    let a = m.try_inverse().unwrap();
-    (0..n)
-        .map(|i| {
-            (0..n)
-                .map(|j| a[(i, j)] - if i == j { big } else { 0.0 })
-                .collect()
-        })
-        .collect()
-}
-
 #[test]
 fn force_jacobians_match_finite_differences() {
     for kind in [JointKind::Revolute, JointKind::Spherical] {
@@ -130,41 +96,7 @@ fn force_jacobians_match_finite_differences() {
         let mut sys = System::new(Arc::new(model.clone())).unwrap();
         sys.inputs[0] = 0.8;
         let (q, v) = (model.q0.clone(), model.v0.clone());
-        let n = sys.n_v();
-        // mass block M (c = [1,0,0]) and K, D without M
-        let k_an = assembled(&mut sys, &q, &v, [0.0, 0.0, 1.0]);
-        let d_an = assembled(&mut sys, &q, &v, [0.0, 1.0, 0.0]);
-        let f_at = |sys: &mut System, q: &[f64], v: &[f64]| {
-            let mut f = vec![0.0; n];
-            sys.forces(0.3, q, v, &mut f);
-            f
-        };
-        let eps = 1e-6;
-        let mut worst: f64 = 0.0;
-        let mut scale: f64 = 0.0;
-        for j in 0..n {
-            let mut dx = vec![0.0; n];
-            dx[j] = eps;
-            let (mut qp, mut qm) = (q.clone(), q.clone());
-            model.retract(&q, &dx, &mut qp);
-            dx[j] = -eps;
-            model.retract(&q, &dx, &mut qm);
-            let fp = f_at(&mut sys, &qp, &v);
-            let fm = f_at(&mut sys, &qm, &v);
-            let (mut vp, mut vm) = (v.clone(), v.clone());
-            vp[j] += eps;
-            vm[j] -= eps;
-            let gp = f_at(&mut sys, &q, &vp);
-            let gm = f_at(&mut sys, &q, &vm);
-            for i in 0..n {
-                let k_fd = -(fp[i] - fm[i]) / (2.0 * eps);
-                let d_fd = -(gp[i] - gm[i]) / (2.0 * eps);
-                worst = worst
-                    .max((k_fd - k_an[i][j]).abs())
-                    .max((d_fd - d_an[i][j]).abs());
-                scale = scale.max(k_fd.abs()).max(d_fd.abs());
-            }
-        }
+        let (worst, scale) = force_jacobian_mismatch(&model, &mut sys, 0.3, &q, &v, 1e-6);
         assert!(
             worst < 1e-6 * scale,
             "{kind:?}: worst K/D mismatch {worst:.3e} (scale {scale:.3e})"
@@ -305,44 +237,13 @@ fn ground_contact_jacobians_match_finite_differences() {
     let model = b.build().unwrap();
     let mut sys = System::new(Arc::new(model.clone())).unwrap();
     let (q, v) = (model.q0.clone(), model.v0.clone());
-    let nv = sys.n_v();
-    let k_an = assembled(&mut sys, &q, &v, [0.0, 0.0, 1.0]);
-    let d_an = assembled(&mut sys, &q, &v, [0.0, 1.0, 0.0]);
-    let f_at = |sys: &mut System, q: &[f64], v: &[f64]| {
-        let mut f = vec![0.0; nv];
-        sys.forces(0.3, q, v, &mut f);
-        f
-    };
-    let f0 = f_at(&mut sys, &q, &v);
+    let mut f0 = vec![0.0; sys.n_v()];
+    sys.forces(0.3, &q, &v, &mut f0);
     assert!(
         f0[2] > 1.0 && f0[0].abs() > 0.1,
         "the corners must press and rub: {f0:?}"
     );
-    let eps = 1e-7;
-    let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
-    for j in 0..nv {
-        let mut dx = vec![0.0; nv];
-        dx[j] = eps;
-        let (mut qp, mut qm) = (q.clone(), q.clone());
-        model.retract(&q, &dx, &mut qp);
-        dx[j] = -eps;
-        model.retract(&q, &dx, &mut qm);
-        let fp = f_at(&mut sys, &qp, &v);
-        let fm = f_at(&mut sys, &qm, &v);
-        let (mut vp, mut vm) = (v.clone(), v.clone());
-        vp[j] += eps;
-        vm[j] -= eps;
-        let gp = f_at(&mut sys, &q, &vp);
-        let gm = f_at(&mut sys, &q, &vm);
-        for i in 0..nv {
-            let k_fd = -(fp[i] - fm[i]) / (2.0 * eps);
-            let d_fd = -(gp[i] - gm[i]) / (2.0 * eps);
-            worst = worst
-                .max((k_fd - k_an[i][j]).abs())
-                .max((d_fd - d_an[i][j]).abs());
-            scale = scale.max(k_fd.abs()).max(d_fd.abs());
-        }
-    }
+    let (worst, scale) = force_jacobian_mismatch(&model, &mut sys, 0.3, &q, &v, 1e-7);
     assert!(
         worst < 1e-6 * scale,
         "ground contact: worst K/D mismatch {worst:.3e} (scale {scale:.3e})"

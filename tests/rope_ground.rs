@@ -49,16 +49,7 @@ impl Probe {
 
 /// Weight of everything [N]: block, rope nodes, contact nodes.
 fn weight(s: &RopeBlockScene) -> f64 {
-    let m: f64 = s
-        .sim
-        .sim
-        .system
-        .model
-        .bodies
-        .iter()
-        .map(|b| b.kind.mass())
-        .sum();
-    m * 9.81
+    s.sim.total_mass() * 9.81
 }
 
 #[test]

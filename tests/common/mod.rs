@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod flex;
+pub mod jacobian;
 
 use mbcosim::math::{Mat3, Quat, Vec3};
 use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, Model, ModelBuilder};

@@ -95,6 +95,17 @@ impl RopeBlockSim {
             - self.event_energy
     }
 
+    /// Mass of everything [kg]: blocks, loads, rope and contact nodes.
+    pub fn total_mass(&self) -> f64 {
+        self.sim
+            .system
+            .model
+            .bodies
+            .iter()
+            .map(|b| b.kind.mass())
+            .sum()
+    }
+
     /// The passivity guard: the scene has no energy source but the hooks, so a balance grown by
     /// more than [`ENERGY_GROWTH_LIMIT`] of the weight of everything times 1 m (plus that share
     /// of the energy that flowed in and out) is an unstable integration; it stops the run with
@@ -106,14 +117,7 @@ impl RopeBlockSim {
             self.energy_reference = Some(b);
             return Ok(());
         };
-        let mass: f64 = self
-            .sim
-            .system
-            .model
-            .bodies
-            .iter()
-            .map(|b| b.kind.mass())
-            .sum();
+        let mass = self.total_mass();
         let scale =
             mass * 9.81 * 1.0 + e.input.abs() + e.dissipated.abs() + self.slide_dissipation.abs();
         let growth = b - b0;
