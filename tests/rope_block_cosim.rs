@@ -86,6 +86,26 @@ fn clones_and_bytes_continue_bit_for_bit_across_contact_changes() {
 }
 
 #[test]
+fn bytes_continue_bit_for_bit_with_the_block_sliding_on_the_ground() {
+    let mut m = started(&[
+        ("segments", 10.0),
+        ("ground_contact", 1.0),
+        ("ground_height", -0.05),
+        ("hook0_vx", 0.2),
+    ]);
+    run(m.as_mut(), 20, 0.1);
+    let bytes = m.serialize();
+    let first = run(m.as_mut(), 10, 0.1);
+    assert!(
+        m.get_real(vr("ground_friction")).unwrap() > 1e4,
+        "the block must slide"
+    );
+    let mut d = model();
+    d.deserialize(&bytes).unwrap();
+    assert_eq!(run(d.as_mut(), 10, 0.1), first);
+}
+
+#[test]
 fn corrupt_bytes_are_refused_and_reset_reproduces_the_first_run() {
     let mut m = started(&[("segments", 8.0), ("hook0_vz", 0.2)]);
     let bytes = m.serialize();

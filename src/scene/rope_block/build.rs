@@ -33,17 +33,8 @@ pub struct BuildMap {
     pub rope_memory: usize,
     /// The rope effect (shared with the model).
     pub rope: Arc<RopeEffect>,
-    /// The block-ground contact, when assembled.
-    pub ground: Option<GroundMap>,
-}
-
-/// Where the block-ground contact ended up in the model.
-#[derive(Debug, Clone)]
-pub struct GroundMap {
-    /// Index in `model.forces`.
-    pub effect: usize,
-    /// The effect (shared with the model).
-    pub contact: Arc<GroundContact>,
+    /// The block-ground contact effect (shared with the model), when assembled.
+    pub ground: Option<Arc<GroundContact>>,
 }
 
 impl BuildMap {
@@ -233,10 +224,6 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
         .iter()
         .map(|e| e.n_memory())
         .sum();
-    let ground = ground.map(|contact| GroundMap {
-        effect: rope_effect - 1,
-        contact,
-    });
     Ok((
         model,
         BuildMap {

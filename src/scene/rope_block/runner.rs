@@ -220,7 +220,7 @@ impl RopeBlockSim {
     /// Total normal force [N] and total friction force [N] of the ground on the block at the
     /// current state (`None` without a ground).
     pub fn ground_forces(&mut self) -> Option<(f64, f64)> {
-        let gm = self.map.ground.as_ref()?;
+        let ground = self.map.ground.as_ref()?;
         let st = &self.sim.state;
         let sys = &mut self.sim.system;
         sys.update_kinematics(&st.q, &st.v);
@@ -231,7 +231,7 @@ impl RopeBlockSim {
             memory: &[],
             frozen: &[],
         };
-        Some(gm.contact.totals(&ctx))
+        Some(ground.totals(&ctx))
     }
 
     /// World positions [m] of every point of rope `r` (ends included).
