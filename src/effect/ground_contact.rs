@@ -53,9 +53,9 @@ impl GroundContact {
     fn point<'a>(&self, ctx: &EvalCtx<'a>, c: &PlaneContact) -> PointEval<'a> {
         let kin = kin_of(ctx.kins, c.point.body);
         let local = c.point.origin;
+        let (delta, delta_dot) = c.penetration(kin);
+        let ev = c.law.evaluate(delta, delta_dot, 0.0);
         let v = kin.point_velocity(&local);
-        let delta = c.offset - c.normal.dot(&kin.point(&local));
-        let ev = c.law.evaluate(delta, -c.normal.dot(&v), 0.0);
         let v_t = v - c.normal * c.normal.dot(&v);
         let s = (v_t.norm_squared() + self.slip_speed * self.slip_speed).sqrt();
         PointEval {
@@ -143,9 +143,8 @@ impl ForceEffect for GroundContact {
         self.contacts
             .iter()
             .map(|c| {
-                let k = kin_of(ctx.kins, c.point.body);
-                c.law
-                    .potential_energy(c.offset - c.normal.dot(&k.point(&c.point.origin)))
+                let (delta, _) = c.penetration(kin_of(ctx.kins, c.point.body));
+                c.law.potential_energy(delta)
             })
             .sum()
     }

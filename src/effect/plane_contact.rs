@@ -40,12 +40,18 @@ pub struct PlaneEval {
 }
 
 impl PlaneContact {
-    /// Evaluates with memory `[in contact, approach speed, ...]`.
-    pub fn evaluate(&self, kins: &[BodyKin], mem: &[f64]) -> PlaneEval {
-        let k = kin_of(kins, self.point.body);
+    /// Penetration `delta` [m] of the point below the plane and its rate [m/s] (positive while
+    /// approaching).
+    pub fn penetration(&self, k: &BodyKin) -> (f64, f64) {
         let p = k.point(&self.point.origin);
         let delta = self.offset - self.normal.dot(&p);
         let delta_dot = -self.normal.dot(&k.point_velocity(&self.point.origin));
+        (delta, delta_dot)
+    }
+
+    /// Evaluates with memory `[in contact, approach speed, ...]`.
+    pub fn evaluate(&self, kins: &[BodyKin], mem: &[f64]) -> PlaneEval {
+        let (delta, delta_dot) = self.penetration(kin_of(kins, self.point.body));
         let mut ev = PlaneEval {
             delta,
             delta_dot,
