@@ -148,6 +148,7 @@ impl Simulation {
                 Ok(match (a, b) {
                     (_, StepAction::Stop) => StepAction::Stop,
                     (StepAction::Restart, _) | (_, StepAction::Restart) => StepAction::Restart,
+                    (StepAction::Moved, _) | (_, StepAction::Moved) => StepAction::Moved,
                     _ => StepAction::Continue,
                 })
             }

@@ -11,6 +11,7 @@
 
 use mbcosim::math::Vec3;
 use mbcosim::scene::rope_block::demo::TURNOVER_LOWERING;
+use mbcosim::scene::rope_block::params::GroundParams;
 use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 
 /// What a turn-over run showed.
@@ -29,16 +30,25 @@ struct Swing {
     steps: u64,
 }
 
+/// Kinetic + potential + dissipated - hook work - events [J] from an output row, for the
+/// output names `names`.
+fn energy_balance(names: &[String]) -> impl Fn(&[f64]) -> f64 {
+    let e: Vec<usize> = ["kinetic", "potential", "dissipated", "input", "events"]
+        .iter()
+        .map(|c| {
+            let name = format!("energy.{c}");
+            names.iter().position(|x| *x == name).unwrap()
+        })
+        .collect();
+    move |o: &[f64]| o[e[0]] + o[e[1]] + o[e[2]] - o[e[3]] - o[e[4]]
+}
+
 fn turnover(p: RopeBlockParams) -> Swing {
     let mut scene = RopeBlockScene::new(p).unwrap();
     let names = scene.output_names().to_vec();
     let col = |n: &str| names.iter().position(|x| x == n).unwrap();
     let load = col("hook0.load");
-    let e: Vec<usize> = ["kinetic", "potential", "dissipated", "input", "events"]
-        .iter()
-        .map(|c| col(&format!("energy.{c}")))
-        .collect();
-    let balance = |o: &[f64]| o[e[0]] + o[e[1]] + o[e[2]] - o[e[3]] - o[e[4]];
+    let balance = energy_balance(&names);
     let b0 = balance(&scene.outputs());
     let (mut drift, mut loads) = (0.0_f64, Vec::new());
     let mut lowering = false;
@@ -67,7 +77,7 @@ fn turnover(p: RopeBlockParams) -> Swing {
         mean,
         std,
         balance_drift: drift,
-        hook_work: -scene.outputs()[e[3]],
+        hook_work: -scene.outputs()[col("energy.input")],
         steps: scene.sim.sim.stats().steps,
     }
 }
@@ -113,4 +123,81 @@ fn turnover_swing_matches_a_tight_run_and_keeps_its_energy() {
         "{} steps for 40 s (at least {fewest})",
         default.steps
     );
+}
+
+#[test]
+fn turnover_onto_the_ground_rests_on_its_edge_with_slack_slings() {
+    // the turn-over with a ground 2 m below the block's bottom (20 segments per sling): crane B
+    // lowers its side until the block's lower edge lands on the ground (about 5.5 s), then goes
+    // on lowering until its slings hang slack, and holds from 32 s; the block rests tilted on its
+    // edge, held up by crane A. At rest the ground and the hooks carry the weight of everything,
+    // and the ground's friction holds the horizontal pull of crane A's slings. Before the rope's
+    // damping stopped switching on the speeds (src/rope/segment.rs) the energy guard stopped
+    // this run at 11 s.
+    let p = RopeBlockParams {
+        segments: 20,
+        ground: Some(GroundParams {
+            height: -2.0,
+            ..GroundParams::default()
+        }),
+        ..RopeBlockParams::turnover()
+    };
+    p.validate().unwrap();
+    let mut scene = RopeBlockScene::new(p).unwrap();
+    let names = scene.output_names().to_vec();
+    let col = |n: &str| names.iter().position(|x| x == n).unwrap();
+    let balance = energy_balance(&names);
+    let b0 = balance(&scene.outputs());
+    let mut drift: f64 = 0.0;
+    for k in 0..800 {
+        let t = k as f64 * 0.05;
+        let v = if t < TURNOVER_LOWERING - 1e-9 {
+            -0.4
+        } else {
+            0.0
+        };
+        scene.set_hook(1, Vec3::new(0.0, 0.0, v), 0.0).unwrap();
+        scene
+            .step(0.05)
+            .unwrap_or_else(|err| panic!("stopped at t = {t} s: {err}"));
+        drift = drift.max((balance(&scene.outputs()) - b0).abs());
+    }
+    let o = scene.outputs();
+    let weight = scene.sim.total_mass() * 9.81;
+    let (normal, friction) = (o[col("ground.normal")], o[col("ground.friction")]);
+    let (fz_a, fz_b) = (-o[col("hook0.fz")], -o[col("hook1.fz")]);
+    let horizontal = |k: usize| {
+        let (load, fz) = (
+            o[col(&format!("hook{k}.load"))],
+            o[col(&format!("hook{k}.fz"))],
+        );
+        (load * load - fz * fz).max(0.0).sqrt()
+    };
+    let (h_a, h_b) = (horizontal(0), horizontal(1));
+    let steps = scene.sim.sim.stats().steps;
+    println!(
+        "on the ground: normal {normal:.0} N, crane A {fz_a:.0} N, crane B {fz_b:.0} N, sum/weight - 1 = {:.2e}; friction {friction:.0} N against horizontal hook pulls {h_a:.0} N (A) and {h_b:.0} N (B); balance drift {drift:.0} J; {steps} steps",
+        (normal + fz_a + fz_b) / weight - 1.0
+    );
+    assert!(
+        ((normal + fz_a + fz_b) / weight - 1.0).abs() < 1e-3,
+        "ground {normal} N + hooks {fz_a} N, {fz_b} N against a weight of {weight} N"
+    );
+    assert!(
+        normal > 0.3 * weight && fz_a > 0.3 * weight,
+        "ground and crane A share the block"
+    );
+    assert!(
+        fz_b < 0.01 * weight,
+        "crane B's slings hang slack: {fz_b} N"
+    );
+    assert!(
+        friction > 0.98 * (h_a - h_b) && friction < 1.02 * (h_a + h_b),
+        "friction {friction} N against hook pulls {h_a} N and {h_b} N"
+    );
+    assert!(
+        friction < GroundParams::default().mu * normal,
+        "within the friction limit"
+    );
+    assert!(drift < 1e-2 * weight, "energy balance drifted by {drift} J");
 }

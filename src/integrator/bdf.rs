@@ -241,6 +241,24 @@ impl Bdf {
         self.hist.push_front(p);
     }
 
+    /// Translates every history point by the displacement a step hook gave the newest one
+    /// (`st.q - q_newest`, coordinate by coordinate; see [`StepAction::Moved`]): the backward
+    /// differences, and with them the speeds the next steps infer, stay as they were. Without
+    /// it the next step would start from the stored point, not the moved one.
+    fn translate_history(&mut self, st: &State) {
+        if self.hist.is_empty() {
+            return;
+        }
+        for i in 0..st.q.len() {
+            let d = st.q[i] - self.hist[0].q[i];
+            if d != 0.0 {
+                for p in self.hist.iter_mut() {
+                    p.q[i] += d;
+                }
+            }
+        }
+    }
+
     /// Chart coordinates of history points `0..m` relative to the newest.
     fn chart_history(&mut self, sys: &System, m: usize) {
         let nv = sys.n_v();
@@ -654,6 +672,7 @@ impl Integrator for Bdf {
                     self.accept(sys, st, h, k);
                     match hook.after_step(sys, st)? {
                         StepAction::Continue => {}
+                        StepAction::Moved => self.translate_history(st),
                         StepAction::Restart => {
                             self.restart(sys, st)?;
                             continue;

@@ -307,6 +307,8 @@ impl Integrator for Dopri5 {
             }
             match hook.after_step(sys, st)? {
                 StepAction::Continue => {}
+                // the first stage (FSAL) was evaluated at the positions before the move
+                StepAction::Moved => self.k1_valid = false,
                 StepAction::Restart => self.restart(sys, st)?,
                 StepAction::Stop => return Ok(()),
             }

@@ -486,7 +486,9 @@ impl Integrator for GenAlpha {
                         self.accept(sys, st, h);
                         refreshed = false;
                         match hook.after_step(sys, st)? {
-                            StepAction::Continue => {}
+                            // the step starts from the state itself (positions, speeds and
+                            // the algorithmic accelerations), so a moved state needs nothing
+                            StepAction::Continue | StepAction::Moved => {}
                             StepAction::Restart => self.restart(sys, st)?,
                             StepAction::Stop => return Ok(()),
                         }

@@ -159,6 +159,12 @@ impl std::error::Error for SolverError {}
 pub enum StepAction {
     /// Go on.
     Continue,
+    /// Go on; the hook moved positions of the state by small amounts (a contact node slid
+    /// along its edge) and may have changed the effects' memory. Multistep integrators translate
+    /// their whole history by the same displacement, so the move is not read as a velocity;
+    /// one-step integrators re-evaluate their first stage. Only additive moves of
+    /// vector-space coordinates (particle positions) are meant.
+    Moved,
     /// The state or the forces changed discontinuously here: restart (recompute accelerations,
     /// drop the history).
     Restart,

@@ -76,7 +76,7 @@ pub(crate) fn plain_segment(
     } else {
         0.0
     };
-    let (kd, cd) = if law.t > 0.0 {
+    let (kd, cd) = if l > rest {
         let proj = Mat3::identity() - u * u.transpose();
         let h = proj * dd / l;
         (

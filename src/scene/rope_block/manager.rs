@@ -420,7 +420,12 @@ impl StepHook for Manager<'_> {
         // Slip-state switches happen where the two laws agree (the friction limit) and a node
         // moves along its edge by micrometres to millimetres per step: the integrator goes on
         // without a restart (a restart per switch would cost a factorization each); the system
-        // took the changed memory above.
-        Ok(StepAction::Continue)
+        // took the changed memory above, and a slide's move is one multistep integrators carry
+        // into their history.
+        Ok(if changed {
+            StepAction::Moved
+        } else {
+            StepAction::Continue
+        })
     }
 }
