@@ -181,11 +181,10 @@ fn slack_to_taut_snap_and_stiff_rope() {
 #[test]
 fn axial_damping_from_default_to_extreme() {
     // Kelvin-Voigt damping of the slings from the default (retardation time 1 ms) to 5e6 N s
-    // (31 ms, node-scale axial modes overdamped about 400-fold): with rho_inf 0.8 gen-alpha's
-    // friction slides went unstable there in longer hoists (kinetic energy 9 kJ -> 700 kJ in
-    // 6 s; tests/stability_rope_geometry.rs keeps that run for the energy guard), with the
-    // RopeBlock default rho_inf 0 it runs passively; BDF's Newton iteration may diverge there
-    // (a stop with a message); up to 1e6 N s both run passively
+    // (31 ms, node-scale axial modes overdamped about 400-fold), gen-alpha and BDF: all run
+    // passively. History: while the law clamped the total tension at zero, BDF's Newton
+    // iteration diverged at 5e6 N s (0.83 s) and gen-alpha at rho_inf 0.8 went unstable in
+    // longer hoists (kinetic energy 9 kJ -> 700 kJ in 6 s)
     let mut stopped = Vec::new();
     for damping in [1.6e5, 1e6, 5e6] {
         for integrator in [1.0, 2.0] {
@@ -200,11 +199,7 @@ fn axial_damping_from_default_to_extreme() {
                 hoist,
             );
             if let Err(msg) = &r {
-                assert!(damping > 1e6 && integrator == 2.0, "{case}: {msg}");
-                assert!(
-                    msg.contains("rope_damping"),
-                    "{case}: no remedy named: {msg}"
-                );
+                panic!("{case}: {msg}");
             }
             check(&case, r, 1e-3, &mut stopped);
         }

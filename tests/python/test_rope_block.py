@@ -158,3 +158,21 @@ def test_ground_contact_carries_what_the_hook_does_not():
     assert off["ground_normal"] == 0.0 and off["ground_friction"] == 0.0
     with pytest.raises(Exception):
         _sim({"ground_contact": True, "ground_mu": -0.1}, stop=0.1)
+
+
+def test_block_set_down_until_the_slings_hang_slack():
+    # the default lift as shipped (100 segments per sling) on a ground at the block's bottom:
+    # the hook is lowered 0.5 m, so the slings hang slack over their deck edges; the run must
+    # complete with the ground carrying the block and the energy balance kept (the clamped rope
+    # damping once stopped this run within 0.7 s)
+    w = _default_lift_weight()
+    inputs = np.array([(0.0, -0.1), (5.0, -0.1), (5.0001, 0.0), (7.0, 0.0)],
+                      dtype=[("time", np.float64), ("hook0_vz", np.float64)])
+    res = _sim({"segments": 100, "ground_contact": True}, stop=7.0, input=inputs)
+    normal, hook = res["ground_normal"][-1], -res["hook0_fz"][-1]
+    assert normal + hook == pytest.approx(w, rel=2e-3)
+    assert hook < 0.02 * w
+    assert res["contact_count"][-1] == 4
+    balance = (res["energy_kinetic"] + res["energy_potential"] + res["energy_dissipated"]
+               - res["energy_input"] - res["energy_events"])
+    assert np.max(np.abs(balance - balance[0])) < 2e-4 * w

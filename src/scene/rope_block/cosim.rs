@@ -463,7 +463,7 @@ impl CoSimModel for RopeBlockModel {
 /// is model-neutral).
 fn remedy(message: &str) -> &'static str {
     if message.contains("step size fell below") {
-        "; in RopeBlock this comes from slings too stiff or too strongly damped for the integrator (BDF's Newton iteration diverges at rope_damping 5e6 N s): use integrator = gen_alpha, lower rope_damping or rope_ea, or use fewer segments (longer segments are softer)"
+        "; in RopeBlock this comes from slings too stiff or too strongly damped for the integrator (BDF's Newton iteration diverged at rope_damping 5e6 N s while the rope law clamped the total tension): use integrator = gen_alpha, lower rope_damping or rope_ea, or use fewer segments (longer segments are softer)"
     } else {
         ""
     }
