@@ -176,3 +176,22 @@ def test_block_set_down_until_the_slings_hang_slack():
     balance = (res["energy_kinetic"] + res["energy_potential"] + res["energy_dissipated"]
                - res["energy_input"] - res["energy_events"])
     assert np.max(np.abs(balance - balance[0])) < 2e-4 * w
+
+
+def test_turnover_onto_the_ground_rests_on_its_edge():
+    # the turn-over scene (20 segments) over a ground 2 m below the block's bottom: crane B
+    # lowers at 0.4 m/s for 32 s, the block's lower edge lands on the ground (about 5.5 s) and
+    # crane B's slings go slack; at rest the ground and the two hooks carry what the two hooks
+    # carried at the start, and the ground's friction stays within mu times its normal force
+    inputs = np.array([(0.0, -0.4), (32.0, -0.4), (32.0001, 0.0), (40.0, 0.0)],
+                      dtype=[("time", np.float64), ("hook1_vz", np.float64)])
+    res = _sim({"scenario": 1, "ground_contact": True, "ground_height": -2.0}, stop=40.0,
+               input=inputs)
+    w = -(res["hook0_fz"][0] + res["hook1_fz"][0])
+    normal, a, b = res["ground_normal"][-1], -res["hook0_fz"][-1], -res["hook1_fz"][-1]
+    assert normal + a + b == pytest.approx(w, rel=2e-3)
+    assert normal > 0.3 * w and a > 0.3 * w and b < 0.01 * w
+    assert res["ground_friction"][-1] < 0.3 * normal
+    balance = (res["energy_kinetic"] + res["energy_potential"] + res["energy_dissipated"]
+               - res["energy_input"] - res["energy_events"])
+    assert np.max(np.abs(balance - balance[0])) < 1e-2 * w
