@@ -147,7 +147,7 @@ fn main() -> Result<(), String> {
     let rtols: &[f64] = if long {
         &[1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 1e-6]
     } else {
-        &[1e-3, 1e-4, 3e-5, 1e-5]
+        &[1e-3, 3e-4, 1e-4, 3e-5, 1e-5]
     };
     let mut rows = Vec::new();
     let mut rtol_list: Vec<f64> = rtols.to_vec();

@@ -175,7 +175,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
     rp(
         "rtol",
         None,
-        3e-4,
+        3e-5,
         1e-10,
         0.1,
         "Relative error tolerance of the integrator.",
@@ -538,7 +538,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{4c1f8a2e-93d7-4b6a-8e05-d2a7c6b19e34}",
+            guid: "{65d0edba-7383-4c54-b33b-f3ba7876717c}",
             description: "Ship-block lift with lumped-mass wire-rope slings contacting the block's shell plate edges through contact nodes with Coulomb friction; one-hook lift or two-hook turn-over.",
             ports,
             default_stop_time: 10.0,
