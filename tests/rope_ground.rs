@@ -106,7 +106,7 @@ fn block_set_down_until_the_slings_hang_slack() {
     // the default lift (100 segments per sling) over a ground at the block's bottom: the block
     // settles onto it, then the hook is lowered by 0.5 m, so the slings hang slack from the hook
     // over their deck edges with a few kN each, and held for 3 s. Until the rope's damping stopped
-    // switching on the speeds (src/rope/segment.rs) this run fell to 23 us steps and the energy
+    // switching on the speeds (src/rope/segment.rs) this run fell to steps of tens of microseconds and the energy
     // guard stopped it within 0.7 s (1.1e5 J of spurious damping work).
     let p = RopeBlockParams {
         ground: Some(GroundParams::default()),
@@ -118,8 +118,12 @@ fn block_set_down_until_the_slings_hang_slack() {
     let w = weight(&s);
     let mut drift: f64 = 0.0;
     for k in 0..160 {
-        let v = if k < 100 { -0.1 } else { 0.0 };
-        s.set_hook(0, Vec3::new(0.0, 0.0, v), 0.0).unwrap();
+        // commanded where it changes, as an FMU importer's input does (each command restarts
+        // the hook's 0.5 s ramp from where it is)
+        if k == 0 || k == 100 {
+            let v = if k < 100 { -0.1 } else { 0.0 };
+            s.set_hook(0, Vec3::new(0.0, 0.0, v), 0.0).unwrap();
+        }
         s.step(0.05)
             .unwrap_or_else(|e| panic!("stopped at t = {} s: {e}", s.sim.time()));
         drift = drift.max((probe.balance(&s.outputs()) - b0).abs());
@@ -140,10 +144,12 @@ fn block_set_down_until_the_slings_hang_slack() {
         "ground {normal} N + hook {hook} N against a weight of {w} N"
     );
     assert!(hook < 0.02 * w, "the slings must hang slack: hook {hook} N");
-    assert!(drift < 2e-4 * w, "energy balance drifted by {drift} J");
+    assert!(drift < 5e-5 * w, "energy balance drifted by {drift} J");
     // the slings keep their contact nodes on the deck edges
     assert_eq!(probe.get(&row, "contact.count"), 4.0);
-    assert!(steps < 8000, "{steps} steps for 8 s");
+    // a step-count bound, not a timing (1,146 steps; the clamped damping took 25,000 steps for
+    // the first 0.7 s)
+    assert!(steps < 3000, "{steps} steps for 8 s");
 }
 
 #[test]

@@ -151,12 +151,11 @@ fn turnover_onto_the_ground_rests_on_its_edge_with_slack_slings() {
     let mut drift: f64 = 0.0;
     for k in 0..800 {
         let t = k as f64 * 0.05;
-        let v = if t < TURNOVER_LOWERING - 1e-9 {
-            -0.4
-        } else {
-            0.0
-        };
-        scene.set_hook(1, Vec3::new(0.0, 0.0, v), 0.0).unwrap();
+        // commanded where it changes, as an FMU importer's input does
+        if k == 0 || (t - TURNOVER_LOWERING).abs() < 1e-9 {
+            let v = if k == 0 { -0.4 } else { 0.0 };
+            scene.set_hook(1, Vec3::new(0.0, 0.0, v), 0.0).unwrap();
+        }
         scene
             .step(0.05)
             .unwrap_or_else(|err| panic!("stopped at t = {t} s: {err}"));
@@ -199,5 +198,7 @@ fn turnover_onto_the_ground_rests_on_its_edge_with_slack_slings() {
         friction < GroundParams::default().mu * normal,
         "within the friction limit"
     );
-    assert!(drift < 1e-2 * weight, "energy balance drifted by {drift} J");
+    assert!(drift < 2e-3 * weight, "energy balance drifted by {drift} J");
+    // a step-count bound, not a timing (6,687 steps at the default rtol 3e-5, 17,002 at 3e-4)
+    assert!(steps < 12_000, "{steps} steps for 40 s");
 }

@@ -20,9 +20,8 @@
 //! segments between the two branches inside every Newton iteration: the default lift set down on
 //! the ground fell to steps of tens of microseconds, and the trapezoidal damping work of those
 //! flips grew the energy balance by 110 kJ in 0.7 s, until the energy guard stopped it. With the
-//! length alone deciding, the same set-down runs 8 s in 3,953 steps within 172 J at rtol 3e-4
-//! (2,308 steps and 15 J at the default 3e-5; tests/rope_ground.rs), and the damper's power
-//! `c (l_dot/L)^2 L` is dissipative either way.
+//! length alone deciding, the same set-down runs 8 s in 1,146 steps within 14 J
+//! (tests/rope_ground.rs), and the damper's power `c (l_dot/L)^2 L` is dissipative either way.
 
 /// Tension and its partial derivatives for one segment.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

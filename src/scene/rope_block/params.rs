@@ -200,10 +200,11 @@ impl Default for RopeBlockParams {
             integrator: IntegratorKind::GenAlpha,
             // rtol 3e-5: the lift costs what it does at 3e-4 (1,135 steps against 1,123, peak
             // sling tension to 0.002 % instead of 0.015 %; docs/rope_speed_bench.md), and slack
-            // slings on a grounded block take fewer steps with a tighter energy balance (set-down
-            // 2,308 steps and 15 J against 3,953 and 172 J; a turn-over onto the ground 7,462
-            // against 20,495 steps): at 3e-4 the Newton iterates of the slack segments are
-            // loose enough to trip more divergences; 50 steps per period of the block's
+            // slings on a grounded block take fewer steps with a tighter energy balance (a
+            // turn-over onto the ground: 6,687 steps and 1.4 kJ against 17,002 and 3.7 kJ; the
+            // set-down until slack 1,146 steps and 14 J against 1,271 and 21 J): at 3e-4 the
+            // Newton iterates of the slack segments are loose enough to trip more divergences;
+            // 50 steps per period of the block's
             // 1.6 Hz bounce on the slings: with rho_inf 0 generalized-alpha damps that bounce by
             // 6 % per second at 0.025 s steps and 0.6 % at 0.0125 s (the physical damping is
             // 0.6 % of critical), the 12 s lift's hook-load history then stays within 1 % of the
