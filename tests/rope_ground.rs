@@ -105,9 +105,10 @@ fn partly_set_down(integrator: IntegratorKind) {
 fn block_set_down_until_the_slings_hang_slack() {
     // the default lift (100 segments per sling) over a ground at the block's bottom: the block
     // settles onto it, then the hook is lowered by 0.5 m, so the slings hang slack from the hook
-    // over their deck edges with a few kN each, and held for 3 s. Until the rope's damping stopped
-    // switching on the speeds (src/rope/segment.rs) this run fell to steps of tens of microseconds and the energy
-    // guard stopped it within 0.7 s (1.1e5 J of spurious damping work).
+    // over their deck edges with a few kN each, and held for 3 s. Until the rope's damping
+    // stopped switching on the speeds (src/rope/segment.rs) this run fell to steps of tens of
+    // microseconds and the energy guard stopped it within 0.7 s (1.1e5 J of spurious damping
+    // work).
     let p = RopeBlockParams {
         ground: Some(GroundParams::default()),
         ..RopeBlockParams::default()
