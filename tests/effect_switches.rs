@@ -3,19 +3,16 @@
 //! but contributes nothing (to the last bit where the summation order is the same), and invalid
 //! combinations are refused at instantiation with a clear message.
 
+mod common;
+
+use common::force_effect_names;
 use mbcosim::scene::CoSimModel;
 use mbcosim::scene::native;
 use mbcosim::scene::panel_lock::{PanelLock, PanelLockModel, PanelLockParams};
 use mbcosim::scene::rope_block::RopeBlockParams;
 
 fn effect_names(s: &PanelLock) -> Vec<String> {
-    s.sim
-        .system
-        .model
-        .forces
-        .iter()
-        .map(|f| f.name().to_string())
-        .collect()
+    force_effect_names(&s.sim.system.model)
 }
 
 /// Every hinge angle and rate, the energies and the state after `t_end` [s].

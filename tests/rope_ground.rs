@@ -3,6 +3,10 @@
 //! rigging, Coulomb's law through the whole model, and the energy balance.
 //! `cargo test --release --test rope_ground -- --nocapture` prints the figures.
 
+mod common;
+
+use common::force_effect_names;
+use common::outputs::energy_balance;
 use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::Vec3;
 use mbcosim::scene::rope_block::params::GroundParams;
@@ -42,8 +46,7 @@ impl Probe {
     }
     /// Kinetic + potential + dissipated - input - events [J].
     fn balance(&self, row: &[f64]) -> f64 {
-        let e = |c: &str| self.get(row, &format!("energy.{c}"));
-        e("kinetic") + e("potential") + e("dissipated") - e("input") - e("events")
+        energy_balance(&self.names)(row)
     }
 }
 
@@ -215,16 +218,7 @@ fn block_dragged_along_the_ground_slides_at_the_friction_limit() {
 
 #[test]
 fn the_ground_is_assembled_only_when_switched_on() {
-    let names = |s: &RopeBlockScene| -> Vec<String> {
-        s.sim
-            .sim
-            .system
-            .model
-            .forces
-            .iter()
-            .map(|f| f.name().to_string())
-            .collect()
-    };
+    let names = |s: &RopeBlockScene| force_effect_names(&s.sim.sim.system.model);
     let off = RopeBlockScene::new(RopeBlockParams {
         segments: 4,
         ..RopeBlockParams::default()

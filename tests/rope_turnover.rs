@@ -9,6 +9,9 @@
 //! half as large as converged. RopeBlock now runs generalized-alpha at rho_inf 0.
 //! `cargo test --release --test rope_turnover -- --nocapture` prints the figures.
 
+mod common;
+
+use common::outputs::energy_balance;
 use mbcosim::math::Vec3;
 use mbcosim::scene::rope_block::demo::TURNOVER_LOWERING;
 use mbcosim::scene::rope_block::params::GroundParams;
@@ -28,19 +31,6 @@ struct Swing {
     hook_work: f64,
     /// Integrator steps.
     steps: u64,
-}
-
-/// Kinetic + potential + dissipated - hook work - events [J] from an output row, for the
-/// output names `names`.
-fn energy_balance(names: &[String]) -> impl Fn(&[f64]) -> f64 {
-    let e: Vec<usize> = ["kinetic", "potential", "dissipated", "input", "events"]
-        .iter()
-        .map(|c| {
-            let name = format!("energy.{c}");
-            names.iter().position(|x| *x == name).unwrap()
-        })
-        .collect();
-    move |o: &[f64]| o[e[0]] + o[e[1]] + o[e[2]] - o[e[3]] - o[e[4]]
 }
 
 fn turnover(p: RopeBlockParams) -> Swing {

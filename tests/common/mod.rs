@@ -3,11 +3,17 @@
 
 pub mod flex;
 pub mod jacobian;
+pub mod outputs;
 
 use mbcosim::math::{Mat3, Quat, Vec3};
 use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, Model, ModelBuilder};
 
 pub const G: f64 = 9.81;
+
+/// Names of the force effects a model assembled.
+pub fn force_effect_names(model: &Model) -> Vec<String> {
+    model.forces.iter().map(|f| f.name().to_string()).collect()
+}
 
 /// Inertia of a thin rod of `mass` and `length` along the body x axis, with a small radius.
 pub fn rod_inertia(mass: f64, length: f64) -> Mat3 {

@@ -26,6 +26,12 @@ def _native(stop, step, values):
     return np.genfromtxt(io.StringIO(native(*args, timeout=600)), delimiter=",", names=True)
 
 
+def _energy_balance(res):
+    """Kinetic + potential + dissipated - hook work - events [J], per output row."""
+    return (res["energy_kinetic"] + res["energy_potential"] + res["energy_dissipated"]
+            - res["energy_input"] - res["energy_events"])
+
+
 def _sling_length(hook, lug, edge_y, edge_z):
     """Shortest path hook -> point (x, edge_y, edge_z) of a deck edge -> lug [m] (the rigging's
     unstretched sling length at length factor 1), by golden-section search over x."""
@@ -173,8 +179,7 @@ def test_block_set_down_until_the_slings_hang_slack():
     assert normal + hook == pytest.approx(w, rel=2e-3)
     assert hook < 0.02 * w
     assert res["contact_count"][-1] == 4
-    balance = (res["energy_kinetic"] + res["energy_potential"] + res["energy_dissipated"]
-               - res["energy_input"] - res["energy_events"])
+    balance = _energy_balance(res)
     assert np.max(np.abs(balance - balance[0])) < 2e-4 * w
 
 
@@ -192,6 +197,5 @@ def test_turnover_onto_the_ground_rests_on_its_edge():
     assert normal + a + b == pytest.approx(w, rel=2e-3)
     assert normal > 0.3 * w and a > 0.3 * w and b < 0.01 * w
     assert res["ground_friction"][-1] < 0.3 * normal
-    balance = (res["energy_kinetic"] + res["energy_potential"] + res["energy_dissipated"]
-               - res["energy_input"] - res["energy_events"])
+    balance = _energy_balance(res)
     assert np.max(np.abs(balance - balance[0])) < 1e-2 * w
