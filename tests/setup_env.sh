@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sourced by tests/run_all.sh and benches/work_precision.sh: installs what the tests and the report
 # need, idempotently, on a fresh Debian machine:
-#   - apt: libclang-dev (bindgen for the fmi-sys/fmi dev-dependencies), python3-venv; only if missing
+#   - apt: libclang-dev (bindgen for the fmi-sys/fmi dev-dependencies), python3-venv, libtbb12
+#     (ecospy's libecosc.so links libtbb.so.12); only if missing
 #   - a Python venv in .venv with the pinned tools of tests/python/requirements.txt
 # Expects the repository root as the current directory.
 
@@ -18,11 +19,12 @@ log "system packages"
 missing=()
 dpkg -s libclang-dev >/dev/null 2>&1 || missing+=(libclang-dev)
 python3 -c 'import ensurepip, venv' >/dev/null 2>&1 || missing+=(python3-venv)
+dpkg -s libtbb12 >/dev/null 2>&1 || missing+=(libtbb12)
 if [ ${#missing[@]} -gt 0 ]; then
     echo "installing: ${missing[*]}"
     apt_install "${missing[@]}"
 else
-    echo "libclang-dev and python3-venv present"
+    echo "libclang-dev, python3-venv and libtbb12 present"
 fi
 
 log "python venv (.venv)"
