@@ -14,10 +14,11 @@
 //!                              native run of one model; CSV of its outputs (stdout by default)
 //! ```
 //!
-//! Packing needs a fresh release cdylib. `cargo run --bin mbcosim` compiles the library for the
-//! binary but does not refresh `target/<profile>/libmbcosim.so`, so `pack` and `demo` first run
-//! `cargo build --lib` for the same profile and target directory as this executable (set
-//! `MBCOSIM_NO_BUILD=1` to skip that and use the library as it is).
+//! Packing needs a fresh cdylib, which `cargo run --bin mbcosim` does not build, so `pack` and
+//! `demo` first run `scripts/build_portable.sh` for the same profile and target directory as this
+//! executable: a glibc 2.17 build through cargo-zigbuild (installed into `.venv` on first use),
+//! stripped, its debug info in `dist/debug/` (docs/portable_binary.md). Set `MBCOSIM_NO_BUILD=1`
+//! to skip that and pack the last stripped library as it is.
 #![forbid(unsafe_code)]
 
 use std::path::PathBuf;
@@ -40,40 +41,47 @@ fn scenes_dir() -> PathBuf {
     root().join("resources").join("scenes")
 }
 
-/// Builds the cdylib for this executable's profile and returns its path.
+/// The library every FMU ships, for this executable's profile and target directory: built by
+/// `scripts/build_portable.sh` (portable glibc 2.17 build through cargo-zigbuild, host build with a
+/// loud warning when that toolchain cannot be had; stripped, debug info split into
+/// `dist/debug/`), or with `MBCOSIM_NO_BUILD` the stripped library of the last build as it is.
 fn fresh_cdylib() -> Result<PathBuf, String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
-    let profile_dir = exe
-        .parent()
-        .ok_or("executable has no parent folder")?
-        .to_path_buf();
-    let lib = profile_dir.join("libmbcosim.so");
-    if std::env::var_os("MBCOSIM_NO_BUILD").is_none() {
-        let profile = profile_dir
-            .file_name()
-            .and_then(|n| n.to_str())
-            .unwrap_or("debug")
-            .to_string();
-        let target_dir = profile_dir.parent().ok_or("no target folder")?;
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let mut cmd = Command::new(cargo);
-        cmd.args(["build", "--lib", "--quiet", "--profile", &profile])
-            .arg("--manifest-path")
-            .arg(root().join("Cargo.toml"))
-            .arg("--target-dir")
-            .arg(target_dir);
-        let status = cmd
-            .status()
-            .map_err(|e| format!("cannot run cargo to build the library: {e}"))?;
-        if !status.success() {
-            return Err(format!(
-                "`cargo build --lib --profile {profile}` failed ({status})"
-            ));
-        }
+    let profile_dir = exe.parent().ok_or("executable has no parent folder")?;
+    let profile = profile_dir
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or("debug");
+    let target_dir = profile_dir.parent().ok_or("no target folder")?;
+    let stripped = target_dir.join("fmu").join(profile).join("libmbcosim.so");
+    if std::env::var_os("MBCOSIM_NO_BUILD").is_some() {
+        return if stripped.is_file() {
+            Ok(stripped)
+        } else {
+            Err(format!(
+                "{} not found: run `mbcosim pack` once without MBCOSIM_NO_BUILD",
+                stripped.display()
+            ))
+        };
     }
+    let script = root().join("scripts").join("build_portable.sh");
+    let out = Command::new("bash")
+        .arg(&script)
+        .args(["--profile", profile, "--target-dir"])
+        .arg(target_dir)
+        .arg("--debug-dir")
+        .arg(root().join("dist").join("debug"))
+        .stderr(std::process::Stdio::inherit())
+        .output()
+        .map_err(|e| format!("cannot run {}: {e}", script.display()))?;
+    if !out.status.success() {
+        return Err(format!("{} failed ({})", script.display(), out.status));
+    }
+    let lib = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
     if !lib.is_file() {
         return Err(format!(
-            "{} not found: run `cargo build --release --lib`",
+            "{} named no library ({})",
+            script.display(),
             lib.display()
         ));
     }
