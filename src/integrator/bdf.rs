@@ -807,8 +807,17 @@ impl Integrator for Bdf {
             *pos += 1;
             Ok(v)
         };
+        // a length of what follows: at most what is left
         let count = |x: f64| {
-            if x.is_finite() && x >= 0.0 && x <= m.len() as f64 {
+            if x.is_finite() && x >= 0.0 && x.fract() == 0.0 && x <= m.len() as f64 {
+                Ok(x as usize)
+            } else {
+                Err(bad())
+            }
+        };
+        // a step counter: any whole number up to 2^53 (not bounded by the memory's length)
+        let counter = |x: f64| {
+            if x.is_finite() && x >= 0.0 && x.fract() == 0.0 && x <= 9.007_199_254_740_992e15 {
                 Ok(x as usize)
             } else {
                 Err(bad())
@@ -816,8 +825,8 @@ impl Integrator for Bdf {
         };
         let h = next(&mut pos)?;
         let order = count(next(&mut pos)?)?;
-        let sao = count(next(&mut pos)?)?;
-        let since = count(next(&mut pos)?)?;
+        let sao = counter(next(&mut pos)?)?;
+        let since = counter(next(&mut pos)?)?;
         let n = count(next(&mut pos)?)?;
         if !(1..=5).contains(&order) || n > 7 || !(h.is_finite() && h > 0.0) {
             return Err(bad());
