@@ -17,6 +17,7 @@
 //!    model-descriptions`) and pack (`... -- pack`).
 
 pub mod bytes;
+pub mod clock;
 pub mod native;
 pub mod panel_lock;
 pub mod pid;

@@ -3,10 +3,15 @@
 use super::ports::*;
 use super::{PanelLock, PanelLockParams};
 use crate::scene::bytes::{ByteReader, ByteWriter};
+use crate::scene::clock::Clock;
 use crate::scene::port::ValueRef;
 use crate::scene::store::PortStore;
-use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, check_step};
+use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use crate::state::State;
+
+/// Version of the serialized FMU state (2: the clock, start time and elapsed nanoseconds, in
+/// place of the time; version 1 states start at 0 s).
+const STATE_FORMAT: u32 = 2;
 
 /// A new PanelLock instance at default parameters.
 pub fn create() -> Box<dyn CoSimModel> {
@@ -18,7 +23,8 @@ pub fn create() -> Box<dyn CoSimModel> {
 pub struct PanelLockModel {
     ports: PortStore,
     scene: Option<PanelLock>,
-    time: f64,
+    /// Start time and time since the start (the scene's own time axis begins at 0).
+    clock: Clock,
     log: Vec<LogRecord>,
 }
 
@@ -34,7 +40,7 @@ impl PanelLockModel {
         PanelLockModel {
             ports: PortStore::new(info()),
             scene: None,
-            time: 0.0,
+            clock: Clock::default(),
             log: Vec::new(),
         }
     }
@@ -69,6 +75,7 @@ impl PanelLockModel {
 
     /// Writes every output port from the scene.
     fn publish(&mut self) -> Result<(), ModelError> {
+        let start = self.clock.start();
         let scene = self.scene()?;
         let o = scene.outputs();
         let stats = scene.sim.stats();
@@ -81,7 +88,7 @@ impl PanelLockModel {
                     h.contact_force,
                     h.peak_force,
                     if h.lock_time.is_finite() {
-                        h.lock_time
+                        start + h.lock_time
                     } else {
                         -1.0
                     },
@@ -153,11 +160,7 @@ impl CoSimModel for PanelLockModel {
                 "PanelLock is already initialized".into(),
             ));
         }
-        if t_start != 0.0 {
-            return Err(ModelError::InvalidValue(format!(
-                "PanelLock starts stowed at t = 0 s; start time {t_start} s is not supported"
-            )));
-        }
+        let clock = Clock::new(t_start)?;
         let p = self.params()?;
         let mut scene = PanelLock::new(p).map_err(ModelError::InvalidValue)?;
         for w in &scene.sim.warnings {
@@ -170,7 +173,7 @@ impl CoSimModel for PanelLockModel {
             .set_motor_torque(self.ports.get_real(vr_motor())?)
             .map_err(ModelError::InvalidValue)?;
         self.scene = Some(scene);
-        self.time = t_start;
+        self.clock = clock;
         self.publish()?;
         self.ports.mark_initialized();
         Ok(())
@@ -180,20 +183,19 @@ impl CoSimModel for PanelLockModel {
         if !self.ports.is_initialized() {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
-        check_step(self.time, t, h)?;
+        let end = self.clock.step_end(t, h)?;
         let before = self.lock_times();
-        let t_end = self.time + h;
         let scene = self.scene()?;
         scene
-            .advance_to(t_end)
+            .advance_to(end as f64 / 1e9)
             .map_err(|e| ModelError::SolverFailure(format!("PanelLock solver failed: {e}")))?;
-        self.time = t_end;
+        self.clock.advance_to(end);
         let after = self.lock_times();
         for (k, (a, b)) in after.iter().zip(&before).enumerate() {
             if a.is_finite() && !b.is_finite() {
                 self.log.push(LogRecord {
                     level: LogLevel::Event,
-                    message: format!("hinge {k} locked at t = {a:.6} s"),
+                    message: format!("hinge {k} locked at t = {:.6} s", self.clock.start() + a),
                 });
             }
         }
@@ -201,7 +203,7 @@ impl CoSimModel for PanelLockModel {
     }
 
     fn time(&self) -> f64 {
-        self.time
+        self.clock.time()
     }
 
     fn clone_box(&self) -> Box<dyn CoSimModel> {
@@ -210,9 +212,10 @@ impl CoSimModel for PanelLockModel {
 
     fn serialize(&self) -> Vec<u8> {
         let mut w = ByteWriter::new();
-        w.header(IDENTIFIER, 1);
+        w.header(IDENTIFIER, STATE_FORMAT);
         self.ports.write(&mut w);
-        w.f64(self.time);
+        w.f64(self.clock.start());
+        w.u64(self.clock.ticks() as u64);
         match &self.scene {
             None => w.bool(false),
             Some(s) => {
@@ -235,13 +238,19 @@ impl CoSimModel for PanelLockModel {
 
     fn deserialize(&mut self, bytes: &[u8]) -> Result<(), ModelError> {
         let mut r = ByteReader::new(bytes);
-        r.header(IDENTIFIER, 1)?;
+        let version = r.header(IDENTIFIER, STATE_FORMAT)?;
         let ports = self.ports.read(&mut r)?;
-        let time = r.finite_f64("time")?;
+        let clock = if version >= 2 {
+            let start = r.finite_f64("start time")?;
+            Clock::restore(start, r.u64("elapsed nanoseconds")? as i64)?
+        } else {
+            let time = r.finite_f64("time")?;
+            Clock::restore(0.0, (time * 1e9).round() as i64)?
+        };
         let mut restored = PanelLockModel {
             ports,
             scene: None,
-            time,
+            clock,
             log: Vec::new(),
         };
         if r.bool("initialized scene")? {

@@ -18,7 +18,10 @@
 //!
 //! # Start
 //! The scene starts hanging at rest in static equilibrium (settled with the rope sliding freely
-//! over the edges, then every contact node sticking), at `t = 0` only.
+//! over the edges, then every contact node sticking) at the importer's start time, any finite
+//! value: the scene's time axis begins at 0 and the model's time is start time + elapsed time
+//! ([`crate::scene::clock::Clock`]), so a run started at 1000 s gives the outputs of a run
+//! started at 0 s.
 
 use super::params::GroundParams;
 use super::persist::{clone_sim, read_sim, write_sim};
@@ -26,16 +29,18 @@ use super::ports::*;
 use super::{RopeBlockParams, RopeBlockScene};
 use crate::math::Vec3;
 use crate::scene::bytes::{ByteReader, ByteWriter};
+use crate::scene::clock::Clock;
 use crate::scene::panel_lock::ports::integrator_of;
 use crate::scene::port::{PortType, ValueRef};
 use crate::scene::store::PortStore;
-use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, check_step};
+use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 /// Version of the serialized FMU state (2 adds the friction-slide dissipation and the energy
-/// guard's reference; version 1 states are still read, with none booked and the guard's
-/// reference taken anew).
-const STATE_FORMAT: u32 = 2;
+/// guard's reference; 3 the clock, start time and elapsed nanoseconds, in place of the time.
+/// Version 1 states are still read, with none booked and
+/// the guard's reference taken anew; versions 1 and 2 start at 0 s).
+const STATE_FORMAT: u32 = 3;
 use std::path::{Path, PathBuf};
 
 /// A new RopeBlock instance at default parameters.
@@ -59,7 +64,8 @@ pub struct RopeBlockModel {
     targets: Vec<Option<Target>>,
     /// Hook commands in effect: velocity x/y/z [m/s], pay-out rate [m/s].
     applied: [[f64; 4]; MAX_HOOKS],
-    time: f64,
+    /// Start time and time since the start (the scene's own time axis begins at 0).
+    clock: Clock,
     resource_dir: Option<PathBuf>,
     log: Vec<LogRecord>,
 }
@@ -71,7 +77,7 @@ impl Clone for RopeBlockModel {
             scene: self.scene.as_ref().map(|s| s.with_sim(clone_sim(&s.sim))),
             targets: self.targets.clone(),
             applied: self.applied,
-            time: self.time,
+            clock: self.clock,
             resource_dir: self.resource_dir.clone(),
             log: self.log.clone(),
         }
@@ -100,7 +106,7 @@ impl RopeBlockModel {
             scene: None,
             targets: Vec::new(),
             applied: [[0.0; 4]; MAX_HOOKS],
-            time: 0.0,
+            clock: Clock::default(),
             resource_dir: None,
             log: Vec::new(),
         }
@@ -271,7 +277,7 @@ impl RopeBlockModel {
                     level: LogLevel::Event,
                     message: format!(
                         "hook {k}: new command at t = {:.6} s: velocity ({}, {}, {}) m/s, pay-out {} m/s (integrator restarted)",
-                        self.time, c[0], c[1], c[2], c[3]
+                        self.clock.time(), c[0], c[1], c[2], c[3]
                     ),
                 });
             }
@@ -329,11 +335,7 @@ impl CoSimModel for RopeBlockModel {
                 "RopeBlock is already initialized".into(),
             ));
         }
-        if t_start != 0.0 {
-            return Err(ModelError::InvalidValue(format!(
-                "RopeBlock starts hanging at rest at t = 0 s; start time {t_start} s is not supported"
-            )));
-        }
+        self.clock = Clock::new(t_start)?;
         match catch_unwind(AssertUnwindSafe(|| self.start())) {
             Ok(r) => r?,
             Err(p) => {
@@ -344,7 +346,6 @@ impl CoSimModel for RopeBlockModel {
                 )));
             }
         }
-        self.time = t_start;
         self.ports.mark_initialized();
         Ok(())
     }
@@ -353,41 +354,49 @@ impl CoSimModel for RopeBlockModel {
         if !self.ports.is_initialized() {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
-        check_step(self.time, t, h)?;
+        let end = self.clock.step_end(t, h)?;
         self.apply_inputs()?;
         let before = self.contact_count();
-        let (t0, t_end) = (self.time, self.time + h);
+        let (t0, t_end) = (self.clock.elapsed(), end as f64 / 1e9);
+        let start = self.clock.start();
         let scene = self.scene()?;
         match catch_unwind(AssertUnwindSafe(|| scene.sim.advance_to(t_end))) {
             Ok(Ok(())) => {}
             Ok(Err(e)) => {
                 return Err(ModelError::SolverFailure(format!(
-                    "RopeBlock solver failed in the step from t = {t0} s to {t_end} s: {e}{}",
+                    "RopeBlock solver failed in the step from t = {} s to {} s: {e}{}",
+                    start + t0,
+                    start + t_end,
                     remedy(&e)
                 )));
             }
             Err(p) => {
                 self.scene = None;
                 return Err(ModelError::SolverFailure(format!(
-                    "RopeBlock: internal error in the step from t = {t0} s to {t_end} s: {}",
+                    "RopeBlock: internal error in the step from t = {} s to {} s: {}",
+                    start + t0,
+                    start + t_end,
                     panic_text(p.as_ref())
                 )));
             }
         }
-        self.time = t_end;
+        self.clock.advance_to(end);
         self.publish()?;
         let after = self.contact_count();
         if after != before {
             self.log.push(LogRecord {
                 level: LogLevel::Event,
-                message: format!("contact nodes: {before} -> {after} at t = {t_end:.6} s"),
+                message: format!(
+                    "contact nodes: {before} -> {after} at t = {:.6} s",
+                    start + t_end
+                ),
             });
         }
         Ok(())
     }
 
     fn time(&self) -> f64 {
-        self.time
+        self.clock.time()
     }
 
     fn clone_box(&self) -> Box<dyn CoSimModel> {
@@ -398,7 +407,8 @@ impl CoSimModel for RopeBlockModel {
         let mut w = ByteWriter::new();
         w.header(IDENTIFIER, STATE_FORMAT);
         self.ports.write(&mut w);
-        w.f64(self.time);
+        w.f64(self.clock.start());
+        w.u64(self.clock.ticks() as u64);
         for c in &self.applied {
             w.f64s(c);
         }
@@ -416,7 +426,13 @@ impl CoSimModel for RopeBlockModel {
         let mut r = ByteReader::new(bytes);
         let version = r.header(IDENTIFIER, STATE_FORMAT)?;
         let ports = self.ports.read(&mut r)?;
-        let time = r.finite_f64("time")?;
+        let clock = if version >= 3 {
+            let start = r.finite_f64("start time")?;
+            Clock::restore(start, r.u64("elapsed nanoseconds")? as i64)?
+        } else {
+            let time = r.finite_f64("time")?;
+            Clock::restore(0.0, (time * 1e9).round() as i64)?
+        };
         let mut applied = [[0.0; 4]; MAX_HOOKS];
         for c in applied.iter_mut() {
             let v = r.f64s_exact(4, "hook command")?;
@@ -427,7 +443,7 @@ impl CoSimModel for RopeBlockModel {
             scene: None,
             targets: Vec::new(),
             applied,
-            time,
+            clock,
             resource_dir: self.resource_dir.clone(),
             log: Vec::new(),
         };
