@@ -161,9 +161,69 @@ pub fn path_from_file_uri(uri: &str) -> Option<PathBuf> {
     String::from_utf8(bytes).ok().map(PathBuf::from)
 }
 
+/// The resources folder named by `fmuResourceLocation`, or why it cannot be used (the text
+/// names what was received). `location` is `Err` when the pointer was NULL or not UTF-8.
+///
+/// Accepted: a `file:` URI of an existing folder. A URI of the unpacked FMU's root (a folder
+/// holding `modelDescription.xml` and `resources/`, which some importers pass) is taken to mean
+/// its `resources/` folder; the second value is then a note saying so.
+pub fn resource_folder(location: Outcome<&str>) -> Result<(PathBuf, Option<String>), String> {
+    let uri = location?;
+    let Some(path) = path_from_file_uri(uri) else {
+        return Err(format!(
+            "fmuResourceLocation `{}` is not a file:// URI of a local folder",
+            uri.escape_debug()
+        ));
+    };
+    if !path.is_dir() {
+        return Err(format!(
+            "fmuResourceLocation `{}` names {}, which is not an existing folder",
+            uri.escape_debug(),
+            path.display()
+        ));
+    }
+    let inner = path.join("resources");
+    if path.join("modelDescription.xml").is_file() && inner.is_dir() {
+        let note = format!(
+            "fmuResourceLocation `{}` is the FMU's root folder, not its resources folder; using {}",
+            uri.escape_debug(),
+            inner.display()
+        );
+        return Ok((inner, Some(note)));
+    }
+    Ok((path, None))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn resource_folders_resolve_or_say_why_not() {
+        let root = std::env::temp_dir().join(format!("mbcosim-res-{}", std::process::id()));
+        let res = root.join("resources");
+        std::fs::create_dir_all(&res).unwrap();
+        std::fs::write(root.join("modelDescription.xml"), "<x/>").unwrap();
+        let uri = |p: &std::path::Path| format!("file://{}", p.display());
+        let (dir, note) = resource_folder(Ok(&uri(&res))).unwrap();
+        assert_eq!((dir, note), (res.clone(), None));
+        let (dir, note) = resource_folder(Ok(&uri(&root))).unwrap();
+        assert_eq!(dir, res);
+        assert!(note.unwrap().contains("root folder"));
+        let e = resource_folder(Ok(res.to_str().unwrap())).unwrap_err();
+        assert!(
+            e.contains("not a file:// URI") && e.contains("resources"),
+            "{e}"
+        );
+        let e = resource_folder(Ok(&uri(&root.join("missing")))).unwrap_err();
+        assert!(
+            e.contains("not an existing folder") && e.contains("missing"),
+            "{e}"
+        );
+        let e = resource_folder(Err("fmuResourceLocation is NULL".into())).unwrap_err();
+        assert!(e.contains("NULL"), "{e}");
+        std::fs::remove_dir_all(&root).unwrap();
+    }
 
     #[test]
     fn file_uris_decode() {

@@ -4,7 +4,7 @@ use std::os::raw::c_char;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::ptr::null_mut;
 
-use crate::fmi::boundary::{c_str, guard, in_slice, panic_message, path_from_file_uri};
+use crate::fmi::boundary::{c_str, guard, in_slice, panic_message, resource_folder};
 use crate::fmi::instance::Instance;
 use crate::fmi::logger::{CATEGORIES, Category, Logger};
 use crate::fmi::machine::{ALIVE, INIT_MODE, INSTANTIATED, TERMINATE};
@@ -122,11 +122,41 @@ unsafe fn instantiate(
             known.join(", ")
         ));
     };
-    let dir = unsafe { c_str(resource_location, "fmuResourceLocation") }
-        .ok()
-        .and_then(path_from_file_uri)
-        .filter(|p| p.is_dir());
+    let folder = resource_folder(unsafe { c_str(resource_location, "fmuResourceLocation") });
     let mut inst = Instance::new(&entry, logger);
+    let dir = match folder {
+        Ok((dir, note)) => {
+            if let Some(note) = note {
+                inst.log.log(
+                    fmi2Warning,
+                    Category::StatusWarning,
+                    &format!("fmi2Instantiate: {note}"),
+                );
+            }
+            Some(dir)
+        }
+        Err(reason) if entry.resources.is_empty() => {
+            inst.log.log(
+                fmi2Warning,
+                Category::StatusWarning,
+                &format!(
+                    "fmi2Instantiate: {reason}; the FMU's scene.toml is not read, the model starts from its built-in defaults"
+                ),
+            );
+            None
+        }
+        Err(reason) => {
+            inst.log.log(
+                fmi2Error,
+                Category::StatusError,
+                &format!(
+                    "fmi2Instantiate: {reason}; model `{}` needs its resources folder (its data files); instance not created",
+                    (entry.info)().identifier
+                ),
+            );
+            return null_mut();
+        }
+    };
     if let Err(reason) = inst.attach_resources(&entry, dir.as_deref()) {
         inst.log.log(
             fmi2Error,
