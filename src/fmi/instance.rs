@@ -14,7 +14,7 @@ use super::logger::{Category, Logger, to_cstring};
 use super::machine::{Machine, Mask, State, past_initialization};
 use super::snapshot::{self, Snapshot};
 use super::types::*;
-use crate::scene::port::{BaseType, ModelInfo, PortSpec, ValueRef};
+use crate::scene::port::{BaseType, Causality, ModelInfo, PortSpec, ValueRef};
 use crate::scene::store::{PortIndex, check_integer, check_real, check_writable};
 use crate::scene::{CoSimModel, LogLevel, ModelEntry, TIME_RTOL, check_step, scene_file};
 
@@ -38,7 +38,16 @@ pub struct Instance {
     strings: Vec<CString>,
     /// The scene file read at instantiation and where it came from (applied again on reset).
     scene: Option<(scene_file::SceneFile, String)>,
+    /// The model's relative-tolerance parameter (the real parameter named [`TOLERANCE_PORT`]).
+    rtol_port: Option<ValueRef>,
+    /// True once the importer set that parameter with `fmi2SetReal` (it then takes precedence
+    /// over the tolerance of `fmi2SetupExperiment`).
+    rtol_set_by_importer: bool,
 }
+
+/// Name of the real parameter that `fmi2SetupExperiment`'s tolerance sets (when the importer
+/// gives one and has not set the parameter itself).
+pub const TOLERANCE_PORT: &str = "rtol";
 
 const _: () = {
     const fn assert_send<T: Send>() {}
@@ -60,6 +69,16 @@ impl Instance {
             states: HashMap::new(),
             strings: Vec::new(),
             scene: None,
+            rtol_port: info
+                .ports
+                .iter()
+                .find(|p| {
+                    p.name == TOLERANCE_PORT
+                        && p.causality == Causality::Parameter
+                        && p.ty.base() == BaseType::Real
+                })
+                .map(|p| p.vr),
+            rtol_set_by_importer: false,
         }
     }
 
@@ -82,6 +101,16 @@ impl Instance {
                     scene_file::apply(self.model.as_mut(), &scene, &origin)?;
                     self.model.take_log();
                     self.scene = Some((scene, origin));
+                } else {
+                    self.log.log(
+                        fmi2Warning,
+                        super::logger::Category::StatusWarning,
+                        &format!(
+                            "fmi2Instantiate: the resources folder {} has no {}; the model starts from its built-in defaults",
+                            dir.display(),
+                            scene_file::FMU_SCENE
+                        ),
+                    );
                 }
                 Ok(())
             }
@@ -269,6 +298,9 @@ impl Instance {
             let spec = self.writable(BaseType::Real, *vr)?;
             check_real(spec, *v).map_err(|e| e.to_string())?;
             self.model.set_real(*vr, *v).map_err(|e| e.to_string())?;
+            if Some(*vr) == self.rtol_port {
+                self.rtol_set_by_importer = true;
+            }
         }
         Ok(fmi2OK)
     }
@@ -313,10 +345,16 @@ impl Instance {
         start: f64,
         stop: Option<f64>,
     ) -> Outcome {
-        if let Some(tol) = tolerance
-            && !(tol.is_finite() && tol > 0.0)
-        {
-            return Err(format!("tolerance {tol} must be positive and finite"));
+        if let Some(tol) = tolerance {
+            if !(tol.is_finite() && tol > 0.0) {
+                return Err(format!("tolerance {tol} must be positive and finite"));
+            }
+            if let Some(vr) = self.rtol_port {
+                let spec = self.spec(BaseType::Real, vr)?;
+                check_real(spec, tol).map_err(|e| {
+                    format!("tolerance {tol} cannot be used as `{TOLERANCE_PORT}`: {e}")
+                })?;
+            }
         }
         if !start.is_finite() {
             return Err(format!("startTime {start} s must be finite"));
@@ -335,11 +373,42 @@ impl Instance {
         Ok(fmi2OK)
     }
 
-    /// `fmi2EnterInitializationMode`.
+    /// `fmi2EnterInitializationMode`: applies the experiment's tolerance (see
+    /// [`Instance::apply_experiment_tolerance`]).
     pub fn enter_initialization_mode(&mut self) -> Outcome {
+        self.apply_experiment_tolerance()?;
         self.machine.state = State::InitializationMode;
         self.preview = None;
         Ok(fmi2OK)
+    }
+
+    /// The tolerance of `fmi2SetupExperiment`, when given, becomes the model's relative tolerance
+    /// [`TOLERANCE_PORT`] unless the importer set that parameter itself with `fmi2SetReal`
+    /// (before or during initialization mode), which takes precedence. Precedence, highest
+    /// first: `fmi2SetReal`, the experiment's tolerance, the FMU's `scene.toml`, the start value.
+    /// Every decision is logged (category logSolver).
+    fn apply_experiment_tolerance(&mut self) -> Outcome<()> {
+        let Some(tol) = self.machine.tolerance else {
+            return Ok(());
+        };
+        let message = match self.rtol_port {
+            None => format!(
+                "tolerance {tol} of fmi2SetupExperiment not used: `{}` has no error-controlled solver",
+                self.info.identifier
+            ),
+            Some(vr) if self.rtol_set_by_importer => format!(
+                "tolerance {tol} of fmi2SetupExperiment not used: `{TOLERANCE_PORT}` = {} was set with fmi2SetReal, which takes precedence",
+                self.model.get_real(vr).map_err(|e| e.to_string())?
+            ),
+            Some(vr) => {
+                self.model
+                    .set_real(vr, tol)
+                    .map_err(|e| format!("tolerance {tol} cannot be used: {e}"))?;
+                format!("tolerance {tol} of fmi2SetupExperiment used as `{TOLERANCE_PORT}`")
+            }
+        };
+        self.log.log(fmi2OK, Category::Solver, &message);
+        Ok(())
     }
 
     /// `fmi2ExitInitializationMode`: initializes the model at the start time.
@@ -373,6 +442,7 @@ impl Instance {
         self.model.take_log();
         self.preview = None;
         self.machine = Machine::default();
+        self.rtol_set_by_importer = false;
         self.strings.clear();
         Ok(fmi2OK)
     }
