@@ -12,8 +12,9 @@
 //!   differs from the default for its causality and variability.
 //! - `ModelStructure`: every output under `Outputs` with `dependencies=""` (outputs change only in
 //!   `fmi2DoStep`: no direct feedthrough), and every output and calculated parameter under
-//!   `InitialUnknowns` without a `dependencies` attribute (it may depend on any parameter or
-//!   input). Indices are 1-based positions in `ModelVariables`.
+//!   `InitialUnknowns` with the `dependencies` the model declares
+//!   ([`ModelInfo::initial_dependencies`]; none written where it declares "all knowns").
+//!   Indices are 1-based positions in `ModelVariables`.
 
 use std::collections::BTreeMap;
 use std::io;
@@ -332,12 +333,44 @@ fn write_document(
     if !initial.is_empty() {
         x.start("InitialUnknowns", &[])?;
         for k in initial {
-            x.empty("Unknown", &[("index", k.to_string())])?;
+            let mut attrs = vec![("index", k.to_string())];
+            if let Some(names) = (info.initial_dependencies)(info, &info.ports[k - 1]) {
+                attrs.push(("dependencies", known_indices(info, &names)?));
+            }
+            x.empty("Unknown", &attrs)?;
         }
         x.end("InitialUnknowns")?;
     }
     x.end("ModelStructure")?;
     x.end("fmiModelDescription")
+}
+
+/// The 1-based `ModelVariables` indices of the knowns `names`, ascending, space-separated.
+fn known_indices(info: &ModelInfo, names: &[String]) -> io::Result<String> {
+    let mut indices = names
+        .iter()
+        .map(|n| {
+            info.ports
+                .iter()
+                .position(|p| {
+                    p.name == *n && matches!(p.causality, Causality::Parameter | Causality::Input)
+                })
+                .map(|i| i + 1)
+                .ok_or_else(|| {
+                    io::Error::other(format!(
+                        "`{}` declares an initial dependency on `{n}`, which is not one of its parameters or inputs",
+                        info.identifier
+                    ))
+                })
+        })
+        .collect::<io::Result<Vec<_>>>()?;
+    indices.sort_unstable();
+    indices.dedup();
+    Ok(indices
+        .iter()
+        .map(|i| i.to_string())
+        .collect::<Vec<_>>()
+        .join(" "))
 }
 
 #[cfg(test)]
@@ -471,6 +504,7 @@ mod tests {
             ],
             default_stop_time: 2.0,
             default_step: 1e-3,
+            initial_dependencies: crate::scene::port::on_all_knowns,
         };
         let xml = write(&info).unwrap();
         for needle in [

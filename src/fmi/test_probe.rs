@@ -66,6 +66,7 @@ fn test_info() -> &'static ModelInfo {
         ],
         default_stop_time: 1.0,
         default_step: 0.1,
+        initial_dependencies: crate::scene::port::on_all_knowns,
     })
 }
 

@@ -61,7 +61,7 @@ pub fn info() -> &'static ModelInfo {
         use Variability::{Fixed, Tunable};
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{6f1c5a2e-93d4-4b7e-a8c1-3e2f9d0b7a51}",
+            guid: "{d3273808-9b6c-429a-8343-c6d18db11dab}",
             description: "Discrete-time PID controller sampled at the communication step: filtered derivative (backward Euler), exact integral of the held error, output limits with back-calculation anti-windup.",
             ports: vec![
                 PortSpec::real_parameter("kp", vr::KP, Tunable, 1.0, None, "Proportional gain (output units per error unit)."),
@@ -80,8 +80,19 @@ pub fn info() -> &'static ModelInfo {
             ],
             default_stop_time: 10.0,
             default_step: 0.01,
+            initial_dependencies,
         }
     })
+}
+
+/// What the outputs depend on in initialization mode: the first sample `u = kp e` clamped to
+/// the limits, with `e = setpoint - measurement` (integral and derivative start at zero).
+fn initial_dependencies(_: &ModelInfo, unknown: &PortSpec) -> Option<Vec<String>> {
+    let names: &[&str] = match unknown.name.as_str() {
+        "error" => &["setpoint", "measurement"],
+        _ => &["kp", "u_min", "u_max", "setpoint", "measurement"],
+    };
+    Some(names.iter().map(|n| n.to_string()).collect())
 }
 
 /// A new PID controller at its default parameters.

@@ -115,6 +115,20 @@ pub struct ModelInfo {
     pub default_stop_time: f64,
     /// Default communication step offered to importers [s].
     pub default_step: f64,
+    /// The knowns each initial unknown depends on in initialization mode (see
+    /// [`InitialDependencies`]).
+    pub initial_dependencies: InitialDependencies,
+}
+
+/// The knowns (inputs and parameters, by name) that an initial unknown (an output or calculated
+/// parameter) depends on in initialization mode; `None` means all of them (FMI 2.0 writes no
+/// `dependencies` attribute then). FMI 2.0's knowns there are the inputs, the variables with
+/// `initial="exact"` (every parameter here) and time.
+pub type InitialDependencies = fn(&ModelInfo, &PortSpec) -> Option<Vec<String>>;
+
+/// [`InitialDependencies`] of a model that declares none: every unknown depends on every known.
+pub fn on_all_knowns(_: &ModelInfo, _: &PortSpec) -> Option<Vec<String>> {
+    None
 }
 
 /// The storage type behind a port, as an importer sees it (enumerations are integers).
@@ -328,6 +342,16 @@ impl ModelInfo {
             .iter()
             .enumerate()
             .find(|(_, p)| p.vr == vr && p.ty.base() == base)
+    }
+
+    /// Names of the knowns (parameters and inputs) other than `excluded`, in table order.
+    pub fn knowns_except(&self, excluded: &[&str]) -> Vec<String> {
+        self.ports
+            .iter()
+            .filter(|p| matches!(p.causality, Causality::Parameter | Causality::Input))
+            .filter(|p| !excluded.contains(&p.name.as_str()))
+            .map(|p| p.name.clone())
+            .collect()
     }
 
     /// The row named `name`.

@@ -470,6 +470,7 @@ mod tests {
             ],
             default_stop_time: 1.0,
             default_step: 0.1,
+            initial_dependencies: crate::scene::port::on_all_knowns,
         })
     }
 

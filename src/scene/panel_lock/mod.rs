@@ -50,6 +50,7 @@
 mod build;
 mod cosim;
 mod demo;
+mod dependencies;
 pub mod flex_panel;
 mod params;
 pub mod ports;

@@ -523,11 +523,12 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{3b8f5d10-6a2c-4e7b-9f41-d2c7a95e0b64}",
+            guid: "{b23179b7-19ab-46b9-96cf-06a74d2ce729}",
             description: "Deployment and lock-up of a solar array: yoke and panels joined by hinge bodies with preloaded torsion springs, pin/groove latches with a selectable contact law, stow stops, optional cable loops; rigid panels or flexible (Craig-Bampton modal) panels.",
             ports,
             default_stop_time: 60.0,
             default_step: 0.01,
+            initial_dependencies: super::dependencies::initial_dependencies,
         }
     })
 }

@@ -12,6 +12,7 @@
 pub mod build;
 pub mod cosim;
 pub mod demo;
+mod dependencies;
 pub mod edit;
 pub mod manager;
 pub mod params;

@@ -538,11 +538,12 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{65d0edba-7383-4c54-b33b-f3ba7876717c}",
+            guid: "{b6ae683a-ff34-4b15-a0d4-e0fbced5ee7a}",
             description: "Ship-block lift with lumped-mass wire-rope slings contacting the block's shell plate edges through contact nodes with Coulomb friction; one-hook lift or two-hook turn-over.",
             ports,
             default_stop_time: 10.0,
             default_step: 0.05,
+            initial_dependencies: super::dependencies::initial_dependencies,
         }
     })
 }

@@ -1,0 +1,70 @@
+//! What PanelLock's outputs depend on in initialization mode (the `dependencies` of its
+//! `InitialUnknowns`).
+//!
+//! The array starts stowed and at rest, so at initialization:
+//! - rates, contact and peak forces, lock times, latch flags, the tip speed, kinetic energy,
+//!   dissipated energy, input work and the solver counters do not depend on any known;
+//! - a hinge angle is its stowed angle (hinge 0: measured from the root lock angle; hinges 1-6
+//!   exist only for enough panels);
+//! - the root-hinge reactions come from the initial accelerations: masses, geometry, springs,
+//!   gravity, cables, the satellite and, for all but the torque about the hinge axis, the root
+//!   motor torque (the only input);
+//! - the potential energy from the same parameters, without the input.
+//!
+//! Solver settings, contact-law and latch parameters and damping coefficients act only once the
+//! array moves. `tests/initial_dependencies.rs` checks these declarations by perturbing every
+//! known in several configurations: the input dependencies are exact there, the parameter
+//! dependencies a superset of what the perturbations show (never missing one).
+
+use crate::scene::port::{ModelInfo, PortSpec};
+
+/// Knowns that do not act on the initial (stowed, resting) state.
+const MOTION_ONLY: [&str; 17] = [
+    "integrator",
+    "contact_law",
+    "latches",
+    "rtol",
+    "atol",
+    "h_max",
+    "hinge_damping",
+    "stop_damping",
+    "cam_radius",
+    "groove_width",
+    "groove_depth",
+    "pin_radius",
+    "contact_stiffness",
+    "contact_exponent",
+    "restitution",
+    "cable_damping",
+    "modal_damping_ratio",
+];
+
+/// The root-hinge reactions that the root motor torque reaches at initialization (all but the
+/// torque about the hinge axis, which the hinge does not carry).
+const MOTOR_DRIVEN: [&str; 5] = [
+    "root_force_x",
+    "root_force_y",
+    "root_force_z",
+    "root_torque_x",
+    "root_torque_y",
+];
+
+/// The knowns `unknown` depends on in initialization mode (see the module documentation).
+pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<String>> {
+    let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    let name = unknown.name.as_str();
+    let deps = if name == "hinge0_angle" {
+        names(&["root_stowed_angle", "root_lock_angle"])
+    } else if name.starts_with("hinge") && name.ends_with("_angle") {
+        names(&["n_panels", "panel_stowed_angle", "panel_lock_angle"])
+    } else if MOTOR_DRIVEN.contains(&name) {
+        info.knowns_except(&MOTION_ONLY)
+    } else if name.starts_with("root_torque_") || name == "potential_energy" {
+        let mut excluded = MOTION_ONLY.to_vec();
+        excluded.push("root_motor_torque");
+        info.knowns_except(&excluded)
+    } else {
+        Vec::new()
+    };
+    Some(deps)
+}
