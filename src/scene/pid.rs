@@ -28,9 +28,14 @@
 use std::sync::OnceLock;
 
 use super::bytes::{ByteReader, ByteWriter};
+use super::clock::{Clock, RESOLUTION};
 use super::port::{ModelInfo, PortSpec, ValueRef, Variability};
 use super::store::PortStore;
-use super::{CoSimModel, LogLevel, LogRecord, ModelError, check_step};
+use super::{CoSimModel, LogLevel, LogRecord, ModelError};
+
+/// Version of the serialized state (2: the clock, start time and elapsed nanoseconds; version 1
+/// states stored the time, read as a start time).
+const STATE_FORMAT: u32 = 2;
 
 /// Model identifier (also the state tag).
 pub const IDENTIFIER: &str = "PidController";
@@ -109,8 +114,10 @@ struct PidState {
     derivative: f64,
     /// Derivative source `x` at the previous sample.
     x_prev: f64,
-    /// Simulation time [s].
-    time: f64,
+    /// Simulation time (start time and whole nanoseconds since the start; the sample interval
+    /// `h` used in the update is the clock's step, so importers that round the communication
+    /// step differently in the last bits get the same controller output).
+    clock: Clock,
 }
 
 /// The PID controller model.
@@ -187,10 +194,13 @@ impl Pid {
             let message = if saturated {
                 format!(
                     "t = {} s: output saturated at {u} (unsaturated {v})",
-                    self.state.time
+                    self.state.clock.time()
                 )
             } else {
-                format!("t = {} s: output left saturation ({u})", self.state.time)
+                format!(
+                    "t = {} s: output left saturation ({u})",
+                    self.state.clock.time()
+                )
             };
             self.log.push(LogRecord {
                 level: LogLevel::Event,
@@ -205,13 +215,24 @@ impl Pid {
 
     fn read_state(&self, bytes: &[u8]) -> Result<Pid, ModelError> {
         let mut r = ByteReader::new(bytes);
-        r.header(IDENTIFIER, 1)?;
+        let version = r.header(IDENTIFIER, STATE_FORMAT)?;
         let ports = self.ports.read(&mut r)?;
+        let (integral, derivative, x_prev) = (
+            r.f64("integral term")?,
+            r.f64("derivative term")?,
+            r.f64("previous derivative source")?,
+        );
+        let clock = if version >= 2 {
+            let start = r.finite_f64("start time")?;
+            Clock::restore(start, r.u64("elapsed nanoseconds")? as i64)?
+        } else {
+            Clock::restore(r.finite_f64("time")?, 0)?
+        };
         let state = PidState {
-            integral: r.f64("integral term")?,
-            derivative: r.f64("derivative term")?,
-            x_prev: r.f64("previous derivative source")?,
-            time: r.f64("time")?,
+            integral,
+            derivative,
+            x_prev,
+            clock,
         };
         r.finish()?;
         Ok(Pid {
@@ -247,7 +268,7 @@ impl CoSimModel for Pid {
             integral: 0.0,
             derivative: 0.0,
             x_prev: x,
-            time: t_start,
+            clock: Clock::new(t_start)?,
         };
         self.publish(&p, p.kp * e, e)?;
         self.ports.mark_initialized();
@@ -258,7 +279,8 @@ impl CoSimModel for Pid {
         if !self.ports.is_initialized() {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
-        check_step(self.state.time, t, h)?;
+        let end = self.state.clock.step_end(t, h)?;
+        let h = (end - self.state.clock.ticks()) as f64 * RESOLUTION;
         let p = self.params()?;
         let (e, x) = self.sample()?;
         let s = &mut self.state;
@@ -266,7 +288,7 @@ impl CoSimModel for Pid {
         s.x_prev = x;
         let integral = s.integral + p.ki * h * e;
         let v = p.kp * e + integral + s.derivative;
-        s.time = t + h;
+        s.clock.advance_to(end);
         let u = self.publish(&p, v, e)?;
         let tracking = if p.tt > 0.0 {
             -(-h / p.tt).exp_m1()
@@ -278,14 +300,14 @@ impl CoSimModel for Pid {
         {
             return Err(ModelError::SolverFailure(format!(
                 "t = {} s: the controller state overflowed (u = {u}); reduce the gains",
-                self.state.time
+                self.state.clock.time()
             )));
         }
         Ok(())
     }
 
     fn time(&self) -> f64 {
-        self.state.time
+        self.state.clock.time()
     }
 
     fn clone_box(&self) -> Box<dyn CoSimModel> {
@@ -294,12 +316,13 @@ impl CoSimModel for Pid {
 
     fn serialize(&self) -> Vec<u8> {
         let mut w = ByteWriter::new();
-        w.header(IDENTIFIER, 1);
+        w.header(IDENTIFIER, STATE_FORMAT);
         self.ports.write(&mut w);
         let s = &self.state;
-        for v in [s.integral, s.derivative, s.x_prev, s.time] {
+        for v in [s.integral, s.derivative, s.x_prev, s.clock.start()] {
             w.f64(v);
         }
+        w.u64(s.clock.ticks() as u64);
         w.into_bytes()
     }
 
