@@ -256,6 +256,11 @@ impl Simulation {
         self.integrator.stats()
     }
 
+    /// Sets the integrator's work counters (restoring a serialized state).
+    pub fn set_stats(&mut self, stats: Stats) {
+        self.integrator.set_stats(stats);
+    }
+
     /// Which integrator runs.
     pub fn integrator_kind(&self) -> IntegratorKind {
         self.integrator.kind()

@@ -54,7 +54,7 @@ fn conservative_double_pendulum_keeps_its_energy() {
 /// Tip position of the double pendulum at t = 1 s with a fixed step.
 fn tip_at_one_second(kind: IntegratorKind, h: f64, order: usize) -> Vec3 {
     let s = Settings {
-        rtol: 1e-13,
+        rtol: mbcosim::integrator::MIN_RTOL,
         atol: 1e-15,
         fixed_step: h,
         max_order: order,
@@ -71,7 +71,7 @@ fn tip_at_one_second(kind: IntegratorKind, h: f64, order: usize) -> Vec3 {
 
 fn reference_tip() -> Vec3 {
     let s = Settings {
-        rtol: 1e-13,
+        rtol: mbcosim::integrator::MIN_RTOL,
         atol: 1e-15,
         h_max: 1e-3,
         ..Settings::default()
@@ -229,9 +229,10 @@ fn free_body_flips_about_its_intermediate_axis_and_keeps_its_momentum() {
         b.add_rigid_body("t-handle", 1.0, j, init).unwrap();
         // Generalized-alpha is second order and not momentum-conserving: its momentum error falls
         // as tol^(2/3) (8.7e-8 at rtol 1e-11, 4.1e-9 at 1e-13), so 1e-9 would need rtol ~ 3e-15,
-        // below round-off of the weights; it is held to 1e-8 at rtol 1e-13, the others to 1e-9.
+        // below round-off of the weights (and below the smallest rtol accepted, 1e3 machine
+        // epsilons); it is held to 1e-8 there, the others to 1e-9.
         let (s, bound) = if kind == IntegratorKind::GenAlpha {
-            (tight(1e-13), 1e-8)
+            (tight(mbcosim::integrator::MIN_RTOL), 1e-8)
         } else {
             (
                 Settings {
@@ -569,4 +570,25 @@ fn impossible_initial_configuration_is_reported() {
     )
     .unwrap_err();
     assert!(e.contains("joint 'b' contradicts"), "{e}");
+}
+
+#[test]
+fn tolerances_below_round_off_are_refused_with_the_floor_named() {
+    for kind in IntegratorKind::ALL {
+        let s = Settings {
+            rtol: 1e-16,
+            ..Settings::default()
+        };
+        let e = Simulation::new(double_pendulum(1.2, 1.6), kind, s, 0.0).unwrap_err();
+        assert!(
+            e.contains("below 1e3 machine epsilons") && e.contains("2.220e-13"),
+            "{}: {e}",
+            kind.name()
+        );
+        let ok = Settings {
+            rtol: mbcosim::integrator::MIN_RTOL,
+            ..Settings::default()
+        };
+        assert!(Simulation::new(double_pendulum(1.2, 1.6), kind, ok, 0.0).is_ok());
+    }
 }

@@ -571,7 +571,7 @@ impl Bdf {
     fn bootstrap(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
         let h = self.s.fixed_step;
         let tight = Settings {
-            rtol: 1e-13,
+            rtol: super::MIN_RTOL,
             atol: 1e-15,
             h_max: h,
             fixed_step: 0.0,
@@ -658,6 +658,7 @@ impl Integrator for Bdf {
                 Ok([lo, errk, hi]) => {
                     if !fixed && errk > 1.0 {
                         self.stats.rejected += 1;
+                        self.stats.rejected_error += 1;
                         fails += 1;
                         let fac = (0.9 * errk.powf(-1.0 / (k as f64 + 1.0))).clamp(0.1, 0.9);
                         self.h = h * fac;
@@ -765,6 +766,10 @@ impl Integrator for Bdf {
 
     fn stats(&self) -> Stats {
         self.stats
+    }
+
+    fn set_stats(&mut self, stats: Stats) {
+        self.stats = stats;
     }
 
     fn clone_box(&self) -> Box<dyn Integrator> {

@@ -278,6 +278,7 @@ impl Integrator for Dopri5 {
             };
             if adaptive && err > 1.0 {
                 self.stats.rejected += 1;
+                self.stats.rejected_error += 1;
                 self.h = h * if err.is_finite() {
                     (0.9 * err.powf(-0.2)).clamp(0.1, 0.9)
                 } else {
@@ -324,6 +325,10 @@ impl Integrator for Dopri5 {
 
     fn stats(&self) -> Stats {
         self.stats
+    }
+
+    fn set_stats(&mut self, stats: Stats) {
+        self.stats = stats;
     }
 
     fn clone_box(&self) -> Box<dyn Integrator> {

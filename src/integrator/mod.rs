@@ -44,6 +44,10 @@ impl IntegratorKind {
     }
 }
 
+/// Smallest relative tolerance accepted: 1e3 machine epsilons. Below it the error estimates
+/// (differences of nearly equal numbers) are round-off, and error control would chase noise.
+pub const MIN_RTOL: f64 = 1e3 * f64::EPSILON;
+
 /// Accuracy and step settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Settings {
@@ -94,6 +98,12 @@ impl Settings {
         if !(self.rtol.is_finite() && self.rtol > 0.0) {
             return Err(format!("rtol must be finite and > 0, got {}", self.rtol));
         }
+        if self.rtol < MIN_RTOL {
+            return Err(format!(
+                "rtol {:e} is below 1e3 machine epsilons ({MIN_RTOL:.3e}): error estimates are round-off there; use rtol >= {MIN_RTOL:.3e}",
+                self.rtol
+            ));
+        }
         if !(self.atol.is_finite() && self.atol > 0.0) {
             return Err(format!("atol must be finite and > 0, got {}", self.atol));
         }
@@ -131,15 +141,70 @@ impl Settings {
 /// Work counters.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Stats {
+    /// Accepted steps.
     pub steps: u64,
+    /// Steps whose Newton iteration converged but that a check rejected (the sum of the causes
+    /// below); steps whose Newton iteration failed are counted in `newton_failures`.
     pub rejected: u64,
+    /// Rejected for a local error estimate above the tolerance.
+    pub rejected_error: u64,
+    /// Rejected for gaining energy beyond the tolerance (generalized-alpha's energy check).
+    pub rejected_energy: u64,
     pub newton_iterations: u64,
+    /// Newton iterations that did not converge (the step is retried with a fresh matrix or a
+    /// smaller step).
     pub newton_failures: u64,
     pub jacobians: u64,
     pub factorizations: u64,
     pub rhs_evaluations: u64,
     /// Last accepted step size [s].
     pub last_step: f64,
+}
+
+impl Stats {
+    /// Number of values in [`Stats::to_numbers`].
+    pub const LEN: usize = 10;
+
+    /// The counters as plain numbers (for serialized states; counts are exact below 2^53).
+    pub fn to_numbers(&self) -> [f64; Self::LEN] {
+        [
+            self.steps as f64,
+            self.rejected as f64,
+            self.rejected_error as f64,
+            self.rejected_energy as f64,
+            self.newton_iterations as f64,
+            self.newton_failures as f64,
+            self.jacobians as f64,
+            self.factorizations as f64,
+            self.rhs_evaluations as f64,
+            self.last_step,
+        ]
+    }
+
+    /// Reads what [`Stats::to_numbers`] wrote.
+    pub fn from_numbers(x: &[f64]) -> Result<Stats, String> {
+        let bad = || "solver counters are truncated or corrupt".to_string();
+        if x.len() != Self::LEN
+            || x[..Self::LEN - 1]
+                .iter()
+                .any(|c| !(c.is_finite() && *c >= 0.0 && c.fract() == 0.0 && *c < 9.0e15))
+            || !x[Self::LEN - 1].is_finite()
+        {
+            return Err(bad());
+        }
+        Ok(Stats {
+            steps: x[0] as u64,
+            rejected: x[1] as u64,
+            rejected_error: x[2] as u64,
+            rejected_energy: x[3] as u64,
+            newton_iterations: x[4] as u64,
+            newton_failures: x[5] as u64,
+            jacobians: x[6] as u64,
+            factorizations: x[7] as u64,
+            rhs_evaluations: x[8] as u64,
+            last_step: x[9],
+        })
+    }
 }
 
 /// Why integration stopped.
@@ -223,6 +288,9 @@ pub trait Integrator: Send + std::fmt::Debug {
 
     /// Work counters since construction.
     fn stats(&self) -> Stats;
+
+    /// Sets the work counters (a restored serialized state continues counting from them).
+    fn set_stats(&mut self, stats: Stats);
 
     /// An exact copy (history included).
     fn clone_box(&self) -> Box<dyn Integrator>;

@@ -2,6 +2,7 @@
 
 use super::ports::*;
 use super::{PanelLock, PanelLockParams};
+use crate::integrator::Stats;
 use crate::scene::bytes::{ByteReader, ByteWriter};
 use crate::scene::clock::Clock;
 use crate::scene::port::ValueRef;
@@ -10,7 +11,7 @@ use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use crate::state::State;
 
 /// Version of the serialized FMU state (2: the clock, start time and elapsed nanoseconds, in
-/// place of the time; version 1 states start at 0 s).
+/// place of the time, and the solver counters; version 1 states start at 0 s and count from 0).
 const STATE_FORMAT: u32 = 2;
 
 /// A new PanelLock instance at default parameters.
@@ -90,10 +91,10 @@ impl PanelLockModel {
                     if h.lock_time.is_finite() {
                         start + h.lock_time
                     } else {
-                        -1.0
+                        start - 1.0
                     },
                 ],
-                None => [0.0, 0.0, 0.0, 0.0, -1.0],
+                None => [0.0, 0.0, 0.0, 0.0, start - 1.0],
             };
             for (j, v) in vals.iter().enumerate() {
                 self.ports.put_real(vr_hinge(k, j), *v)?;
@@ -231,6 +232,7 @@ impl CoSimModel for PanelLockModel {
                 w.f64s(&st.memory);
                 w.f64s(&s.sim.system.inputs);
                 w.f64s(&s.sim.integrator_memory());
+                w.f64s(&s.sim.stats().to_numbers());
             }
         }
         w.into_bytes()
@@ -266,6 +268,14 @@ impl CoSimModel for PanelLockModel {
             };
             let inputs = r.f64s("inputs")?;
             let memory = r.f64s("integrator memory")?;
+            let stats = if version >= 2 {
+                Some(
+                    Stats::from_numbers(&r.f64s("solver counters")?)
+                        .map_err(ModelError::BadState)?,
+                )
+            } else {
+                None
+            };
             let mut scene = PanelLock::new(restored.params()?).map_err(ModelError::BadState)?;
             if inputs.len() != scene.sim.system.inputs.len() {
                 return Err(ModelError::BadState(
@@ -277,6 +287,9 @@ impl CoSimModel for PanelLockModel {
                 .sim
                 .restore(state, &memory)
                 .map_err(ModelError::BadState)?;
+            if let Some(stats) = stats {
+                scene.sim.set_stats(stats);
+            }
             restored.scene = Some(scene);
         }
         r.finish()?;

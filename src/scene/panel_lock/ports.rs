@@ -276,7 +276,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
         description: "Relative error tolerance of the integrator.",
         get: |p| p.settings.rtol,
         set: |p, v| p.settings.rtol = v,
-        min: Some(0.0),
+        min: Some(crate::integrator::MIN_RTOL),
     },
     RealParam {
         name: "atol",
@@ -322,7 +322,7 @@ pub const HINGE_OUTPUTS: [(&str, Option<&str>, &str); 5] = [
     (
         "lock_time",
         Some("s"),
-        "Time of lock-up (latch engagement); -1 before.",
+        "Time of lock-up (latch engagement); until then 1 s before the start time (-1 for a start at 0).",
     ),
 ];
 
