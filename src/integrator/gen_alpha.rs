@@ -267,19 +267,23 @@ impl GenAlpha {
                         sys.add_constraint_blocks(lin, nv, 0, 1.0, Some((0, nv, 1.0)));
                     }
                 }
+                // re-forming a restored state's matrix is part of the restore: the counters
+                // continue as in the run the state was taken from
                 match restored {
                     Some(p) => self.jac_point = Some(p),
-                    None => JacobianPoint::record_into(
-                        &mut self.jac_point,
-                        sys,
-                        t1,
-                        &self.q1,
-                        &self.v1,
-                        h,
-                    ),
+                    None => {
+                        JacobianPoint::record_into(
+                            &mut self.jac_point,
+                            sys,
+                            t1,
+                            &self.q1,
+                            &self.v1,
+                            h,
+                        );
+                        self.stats.jacobians += 1;
+                        self.stats.factorizations += 1;
+                    }
                 }
-                self.stats.jacobians += 1;
-                self.stats.factorizations += 1;
                 if let Err(e) = self.lin.factor() {
                     self.jac_valid = false;
                     return StepOutcome::Failed(e);

@@ -28,12 +28,12 @@
 use std::sync::OnceLock;
 
 use super::bytes::{ByteReader, ByteWriter};
-use super::clock::{Clock, RESOLUTION};
+use super::clock::Clock;
 use super::port::{ModelInfo, PortSpec, ValueRef, Variability};
 use super::store::PortStore;
 use super::{CoSimModel, LogLevel, LogRecord, ModelError};
 
-/// Version of the serialized state (2: the clock, start time and elapsed nanoseconds; version 1
+/// Version of the serialized state (2: the clock, start time and elapsed time; version 1
 /// states stored the time, read as a start time).
 const STATE_FORMAT: u32 = 2;
 
@@ -114,9 +114,9 @@ struct PidState {
     derivative: f64,
     /// Derivative source `x` at the previous sample.
     x_prev: f64,
-    /// Simulation time (start time and whole nanoseconds since the start; the sample interval
-    /// `h` used in the update is the clock's step, so importers that round the communication
-    /// step differently in the last bits get the same controller output).
+    /// Simulation time (start time and elapsed time; the sample interval `h` used in the update
+    /// is the clock's step, snapped to whole nanoseconds, so importers that round the
+    /// communication step differently in the last bits get the same controller output).
     clock: Clock,
 }
 
@@ -224,9 +224,11 @@ impl Pid {
         );
         let clock = if version >= 2 {
             let start = r.finite_f64("start time")?;
-            Clock::restore(start, r.u64("elapsed nanoseconds")? as i64)?
+            let elapsed = r.finite_f64("elapsed time")?;
+            Clock::restore(start, elapsed, r.finite_f64("time")?)?
         } else {
-            Clock::restore(r.finite_f64("time")?, 0)?
+            let time = r.finite_f64("time")?;
+            Clock::restore(time, 0.0, time)?
         };
         let state = PidState {
             integral,
@@ -279,8 +281,8 @@ impl CoSimModel for Pid {
         if !self.ports.is_initialized() {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
-        let end = self.state.clock.step_end(t, h)?;
-        let h = (end - self.state.clock.ticks()) as f64 * RESOLUTION;
+        let step = self.state.clock.step(t, h)?;
+        let h = step.h;
         let p = self.params()?;
         let (e, x) = self.sample()?;
         let s = &mut self.state;
@@ -288,7 +290,7 @@ impl CoSimModel for Pid {
         s.x_prev = x;
         let integral = s.integral + p.ki * h * e;
         let v = p.kp * e + integral + s.derivative;
-        s.clock.advance_to(end);
+        s.clock.advance(&step);
         let u = self.publish(&p, v, e)?;
         let tracking = if p.tt > 0.0 {
             -(-h / p.tt).exp_m1()
@@ -322,7 +324,8 @@ impl CoSimModel for Pid {
         for v in [s.integral, s.derivative, s.x_prev, s.clock.start()] {
             w.f64(v);
         }
-        w.u64(s.clock.ticks() as u64);
+        w.f64(s.clock.elapsed());
+        w.f64(s.clock.time());
         w.into_bytes()
     }
 

@@ -10,7 +10,7 @@ use crate::scene::store::PortStore;
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use crate::state::State;
 
-/// Version of the serialized FMU state (2: the clock, start time and elapsed nanoseconds, in
+/// Version of the serialized FMU state (2: the clock, start time and elapsed time, in
 /// place of the time, and the solver counters; version 1 states start at 0 s and count from 0).
 const STATE_FORMAT: u32 = 2;
 
@@ -184,13 +184,13 @@ impl CoSimModel for PanelLockModel {
         if !self.ports.is_initialized() {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
-        let end = self.clock.step_end(t, h)?;
+        let step = self.clock.step(t, h)?;
         let before = self.lock_times();
         let scene = self.scene()?;
         scene
-            .advance_to(end as f64 / 1e9)
+            .advance_to(step.end)
             .map_err(|e| ModelError::SolverFailure(format!("PanelLock solver failed: {e}")))?;
-        self.clock.advance_to(end);
+        self.clock.advance(&step);
         let after = self.lock_times();
         for (k, (a, b)) in after.iter().zip(&before).enumerate() {
             if a.is_finite() && !b.is_finite() {
@@ -216,7 +216,8 @@ impl CoSimModel for PanelLockModel {
         w.header(IDENTIFIER, STATE_FORMAT);
         self.ports.write(&mut w);
         w.f64(self.clock.start());
-        w.u64(self.clock.ticks() as u64);
+        w.f64(self.clock.elapsed());
+        w.f64(self.clock.time());
         match &self.scene {
             None => w.bool(false),
             Some(s) => {
@@ -244,10 +245,11 @@ impl CoSimModel for PanelLockModel {
         let ports = self.ports.read(&mut r)?;
         let clock = if version >= 2 {
             let start = r.finite_f64("start time")?;
-            Clock::restore(start, r.u64("elapsed nanoseconds")? as i64)?
+            let elapsed = r.finite_f64("elapsed time")?;
+            Clock::restore(start, elapsed, r.finite_f64("time")?)?
         } else {
             let time = r.finite_f64("time")?;
-            Clock::restore(0.0, (time * 1e9).round() as i64)?
+            Clock::restore(0.0, time, time)?
         };
         let mut restored = PanelLockModel {
             ports,

@@ -37,7 +37,7 @@ use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 /// Version of the serialized FMU state (2 adds the friction-slide dissipation and the energy
-/// guard's reference; 3 the clock, start time and elapsed nanoseconds, in place of the time.
+/// guard's reference; 3 the clock, start time and elapsed time, in place of the time.
 /// Version 1 states are still read, with none booked and
 /// the guard's reference taken anew; versions 1 and 2 start at 0 s).
 const STATE_FORMAT: u32 = 3;
@@ -354,10 +354,10 @@ impl CoSimModel for RopeBlockModel {
         if !self.ports.is_initialized() {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
-        let end = self.clock.step_end(t, h)?;
+        let step = self.clock.step(t, h)?;
         self.apply_inputs()?;
         let before = self.contact_count();
-        let (t0, t_end) = (self.clock.elapsed(), end as f64 / 1e9);
+        let (t0, t_end) = (self.clock.elapsed(), step.end);
         let start = self.clock.start();
         let scene = self.scene()?;
         match catch_unwind(AssertUnwindSafe(|| scene.sim.advance_to(t_end))) {
@@ -380,7 +380,7 @@ impl CoSimModel for RopeBlockModel {
                 )));
             }
         }
-        self.clock.advance_to(end);
+        self.clock.advance(&step);
         self.publish()?;
         let after = self.contact_count();
         if after != before {
@@ -408,7 +408,8 @@ impl CoSimModel for RopeBlockModel {
         w.header(IDENTIFIER, STATE_FORMAT);
         self.ports.write(&mut w);
         w.f64(self.clock.start());
-        w.u64(self.clock.ticks() as u64);
+        w.f64(self.clock.elapsed());
+        w.f64(self.clock.time());
         for c in &self.applied {
             w.f64s(c);
         }
@@ -428,10 +429,11 @@ impl CoSimModel for RopeBlockModel {
         let ports = self.ports.read(&mut r)?;
         let clock = if version >= 3 {
             let start = r.finite_f64("start time")?;
-            Clock::restore(start, r.u64("elapsed nanoseconds")? as i64)?
+            let elapsed = r.finite_f64("elapsed time")?;
+            Clock::restore(start, elapsed, r.finite_f64("time")?)?
         } else {
             let time = r.finite_f64("time")?;
-            Clock::restore(0.0, (time * 1e9).round() as i64)?
+            Clock::restore(0.0, time, time)?
         };
         let mut applied = [[0.0; 4]; MAX_HOOKS];
         for c in applied.iter_mut() {
