@@ -102,6 +102,22 @@ fn fixed_step_newton_weights(sys: &System, q: &[f64], wx: &mut [f64]) -> f64 {
     scale
 }
 
+/// What a Newton failure that no step size cures says about the problem, from the failure
+/// itself (the integrator does not know whether the model has contacts).
+fn newton_failure_cause(reason: &str) -> &'static str {
+    if reason.contains("singular") {
+        "the Newton matrix is singular here: a singular configuration (joints whose constraints \
+         lose rank, e.g. a closed loop at a dead point) or a body without mass or inertia"
+    } else if reason.contains("non-finite") {
+        "the forces or constraints became non-finite: a force law evaluated outside its range \
+         (check its parameters)"
+    } else {
+        "Newton does not converge however small the step: a force law too stiff or not smooth \
+         enough for the solver (check stiffness and damping parameters) or a discontinuity in \
+         the forces"
+    }
+}
+
 enum StepOutcome {
     /// Newton converged; weighted local error estimate.
     Converged(f64),
@@ -525,7 +541,7 @@ impl Integrator for GenAlpha {
                         self.h = h * (0.9 * reject.powf(-1.0 / 3.0)).clamp(0.1, 0.9);
                         if self.gain_ratio > 1.0 && self.h < 1e-14 * st.t.abs().max(1.0) {
                             return Err(SolverError(format!(
-                                "step size fell below {:.1e} s at t = {:.9e} s: the steps keep gaining energy ({:.2e} of the allowed 100 rtol of the energy in play) however small; a force whose potential energy disagrees with it, or a contact stiffer than the solver can resolve: check the force and contact parameters (stiffness, damping) or loosen rtol",
+                                "step size fell below {:.1e} s at t = {:.9e} s: the steps keep gaining energy ({:.2e} of the allowed 100 rtol of the energy in play) however small: a force whose potential energy disagrees with the force, or a force law too stiff for the solver (check stiffness and damping parameters)",
                                 self.h, st.t, self.gain_ratio
                             )));
                         }
@@ -579,8 +595,10 @@ impl Integrator for GenAlpha {
                     self.h = 0.25 * h;
                     if self.h < 1e-14 * st.t.abs().max(1.0) {
                         return Err(SolverError(format!(
-                            "step size fell below {:.1e} s at t = {:.9e} s: {reason} (stiffer contact than the solver can resolve? check parameters, loosen rtol or raise damping)",
-                            self.h, st.t
+                            "step size fell below {:.1e} s at t = {:.9e} s: {reason}; {}",
+                            self.h,
+                            st.t,
+                            newton_failure_cause(&reason)
                         )));
                     }
                 }
