@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Accuracy suite, ours against Exudyn (issue #17 item 7): see benches/exudyn_compare.py.
+#   bash benches/exudyn_compare.sh            # full run (chains 2/8/32, four-bar, impacts)
+#   bash benches/exudyn_compare.sh --quick    # fewer problems and settings, one run each
+# Further arguments go to exudyn_compare.py (--problem, --repeats, --budget, --out, --no-exudyn).
+# Output: out/accuracy_suite/report.md (also printed), ours.csv, ours_tables.md, exudyn.csv.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+EXUDYN_VERSION=1.13.6
+NUMPY_VERSION=2.4.6
+VENV=benches/.venv-exudyn
+if ! "$VENV/bin/python" -c "import exudyn, sys; sys.exit(exudyn.__version__ != '$EXUDYN_VERSION')" 2>/dev/null; then
+    echo "creating $VENV with exudyn==$EXUDYN_VERSION" >&2
+    rm -rf "$VENV"
+    python3 -m venv "$VENV"
+    "$VENV/bin/pip" install --quiet --disable-pip-version-check \
+        "exudyn==$EXUDYN_VERSION" "numpy==$NUMPY_VERSION"
+fi
+
+cargo build --release --example accuracy_suite
+TARGET="${CARGO_TARGET_DIR:-target}"
+exec "$VENV/bin/python" benches/exudyn_compare.py \
+    --suite-bin "$TARGET/release/examples/accuracy_suite" "$@"

@@ -1,0 +1,305 @@
+//! What a suite problem is, how one run is made and timed, and the CPU clock.
+
+use mbcosim::dae::System;
+use mbcosim::integrator::{IntegratorKind, Settings, SolverError, StepAction, StepHook};
+use mbcosim::model::Model;
+use mbcosim::sim::Simulation;
+use mbcosim::state::State;
+
+/// Gravity [m/s^2], along -y in every problem.
+pub const G: f64 = 9.81;
+
+/// Reads the measured components from a simulation at the end time.
+pub type Measure = Box<dyn Fn(&Simulation) -> Vec<f64>>;
+
+/// The reference solution of a problem's measured quantity.
+pub struct Reference {
+    /// Reference values of the measured components.
+    pub value: Vec<f64>,
+    /// The reference's own error estimate (same norm as the run errors).
+    pub estimated_error: f64,
+    /// How it was computed.
+    pub method: String,
+}
+
+/// One problem of the suite.
+pub struct Problem {
+    pub name: String,
+    pub title: String,
+    /// Simulated time [s].
+    pub t_end: f64,
+    /// What the error measures.
+    pub quantity: &'static str,
+    /// What the auxiliary error measures (the measured components after the first `primary`).
+    pub aux_name: Option<&'static str>,
+    /// Contact problems: the exact approach speed at contact onset [m/s], to compare with the
+    /// one the solver records (memory `[in contact, approach speed, ...]` of the only contact).
+    pub approach_speed: Option<f64>,
+    pub model: Model,
+    /// The measured components at the end time.
+    pub measure: Measure,
+    /// The first `primary` components form the error (Euclidean norm); the rest the auxiliary
+    /// error.
+    pub primary: usize,
+    pub reference: Reference,
+}
+
+impl Problem {
+    /// Error and auxiliary error of measured components `v`.
+    pub fn errors(&self, v: &[f64]) -> (f64, Option<f64>) {
+        let p = self.primary;
+        let e = crate::ode::dist(&v[..p], &self.reference.value[..p]);
+        let aux = (v.len() > p).then(|| crate::ode::dist(&v[p..], &self.reference.value[p..]));
+        (e, aux)
+    }
+}
+
+/// A series of runs: an adaptive integrator swept over rtol, or fixed-step generalized-alpha
+/// swept over the step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Series {
+    Adaptive(IntegratorKind),
+    GenAlphaFixed,
+}
+
+impl Series {
+    pub const ALL: [Series; 4] = [
+        Series::Adaptive(IntegratorKind::GenAlpha),
+        Series::Adaptive(IntegratorKind::Bdf),
+        Series::Adaptive(IntegratorKind::Dopri5),
+        Series::GenAlphaFixed,
+    ];
+
+    /// Command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Series::Adaptive(IntegratorKind::GenAlpha) => "gen_alpha",
+            Series::Adaptive(IntegratorKind::Bdf) => "bdf",
+            Series::Adaptive(IntegratorKind::Dopri5) => "dopri5",
+            Series::GenAlphaFixed => "gen_alpha_fixed",
+        }
+    }
+
+    /// What the swept parameter is.
+    pub fn parameter(self) -> &'static str {
+        match self {
+            Series::Adaptive(_) => "rtol",
+            Series::GenAlphaFixed => "h",
+        }
+    }
+
+    pub fn parse(s: &str) -> Result<Series, String> {
+        Series::ALL
+            .into_iter()
+            .find(|x| x.name() == s)
+            .ok_or_else(|| {
+                format!(
+                    "unknown integrator '{s}' (known: {})",
+                    Series::ALL.map(|x| x.name()).join(", ")
+                )
+            })
+    }
+
+    /// Settings for parameter `x` (rtol or step); atol = `atol_ratio` rtol for adaptive runs.
+    /// Everything else is the library default (h_max 0.1 s, rho_inf 0.8, BDF order <= 5), except
+    /// the bound on steps per call (raised to 1e8: 2 s at 1e-5 s are 200,000 steps, the
+    /// default bound; the CPU budget bounds a run instead).
+    pub fn settings(self, x: f64, atol_ratio: f64) -> (IntegratorKind, Settings) {
+        let max_steps = 100_000_000;
+        match self {
+            Series::Adaptive(kind) => (
+                kind,
+                Settings {
+                    rtol: x,
+                    atol: atol_ratio * x,
+                    max_steps,
+                    ..Settings::default()
+                },
+            ),
+            // default rtol/atol (they set the Newton tolerance): what a user gets
+            Series::GenAlphaFixed => (
+                IntegratorKind::GenAlpha,
+                Settings {
+                    fixed_step: x,
+                    h_max: x,
+                    max_steps,
+                    ..Settings::default()
+                },
+            ),
+        }
+    }
+}
+
+/// One measured run.
+#[derive(Debug, Clone)]
+pub struct Run {
+    pub series: Series,
+    pub x: f64,
+    pub error: f64,
+    pub aux_error: Option<f64>,
+    /// Error of the approach speed the solver recorded at the first contact [m/s].
+    pub approach_error: Option<f64>,
+    /// Best CPU time of the repeats [s].
+    pub cpu: f64,
+    pub repeats: usize,
+    pub steps: u64,
+    /// Steps rejected by a check after a converged Newton iteration (error, energy).
+    pub rejected: u64,
+    /// Newton iterations that did not converge (the step was retried).
+    pub newton_failures: u64,
+    /// Why the run failed (`None`: it reached the end time).
+    pub failure: Option<String>,
+    /// The failure was the CPU budget.
+    pub over_budget: bool,
+}
+
+/// Process CPU time [s] (all threads).
+#[cfg(target_os = "linux")]
+pub fn cpu_now() -> f64 {
+    #[repr(C)]
+    struct Timespec {
+        tv_sec: std::ffi::c_long,
+        tv_nsec: std::ffi::c_long,
+    }
+    unsafe extern "C" {
+        fn clock_gettime(clock: std::ffi::c_int, ts: *mut Timespec) -> std::ffi::c_int;
+    }
+    const CLOCK_PROCESS_CPUTIME_ID: std::ffi::c_int = 2;
+    let mut ts = Timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime writes one timespec through a valid pointer.
+    let rc = unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_PROCESS_CPUTIME_ID) failed");
+    ts.tv_sec as f64 + 1e-9 * ts.tv_nsec as f64
+}
+
+/// Wall-clock time [s] where no process CPU clock is wired up.
+#[cfg(not(target_os = "linux"))]
+pub fn cpu_now() -> f64 {
+    use std::sync::OnceLock;
+    static START: OnceLock<std::time::Instant> = OnceLock::new();
+    START
+        .get_or_init(std::time::Instant::now)
+        .elapsed()
+        .as_secs_f64()
+}
+
+/// Stops the integration once the run has used its CPU budget (checked every 16 steps), and
+/// notes the first approach speed a contact records; otherwise changes nothing, so results
+/// equal those of `advance_to`.
+struct Budget {
+    start: f64,
+    limit: f64,
+    count: u64,
+    exceeded: bool,
+    watch_contact: bool,
+    approach: Option<f64>,
+}
+
+impl StepHook for Budget {
+    fn after_step(&mut self, _: &mut System, st: &mut State) -> Result<StepAction, SolverError> {
+        if self.watch_contact
+            && self.approach.is_none()
+            && st.memory.len() >= 2
+            && st.memory[0] > 0.5
+        {
+            self.approach = Some(st.memory[1]);
+        }
+        self.count += 1;
+        if self.count.is_multiple_of(16) && cpu_now() - self.start > self.limit {
+            self.exceeded = true;
+            return Ok(StepAction::Stop);
+        }
+        Ok(StepAction::Continue)
+    }
+}
+
+/// One run (no repeats): CPU time from building the simulation (consistent initial conditions
+/// included, model assembly excluded) to the end time.
+fn run_once(p: &Problem, series: Series, x: f64, atol_ratio: f64, budget: f64) -> Run {
+    let (kind, settings) = series.settings(x, atol_ratio);
+    let model = p.model.clone();
+    let t0 = cpu_now();
+    let mut out = Run {
+        series,
+        x,
+        error: f64::NAN,
+        aux_error: None,
+        approach_error: None,
+        cpu: f64::NAN,
+        repeats: 1,
+        steps: 0,
+        rejected: 0,
+        newton_failures: 0,
+        failure: None,
+        over_budget: false,
+    };
+    let mut sim = match Simulation::new(model, kind, settings, 0.0) {
+        Ok(s) => s,
+        Err(e) => {
+            out.cpu = cpu_now() - t0;
+            out.failure = Some(format!("setup: {e}"));
+            return out;
+        }
+    };
+    let mut hook = Budget {
+        start: t0,
+        limit: budget,
+        count: 0,
+        exceeded: false,
+        watch_contact: p.approach_speed.is_some(),
+        approach: None,
+    };
+    let result = sim.advance_with(p.t_end, &mut hook);
+    out.cpu = cpu_now() - t0;
+    let stats = sim.stats();
+    out.steps = stats.steps;
+    out.rejected = stats.rejected;
+    out.newton_failures = stats.newton_failures;
+    if let (Some(exact), Some(recorded)) = (p.approach_speed, hook.approach) {
+        out.approach_error = Some((recorded - exact).abs());
+    }
+    match result {
+        Err(e) => out.failure = Some(format!("at t = {:.6} s: {e}", sim.state.t)),
+        Ok(()) if hook.exceeded => {
+            out.over_budget = true;
+            out.failure = Some(format!(
+                "CPU budget of {budget} s used up at t = {:.4} s",
+                sim.state.t
+            ));
+        }
+        Ok(()) => {
+            let (e, aux) = p.errors(&(p.measure)(&sim));
+            out.error = e;
+            out.aux_error = aux;
+            if !e.is_finite() {
+                out.failure = Some("non-finite result".into());
+            }
+        }
+    }
+    out
+}
+
+/// Best-of-`repeats` CPU time; runs slower than 1 s are not repeated.
+pub fn run(
+    p: &Problem,
+    series: Series,
+    x: f64,
+    atol_ratio: f64,
+    repeats: usize,
+    budget: f64,
+) -> Run {
+    let mut best = run_once(p, series, x, atol_ratio, budget);
+    let mut n = 1;
+    while n < repeats && best.failure.is_none() && best.cpu < 1.0 {
+        let r = run_once(p, series, x, atol_ratio, budget);
+        n += 1;
+        if r.cpu < best.cpu {
+            best.cpu = r.cpu;
+        }
+    }
+    best.repeats = n;
+    best
+}
