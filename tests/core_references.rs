@@ -573,7 +573,7 @@ fn impossible_initial_configuration_is_reported() {
 }
 
 #[test]
-fn tolerances_below_round_off_are_refused_with_the_floor_named() {
+fn tolerances_and_steps_below_their_floors_are_refused_with_the_floor_named() {
     for kind in IntegratorKind::ALL {
         let s = Settings {
             rtol: 1e-16,
@@ -584,6 +584,15 @@ fn tolerances_below_round_off_are_refused_with_the_floor_named() {
             e.contains("below 1e3 machine epsilons") && e.contains("2.220e-13"),
             "{}: {e}",
             kind.name()
+        );
+        let tiny_step = Settings {
+            h_max: 1e-12,
+            ..Settings::default()
+        };
+        let e = Simulation::new(double_pendulum(1.2, 1.6), kind, tiny_step, 0.0).unwrap_err();
+        assert!(
+            e.contains("h_max 1e-12 s is below its floor of 1e-8 s"),
+            "{e}"
         );
         let ok = Settings {
             rtol: mbcosim::integrator::MIN_RTOL,

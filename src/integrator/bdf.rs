@@ -613,7 +613,7 @@ impl Integrator for Bdf {
         self.h = if self.s.h_init > 0.0 {
             self.s.h_init
         } else {
-            (0.001 / acc).clamp(1e-8, self.s.h_max)
+            (0.001 / acc).clamp(super::MIN_H_MAX.min(self.s.h_max), self.s.h_max)
         };
         self.jac_valid = false;
         self.pending = None;

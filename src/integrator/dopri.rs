@@ -236,7 +236,7 @@ impl Integrator for Dopri5 {
         self.h = if self.s.h_init > 0.0 {
             self.s.h_init
         } else {
-            (0.01 / acc).clamp(1e-8, self.s.h_max)
+            (0.01 / acc).clamp(super::MIN_H_MAX.min(self.s.h_max), self.s.h_max)
         };
         Ok(())
     }

@@ -48,6 +48,10 @@ impl IntegratorKind {
 /// (differences of nearly equal numbers) are round-off, and error control would chase noise.
 pub const MIN_RTOL: f64 = 1e3 * f64::EPSILON;
 
+/// Smallest `h_max` accepted [s]: the adaptive integrators' first-step guesses are bounded below
+/// by it.
+pub const MIN_H_MAX: f64 = 1e-8;
+
 /// Accuracy and step settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Settings {
@@ -109,6 +113,12 @@ impl Settings {
         }
         if !(self.h_max.is_finite() && self.h_max > 0.0) {
             return Err(format!("h_max must be finite and > 0, got {}", self.h_max));
+        }
+        if self.h_max < MIN_H_MAX {
+            return Err(format!(
+                "h_max {:e} s is below its floor of {MIN_H_MAX:e} s",
+                self.h_max
+            ));
         }
         if !(self.h_init.is_finite() && self.h_init >= 0.0) {
             return Err(format!(

@@ -292,7 +292,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
         description: "Largest internal step.",
         get: |p| p.settings.h_max,
         set: |p, v| p.settings.h_max = v,
-        min: Some(0.0),
+        min: Some(crate::integrator::MIN_H_MAX),
     },
 ];
 
