@@ -43,6 +43,9 @@ pub struct Instance {
     /// True once the importer set that parameter with `fmi2SetReal` (it then takes precedence
     /// over the tolerance of `fmi2SetupExperiment`).
     rtol_set_by_importer: bool,
+    /// The resources folder given at instantiation (models restored from serialized states get
+    /// it too).
+    resource_dir: Option<std::path::PathBuf>,
 }
 
 /// Name of the real parameter that `fmi2SetupExperiment`'s tolerance sets (when the importer
@@ -79,19 +82,23 @@ impl Instance {
                 })
                 .map(|p| p.vr),
             rtol_set_by_importer: false,
+            resource_dir: None,
         }
     }
 
     /// Tells the model where its resources were unpacked; fails when a model that ships data
     /// files gets no folder.
     /// A scene file `scene.toml` in the folder sets parameter values (the packed default scene,
-    /// or a user's edit of it); it is applied again after `fmi2Reset`.
+    /// or a user's edit of it). It is read here only: `fmi2Reset` applies the values read now
+    /// again (FMI: reset returns to the state after instantiation), so a file changed on disk
+    /// later takes effect in a new instance, not after a reset.
     pub fn attach_resources(&mut self, entry: &ModelEntry, dir: Option<&Path>) -> Outcome<()> {
         match dir {
             Some(dir) => {
                 self.model
                     .set_resource_dir(dir)
                     .map_err(|e| e.to_string())?;
+                self.resource_dir = Some(dir.to_path_buf());
                 let path = dir.join(scene_file::FMU_SCENE);
                 if path.is_file() {
                     let origin = path.display().to_string();
@@ -542,8 +549,16 @@ impl Instance {
         if existing != 0 && !self.states.contains_key(&existing) {
             return Err(not_ours(existing));
         }
-        let snap =
-            snapshot::decode(bytes, self.create).map_err(|e| format!("state refused: {e}"))?;
+        let (create, dir) = (self.create, self.resource_dir.clone());
+        let make = move || {
+            let mut m = create();
+            if let Some(dir) = &dir {
+                // the folder was accepted for this model at instantiation
+                let _ = m.set_resource_dir(dir);
+            }
+            m
+        };
+        let snap = snapshot::decode(bytes, &make).map_err(|e| format!("state refused: {e}"))?;
         if existing != 0 {
             *self.snapshot(existing)? = snap;
             return Ok(existing);

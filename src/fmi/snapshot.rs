@@ -74,8 +74,12 @@ fn encode(m: &Machine, model: &dyn CoSimModel) -> Vec<u8> {
     w.into_bytes()
 }
 
-/// Restores a snapshot from `bytes` into a fresh model made by `create`.
-pub fn decode(bytes: &[u8], create: fn() -> Box<dyn CoSimModel>) -> Result<Snapshot, ModelError> {
+/// Restores a snapshot from `bytes` into a fresh model made by `create` (which also tells it
+/// where its resources are, so states naming relative data files restore).
+pub fn decode(
+    bytes: &[u8],
+    create: &dyn Fn() -> Box<dyn CoSimModel>,
+) -> Result<Snapshot, ModelError> {
     let bad = |m: String| ModelError::BadState(m);
     let mut r = ByteReader::new(bytes);
     r.expect_raw(MAGIC, "magic bytes (not an mbcosim FMU state)")?;
@@ -168,26 +172,26 @@ mod tests {
     #[test]
     fn round_trip_and_every_corruption_is_refused() {
         let bytes = sample();
-        let mut snap = decode(&bytes, pid::create).unwrap();
+        let mut snap = decode(&bytes, &pid::create).unwrap();
         assert_eq!(snap.machine.stop_time, Some(5.0));
         assert_eq!(snap.machine.state, State::StepComplete);
         assert_eq!(snap.model.get_real(9).unwrap(), 1.05); // u = kp*e + ki*e*t = 1 + 0.5*0.1
         assert_eq!(snap.bytes(), &bytes[..]);
         for cut in 0..bytes.len() {
-            assert!(decode(&bytes[..cut], pid::create).is_err(), "cut {cut}");
+            assert!(decode(&bytes[..cut], &pid::create).is_err(), "cut {cut}");
         }
         for i in 0..bytes.len() {
             let mut b = bytes.clone();
             b[i] ^= 0x01;
-            let e = decode(&b, pid::create)
+            let e = decode(&b, &pid::create)
                 .err()
                 .unwrap_or_else(|| panic!("flip at {i} accepted"));
             assert!(!e.to_string().is_empty());
         }
         let mut longer = bytes.clone();
         longer.push(0);
-        assert!(decode(&longer, pid::create).is_err());
-        let e = decode(b"garbage!", pid::create).err().unwrap().to_string();
+        assert!(decode(&longer, &pid::create).is_err());
+        let e = decode(b"garbage!", &pid::create).err().unwrap().to_string();
         assert!(e.contains("magic"), "{e}");
     }
 }

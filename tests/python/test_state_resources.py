@@ -1,0 +1,110 @@
+"""FMU states of a RopeBlock that reads a user mesh from its resources folder restore in a fresh
+instance (issue #25 item 3: the instance refused its own serialized state, "mesh_file `box.obj`
+is relative, but no FMU resources folder is known", because the restored model was made
+without the folder)."""
+
+import shutil
+
+import pytest
+from conftest import DIST, Fmu, bits
+from fmpy import extract
+
+# A plain 18 m x 12 m x 7 m box in the block's design frame (x along the length, centred; z up
+# from the bottom): the default lift's lugs and slings fit it.
+BOX_OBJ = """\
+v -9 -6 0
+v 9 -6 0
+v 9 6 0
+v -9 6 0
+v -9 -6 7
+v 9 -6 7
+v 9 6 7
+v -9 6 7
+f 1 3 2
+f 1 4 3
+f 5 6 7
+f 5 7 8
+f 1 2 6
+f 1 6 5
+f 2 3 7
+f 2 7 6
+f 3 4 8
+f 3 8 7
+f 4 1 5
+f 4 5 8
+"""
+
+
+@pytest.fixture
+def rope_block_with_mesh(tmp_path):
+    path = DIST / "RopeBlock.fmu"
+    if not path.exists():
+        pytest.skip("RopeBlock.fmu not packed")
+    unzip = extract(str(path), unzipdir=str(tmp_path / "fmu"))
+    (tmp_path / "fmu" / "resources" / "box.obj").write_text(BOX_OBJ)
+    yield Fmu(path, unzip)
+    shutil.rmtree(tmp_path / "fmu", ignore_errors=True)
+
+
+def _outputs(fmu, s):
+    vrs = [v.valueReference for v in fmu.real_outputs]
+    return [bits(x) for x in s.getReal(vrs)]
+
+
+def test_a_state_naming_a_relative_mesh_restores_in_a_fresh_instance(rope_block_with_mesh):
+    fmu = rope_block_with_mesh
+    values = {"mesh_file": "box.obj", "segments": 8}
+    a = fmu.slave("a")
+    fmu.start(a, values)
+    contacts = a.getInteger([fmu.vars["contact_count"].valueReference])[0]
+    assert contacts > 0, "the slings must touch the user mesh"
+    h = 0.05
+    for k in range(4):
+        a.doStep(currentCommunicationPoint=k * h, communicationStepSize=h)
+    data = a.serializeFMUstate(a.getFMUstate())
+    a.doStep(currentCommunicationPoint=4 * h, communicationStepSize=h)
+    expected = _outputs(fmu, a)
+    b = fmu.slave("b")
+    b.setFMUstate(b.deSerializeFMUstate(data))
+    b.doStep(currentCommunicationPoint=4 * h, communicationStepSize=h)
+    assert _outputs(fmu, b) == expected
+    for s in (a, b):
+        s.terminate()
+        s.freeInstance()
+
+
+def test_reset_returns_to_the_scene_file_read_at_instantiation(tmp_path):
+    """Issue #25 item 4, decided: fmi2Reset returns to the state after instantiation, so it
+    applies the scene.toml values read then, not a file changed on disk since."""
+    path = DIST / "PanelLock.fmu"
+    if not path.exists():
+        pytest.skip("PanelLock.fmu not packed")
+    unzip = extract(str(path), unzipdir=str(tmp_path / "fmu"))
+    scene = tmp_path / "fmu" / "resources" / "scene.toml"
+    text = scene.read_text()
+    assert "n_panels = 3" in text
+    fmu = Fmu(path, unzip)
+    vr = fmu.vars["n_panels"].valueReference
+
+    def n_panels_at_initialization(slave):
+        slave.setupExperiment(startTime=0.0)
+        slave.enterInitializationMode()
+        n = slave.getInteger([vr])[0]
+        slave.exitInitializationMode()
+        return n
+
+    scene.write_text(text.replace("n_panels = 3", "n_panels = 4"))
+    s = fmu.slave("s")
+    scene.write_text(text.replace("n_panels = 3", "n_panels = 2"))
+    assert n_panels_at_initialization(s) == 4, "read at instantiation"
+    s.reset()
+    assert n_panels_at_initialization(s) == 4, "reset applies the file as read at instantiation"
+    s.reset()
+    s.setInteger([vr], [5])
+    assert n_panels_at_initialization(s) == 5, "fmi2SetInteger still wins over the file"
+    s.terminate()
+    s.freeInstance()
+    t = fmu.slave("t")
+    assert n_panels_at_initialization(t) == 2, "a new instance reads the changed file"
+    t.terminate()
+    t.freeInstance()
