@@ -183,11 +183,23 @@ impl Pid {
         } else {
             sp - y
         };
-        Ok((sp - y, x))
+        let e = sp - y;
+        if !e.is_finite() {
+            return Err(ModelError::InvalidValue(format!(
+                "the control error setpoint - measurement = {sp} - ({y}) overflows; scale the signals"
+            )));
+        }
+        Ok((e, x))
     }
 
     /// Clamps `v`, publishes the outputs and logs saturation changes; returns the clamped output.
     fn publish(&mut self, p: &Params, v: f64, e: f64) -> Result<f64, ModelError> {
+        if !v.is_finite() {
+            return Err(ModelError::SolverFailure(format!(
+                "t = {} s: the controller output is not finite ({v}, error {e}); reduce the gains or scale the signals",
+                self.state.clock.time()
+            )));
+        }
         let u = v.clamp(p.u_min, p.u_max);
         let saturated = u != v;
         if saturated != self.ports.get_boolean(vr::SATURATED)? {

@@ -209,3 +209,20 @@ fn serialize_clone_reset_and_misuse() {
     p.initialize(1.0).unwrap();
     p.do_step(1.0, 0.1).unwrap();
 }
+
+#[test]
+fn overflowing_signals_are_refused_instead_of_a_nan_output() {
+    // issue #25 item 2: kp = 0 with setpoint 1e308 and measurement -1e308 gave u = NaN with OK
+    let mut p = Pid::new();
+    p.set_real(vr::KP, 0.0).unwrap();
+    p.set_real(vr::SETPOINT, 1e308).unwrap();
+    p.set_real(vr::MEASUREMENT, -1e308).unwrap();
+    let e = p.initialize(0.0).unwrap_err().to_string();
+    assert!(e.contains("overflows"), "{e}");
+    assert!(!p.ports().is_initialized());
+    let mut q = Pid::new();
+    q.set_real(vr::KP, 1e300).unwrap();
+    q.set_real(vr::SETPOINT, 1e10).unwrap();
+    let e = q.initialize(0.0).unwrap_err().to_string();
+    assert!(e.contains("not finite"), "{e}");
+}
