@@ -1,8 +1,9 @@
-"""FMU states of a RopeBlock that reads a user mesh from its resources folder restore in a fresh
-instance (issue #25 item 3: the instance refused its own serialized state, "mesh_file `box.obj`
-is relative, but no FMU resources folder is known", because the restored model was made
-without the folder)."""
+"""FMU states and the files in the resources folder (issue #25 items 3-5): a RopeBlock state naming
+a relative user mesh restores in a fresh instance (it was refused: "mesh_file `box.obj` is
+relative, but no FMU resources folder is known"); a state refuses to restore with a changed mesh;
+fmi2Reset returns to the scene.toml read at instantiation."""
 
+import pathlib
 import shutil
 
 import pytest
@@ -108,3 +109,31 @@ def test_reset_returns_to_the_scene_file_read_at_instantiation(tmp_path):
     assert n_panels_at_initialization(t) == 2, "a new instance reads the changed file"
     t.terminate()
     t.freeInstance()
+
+
+def test_a_state_refuses_to_restore_with_a_changed_mesh(rope_block_with_mesh, tmp_path):
+    """Issue #25 item 5: a mesh changed on disk under a serialized state made the restored run
+    fail in its next step (energy growth); the state now carries the mesh file's digest and is
+    refused with the file named."""
+    import fmi2raw
+
+    fmu = rope_block_with_mesh
+    a = fmu.slave("a")
+    fmu.start(a, {"mesh_file": "box.obj", "segments": 8})
+    a.doStep(currentCommunicationPoint=0.0, communicationStepSize=0.05)
+    data = bytes(a.serializeFMUstate(a.getFMUstate()))
+    mesh = pathlib.Path(fmu.unzip) / "resources" / "box.obj"
+    mesh.write_text(BOX_OBJ.replace("-9 ", "-8 ").replace("9 ", "8 "))
+    raw = fmi2raw.Instance(fmi2raw.Library(fmu.unzip, fmu.id), fmu.guid, logging_on=True)
+    status, _ = raw.deserialize(data)
+    assert status == fmi2raw.ERROR
+    text = " ".join(raw.messages())
+    assert "mesh_file" in text and "changed since this state was taken" in text, text
+    raw.free()
+    mesh.write_text(BOX_OBJ)
+    again = fmi2raw.Instance(fmi2raw.Library(fmu.unzip, fmu.id), fmu.guid)
+    status, _ = again.deserialize(data)
+    assert status == fmi2raw.OK, "the same mesh restores"
+    again.free()
+    a.terminate()
+    a.freeInstance()

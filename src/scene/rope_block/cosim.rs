@@ -28,7 +28,7 @@ use super::persist::{clone_sim, read_sim, write_sim};
 use super::ports::*;
 use super::{RopeBlockParams, RopeBlockScene};
 use crate::math::Vec3;
-use crate::scene::bytes::{ByteReader, ByteWriter};
+use crate::scene::bytes::{ByteReader, ByteWriter, checksum64};
 use crate::scene::clock::Clock;
 use crate::scene::panel_lock::ports::integrator_of;
 use crate::scene::port::{PortType, ValueRef};
@@ -37,10 +37,11 @@ use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 /// Version of the serialized FMU state (2 adds the friction-slide dissipation and the energy
-/// guard's reference; 3 the clock, start time and elapsed time, in place of the time.
+/// guard's reference; 3 the clock, start time and elapsed time, in place of the time; 4 the
+/// digest of the mesh file.
 /// Version 1 states are still read, with none booked and
 /// the guard's reference taken anew; versions 1 and 2 start at 0 s).
-const STATE_FORMAT: u32 = 3;
+const STATE_FORMAT: u32 = 4;
 use std::path::{Path, PathBuf};
 
 /// A new RopeBlock instance at default parameters.
@@ -66,6 +67,9 @@ pub struct RopeBlockModel {
     applied: [[f64; 4]; MAX_HOOKS],
     /// Start time and time since the start (the scene's own time axis begins at 0).
     clock: Clock,
+    /// Digest of the mesh file's bytes the scene was built from (none for the parametric
+    /// block); kept in serialized states, which refuse to restore with a changed file.
+    mesh_digest: Option<u64>,
     resource_dir: Option<PathBuf>,
     log: Vec<LogRecord>,
 }
@@ -78,6 +82,7 @@ impl Clone for RopeBlockModel {
             targets: self.targets.clone(),
             applied: self.applied,
             clock: self.clock,
+            mesh_digest: self.mesh_digest,
             resource_dir: self.resource_dir.clone(),
             log: self.log.clone(),
         }
@@ -107,6 +112,7 @@ impl RopeBlockModel {
             targets: Vec::new(),
             applied: [[0.0; 4]; MAX_HOOKS],
             clock: Clock::default(),
+            mesh_digest: None,
             resource_dir: None,
             log: Vec::new(),
         }
@@ -292,6 +298,7 @@ impl RopeBlockModel {
     /// Builds, settles and publishes (panics caught by the caller).
     fn start(&mut self) -> Result<(), ModelError> {
         let p = self.params()?;
+        self.mesh_digest = mesh_digest_of(&p)?;
         let scene = RopeBlockScene::new(p)
             .map_err(|e| ModelError::InvalidValue(format!("RopeBlock could not be set up: {e}")))?;
         for w in &scene.sim.sim.warnings {
@@ -413,6 +420,8 @@ impl CoSimModel for RopeBlockModel {
         for c in &self.applied {
             w.f64s(c);
         }
+        w.bool(self.mesh_digest.is_some());
+        w.u64(self.mesh_digest.unwrap_or(0));
         match &self.scene {
             None => w.bool(false),
             Some(s) => {
@@ -440,17 +449,35 @@ impl CoSimModel for RopeBlockModel {
             let v = r.f64s_exact(4, "hook command")?;
             c.copy_from_slice(&v);
         }
+        let mesh_digest = if version >= 4 {
+            let some = r.bool("mesh digest present")?;
+            let d = r.u64("mesh digest")?;
+            some.then_some(d)
+        } else {
+            None
+        };
         let mut restored = RopeBlockModel {
             ports,
             scene: None,
             targets: Vec::new(),
             applied,
             clock,
+            mesh_digest,
             resource_dir: self.resource_dir.clone(),
             log: Vec::new(),
         };
         if r.bool("initialized scene")? {
             let params = restored.params()?;
+            if let Some(d) = mesh_digest {
+                let now = mesh_digest_of(&params)?;
+                if now != Some(d) {
+                    return Err(ModelError::BadState(format!(
+                        "mesh_file `{}` changed since this state was taken (digest {d:016x}, now {}): a state restores only with the mesh it was taken with",
+                        params.mesh_file.as_deref().unwrap_or(""),
+                        now.map_or("no mesh".to_string(), |n| format!("{n:016x}"))
+                    )));
+                }
+            }
             let sim = read_sim(&mut r, &params, version)?;
             let scene = RopeBlockScene::from_sim(params, sim).map_err(ModelError::BadState)?;
             restored.targets = Self::map_targets(&scene);
@@ -475,6 +502,16 @@ impl CoSimModel for RopeBlockModel {
         self.resource_dir = Some(dir.to_path_buf());
         Ok(())
     }
+}
+
+/// Digest of the bytes of the scene's mesh file, `None` for the parametric block.
+fn mesh_digest_of(p: &RopeBlockParams) -> Result<Option<u64>, ModelError> {
+    let Some(file) = &p.mesh_file else {
+        return Ok(None);
+    };
+    let bytes = std::fs::read(file)
+        .map_err(|e| ModelError::InvalidValue(format!("cannot read mesh_file `{file}`: {e}")))?;
+    Ok(Some(checksum64(&bytes)))
 }
 
 /// RopeBlock's advice for a step the integrator could not complete (the integrator's own message
