@@ -10,6 +10,7 @@
 //! random step sequences) are taken as given. The scene's own time axis begins at 0, so a run
 //! started at `t0` takes the same steps as one started at 0 (outputs shifted by `t0`).
 
+use super::bytes::{ByteReader, ByteWriter};
 use super::{ModelError, check_step};
 
 /// Time resolution of the snapping [s]: a step within 1e-3 of a whole number of these is taken as
@@ -110,6 +111,20 @@ impl Clock {
             h: taken,
             time,
         })
+    }
+
+    /// Writes the clock into a serialized state (start, elapsed, time).
+    pub fn write(&self, w: &mut ByteWriter) {
+        w.f64(self.start);
+        w.f64(self.elapsed);
+        w.f64(self.now);
+    }
+
+    /// Reads what [`Clock::write`] wrote.
+    pub fn read(r: &mut ByteReader) -> Result<Self, ModelError> {
+        let start = r.finite_f64("start time")?;
+        let elapsed = r.finite_f64("elapsed time")?;
+        Clock::restore(start, elapsed, r.finite_f64("time")?)
     }
 
     /// Moves the clock to the end of `step` (after it completed).

@@ -235,9 +235,7 @@ impl Pid {
             r.f64("previous derivative source")?,
         );
         let clock = if version >= 2 {
-            let start = r.finite_f64("start time")?;
-            let elapsed = r.finite_f64("elapsed time")?;
-            Clock::restore(start, elapsed, r.finite_f64("time")?)?
+            Clock::read(&mut r)?
         } else {
             let time = r.finite_f64("time")?;
             Clock::restore(time, 0.0, time)?
@@ -333,11 +331,10 @@ impl CoSimModel for Pid {
         w.header(IDENTIFIER, STATE_FORMAT);
         self.ports.write(&mut w);
         let s = &self.state;
-        for v in [s.integral, s.derivative, s.x_prev, s.clock.start()] {
+        for v in [s.integral, s.derivative, s.x_prev] {
             w.f64(v);
         }
-        w.f64(s.clock.elapsed());
-        w.f64(s.clock.time());
+        s.clock.write(&mut w);
         w.into_bytes()
     }
 

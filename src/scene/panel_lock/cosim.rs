@@ -215,9 +215,7 @@ impl CoSimModel for PanelLockModel {
         let mut w = ByteWriter::new();
         w.header(IDENTIFIER, STATE_FORMAT);
         self.ports.write(&mut w);
-        w.f64(self.clock.start());
-        w.f64(self.clock.elapsed());
-        w.f64(self.clock.time());
+        self.clock.write(&mut w);
         match &self.scene {
             None => w.bool(false),
             Some(s) => {
@@ -244,9 +242,7 @@ impl CoSimModel for PanelLockModel {
         let version = r.header(IDENTIFIER, STATE_FORMAT)?;
         let ports = self.ports.read(&mut r)?;
         let clock = if version >= 2 {
-            let start = r.finite_f64("start time")?;
-            let elapsed = r.finite_f64("elapsed time")?;
-            Clock::restore(start, elapsed, r.finite_f64("time")?)?
+            Clock::read(&mut r)?
         } else {
             let time = r.finite_f64("time")?;
             Clock::restore(0.0, time, time)?

@@ -414,9 +414,7 @@ impl CoSimModel for RopeBlockModel {
         let mut w = ByteWriter::new();
         w.header(IDENTIFIER, STATE_FORMAT);
         self.ports.write(&mut w);
-        w.f64(self.clock.start());
-        w.f64(self.clock.elapsed());
-        w.f64(self.clock.time());
+        self.clock.write(&mut w);
         for c in &self.applied {
             w.f64s(c);
         }
@@ -437,9 +435,7 @@ impl CoSimModel for RopeBlockModel {
         let version = r.header(IDENTIFIER, STATE_FORMAT)?;
         let ports = self.ports.read(&mut r)?;
         let clock = if version >= 3 {
-            let start = r.finite_f64("start time")?;
-            let elapsed = r.finite_f64("elapsed time")?;
-            Clock::restore(start, elapsed, r.finite_f64("time")?)?
+            Clock::read(&mut r)?
         } else {
             let time = r.finite_f64("time")?;
             Clock::restore(0.0, time, time)?
