@@ -349,22 +349,17 @@ impl Bdf {
                     }),
                     None => assemble(sys, lin, t1, &self.q1, &self.v, a0),
                 }
-                // re-forming a restored state's matrix is part of the restore: the counters
-                // continue as in the run the state was taken from
-                match restored {
-                    Some(p) => self.jac_point = Some(p),
-                    None => {
-                        JacobianPoint::record_into(
-                            &mut self.jac_point,
-                            sys,
-                            t1,
-                            &self.q1,
-                            &self.v,
-                            a0,
-                        );
-                        self.stats.jacobians += 1;
-                        self.stats.factorizations += 1;
-                    }
+                if JacobianPoint::keep_or_record(
+                    &mut self.jac_point,
+                    restored,
+                    sys,
+                    t1,
+                    &self.q1,
+                    &self.v,
+                    a0,
+                ) {
+                    self.stats.jacobians += 1;
+                    self.stats.factorizations += 1;
                 }
                 self.jac_alpha0 = self.jac_point.as_ref().map_or(a0, |p| p.coefficient);
                 if self.lin.factor().is_err() {

@@ -221,19 +221,20 @@ impl GenAlpha {
         self.w.copy_from_slice(&st.vdot);
         self.lam.copy_from_slice(&st.lambda);
         let fixed = self.s.fixed_step > 0.0;
-        weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
         // constraint violation accepted at convergence [m, rad]; largest position scale [m]
-        let (mut phi_tol, mut scale) = (10.0 * self.s.atol, 0.0);
+        let (phi_tol, scale) = if fixed {
+            let scale = fixed_step_newton_weights(sys, &st.q, &mut self.wx);
+            (POSITION_ROUNDOFF * scale, scale)
+        } else {
+            weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
+            (10.0 * self.s.atol, 0.0)
+        };
         let mut prev_norm = f64::INFINITY;
         let mut redecided = 0;
         // iterations since the decisions were last taken (the divergence test restarts there)
         let mut it = 0;
         while it < 12 {
             self.kinematics(sys, st, h);
-            if fixed && it == 0 && redecided == 0 {
-                scale = fixed_step_newton_weights(sys, &st.q, &mut self.wx);
-                phi_tol = POSITION_ROUNDOFF * scale;
-            }
             if it == FREEZE_AT && redecided == 0 {
                 sys.freeze_decisions(t1, &self.q1, &self.v1);
             }
@@ -283,22 +284,17 @@ impl GenAlpha {
                         sys.add_constraint_blocks(lin, nv, 0, 1.0, Some((0, nv, 1.0)));
                     }
                 }
-                // re-forming a restored state's matrix is part of the restore: the counters
-                // continue as in the run the state was taken from
-                match restored {
-                    Some(p) => self.jac_point = Some(p),
-                    None => {
-                        JacobianPoint::record_into(
-                            &mut self.jac_point,
-                            sys,
-                            t1,
-                            &self.q1,
-                            &self.v1,
-                            h,
-                        );
-                        self.stats.jacobians += 1;
-                        self.stats.factorizations += 1;
-                    }
+                if JacobianPoint::keep_or_record(
+                    &mut self.jac_point,
+                    restored,
+                    sys,
+                    t1,
+                    &self.q1,
+                    &self.v1,
+                    h,
+                ) {
+                    self.stats.jacobians += 1;
+                    self.stats.factorizations += 1;
                 }
                 if let Err(e) = self.lin.factor() {
                     self.jac_valid = false;

@@ -387,6 +387,31 @@ impl JacobianPoint {
         }
     }
 
+    /// The point of a Newton matrix just formed: `restored` (a restored state's point, formed
+    /// again), or a new one recorded into `slot`. Returns true for a new matrix, which the
+    /// caller counts; re-forming a restored matrix is part of the restore, so the work counters
+    /// continue as in the run the state was taken from.
+    pub fn keep_or_record(
+        slot: &mut Option<Self>,
+        restored: Option<Self>,
+        sys: &System,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        coefficient: f64,
+    ) -> bool {
+        match restored {
+            Some(p) => {
+                *slot = Some(p);
+                false
+            }
+            None => {
+                Self::record_into(slot, sys, t, q, v, coefficient);
+                true
+            }
+        }
+    }
+
     /// Appends to a flat memory vector: lengths first, then the values.
     pub fn write(&self, m: &mut Vec<f64>) {
         m.extend([
