@@ -6,7 +6,7 @@
 #      use, idempotently; python3-venv and binutils come from apt when missing.
 #   2. fallback, only when that toolchain cannot be installed or the portable build fails: the host
 #      build, with a loud warning. Its FMUs need this machine's glibc, and
-#      tests/python/test_portable_binary.py fails on them under CI=true (skips locally).
+#      tests/python/test_portable_binary.py fails on them.
 #   3. split: the debug info goes to <debug-dir>/libmbcosim.so.debug; the library is stripped and
 #      points to that file by .gnu_debuglink (name + CRC) and by its GNU build ID.
 # Usage: scripts/build_portable.sh [--profile P] [--target-dir DIR] [--debug-dir DIR]
@@ -107,7 +107,7 @@ if [ -z "$lib" ]; then
         say "WARNING: NOT PORTABLE: $why."
         say "The FMUs get the host build, which needs $(glibc_needed "$lib") or newer instead of"
         say "GLIBC_$glibc_floor. See docs/portable_binary.md; tests/python/test_portable_binary.py"
-        say "fails on these FMUs under CI=true."
+        say "fails on these FMUs."
         say "################################################################################"
     fi
 fi

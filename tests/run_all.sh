@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every test: the Rust core (cargo test) and the packaged FMUs driven by fmpy (pytest).
 # Installs what it needs itself, idempotently, on a fresh Debian machine:
-#   - apt: libclang-dev (bindgen for the fmi-sys/fmi dev-dependencies), python3-venv; only if missing
+#   - apt: libclang-dev (bindgen for the fmi-sys/fmi dev-dependencies), python3-venv, libtbb12
+#     (ecospy's native library); only if missing
 #   - a Python venv in .venv with the pinned tools of tests/python/requirements.txt
 # Honours CARGO_TARGET_DIR. Exit status: 0 only if everything passed.
 set -euo pipefail

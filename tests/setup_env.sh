@@ -32,11 +32,9 @@ if ! .venv/bin/python -c 'import sys' >/dev/null 2>&1; then
     rm -rf .venv
     python3 -m venv .venv
 fi
-req_hash="$(cat tests/python/requirements.txt tests/python/constraints.txt tests/python/optional-requirements.txt | sha256sum | cut -d' ' -f1)"
+req_hash="$(cat tests/python/requirements.txt tests/python/constraints.txt | sha256sum | cut -d' ' -f1)"
 if [ "$(cat .venv/.requirements.sha 2>/dev/null)" != "$req_hash" ]; then
     .venv/bin/python -m pip install -q -r tests/python/requirements.txt -c tests/python/constraints.txt
-    .venv/bin/python -m pip install -q -r tests/python/optional-requirements.txt -c tests/python/constraints.txt \
-        || echo "libcosimpy could not be installed: its test will be skipped"
     echo "$req_hash" > .venv/.requirements.sha
 else
     echo "up to date"

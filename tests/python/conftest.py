@@ -61,6 +61,15 @@ def fmu_paths():
     return sorted(DIST.glob("*.fmu"))
 
 
+def packed(identifier):
+    """Path of dist/<identifier>.fmu; the test fails when it was not packed (the test command
+    packs every model before pytest runs)."""
+    path = DIST / f"{identifier}.fmu"
+    if not path.exists():
+        pytest.fail(f"{path} is missing: run `cargo run --release --bin mbcosim -- pack` first")
+    return path
+
+
 def bits(x: float) -> str:
     """Exact text of a float, for bit-identical comparisons."""
     return struct.pack("<d", x).hex()

@@ -24,7 +24,6 @@ accumulates t. fmpy's loop can reproduce either (`run_fmpy(case, time_mode)`).
 import atexit
 import dataclasses
 import math
-import os
 import pathlib
 import shutil
 import tempfile
@@ -37,8 +36,8 @@ from fmpy.fmi2 import FMU2Slave
 # Importers of the matrix: module to import -> how it gets installed (for skip messages).
 IMPORTERS = {
     "fmpy": "tests/python/requirements.txt",
-    "libcosimpy": "tests/python/optional-requirements.txt",
-    "ecospy": "tests/python/optional-requirements.txt (its libecosc.so needs apt libtbb12)",
+    "libcosimpy": "tests/python/requirements.txt",
+    "ecospy": "tests/python/requirements.txt (its libecosc.so needs apt libtbb12)",
 }
 
 # fmpy time mode that reproduces an importer's doStep arguments:
@@ -378,6 +377,3 @@ def available(importer):
         return False, f"{importer} cannot be imported ({type(e).__name__}: {e}); installed from {IMPORTERS[importer]}"
     return True, ""
 
-
-def under_ci():
-    return os.environ.get("CI", "").lower() in ("true", "1", "yes")

@@ -24,7 +24,7 @@ from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
 import fmi2raw
-from conftest import DIST, SCENARIOS, fmu_paths
+from conftest import SCENARIOS, packed
 from state_walk_worker import Outputs
 
 START_TIMES = (-1.0, 0.0, 1000.0)
@@ -49,9 +49,7 @@ _UNZIPPED = {}
 
 def _model(name, tmp_path_factory):
     """(model description, unzip folder) of dist/<name>.fmu."""
-    path = DIST / f"{name}.fmu"
-    if not path.exists():
-        pytest.skip(f"{path} not packed")
+    path = packed(name)
     if name not in _UNZIPPED:
         _UNZIPPED[name] = (read_model_description(str(path)),
                            extract(str(path), unzipdir=str(tmp_path_factory.mktemp(name + "-conf"))))
@@ -59,7 +57,7 @@ def _model(name, tmp_path_factory):
 
 
 def _names():
-    return [p.stem for p in fmu_paths() if p.stem in RUNS]
+    return sorted(RUNS)
 
 
 def _by_name(md):
@@ -211,7 +209,7 @@ def _solver_messages(log):
 
 
 def _rtol_models():
-    return [n for n in _names() if any(v.name == "rtol" for v in read_model_description(str(DIST / f"{n}.fmu")).modelVariables)]
+    return [n for n in _names() if any(v.name == "rtol" for v in read_model_description(str(packed(n))).modelVariables)]
 
 
 @pytest.mark.parametrize("name", _rtol_models())

@@ -7,13 +7,12 @@ arguments (importer_matrix.TIME_MODES), so a difference means the FMU saw the sa
 answered differently. libcosim and Ecos round the communication step differently; the FMUs' clock
 (whole nanoseconds) makes their results identical anyway, which the last test checks.
 
-The masters, the comparison and the CI policy are described in docs/importer_matrix.md. Under CI
-(CI=true) an importer that cannot be imported fails the tests instead of skipping them:
-tests/setup_env.sh installs all three.
+The masters and the comparison are described in docs/importer_matrix.md. An importer that cannot
+be imported fails the tests (tests/setup_env.sh installs all three).
 """
 
 import pytest
-from conftest import DIST, fmu_paths
+from conftest import DIST, fmu_paths, packed
 
 import importer_matrix as im
 
@@ -26,19 +25,15 @@ def _case_ids():
 
 def _case(case_id):
     if case_id == PID_CASE:
-        for name in ("PanelLock", "PidController"):
-            if not (DIST / f"{name}.fmu").exists():
-                pytest.skip(f"{name}.fmu is not in {DIST}")
+        packed("PanelLock")
+        packed("PidController")
         return im.pid_panel_lock(DIST)
-    return im.default_experiment(DIST / f"{case_id}.fmu")
+    return im.default_experiment(packed(case_id))
 
 
 def _require(importer):
     ok, why = im.available(importer)
-    if not ok:
-        if im.under_ci():
-            pytest.fail(f"CI=true: the importer matrix must not skip a column: {why}")
-        pytest.skip(why)
+    assert ok, f"the importer matrix needs every column (tests/setup_env.sh installs them): {why}"
 
 
 _RUNS = {}

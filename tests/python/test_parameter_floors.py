@@ -5,7 +5,7 @@ fmi2ExitInitializationMode: "min > max", fmi2Fatal)."""
 import re
 
 import pytest
-from conftest import DIST, Fmu
+from conftest import Fmu, packed
 from fmpy import extract
 
 import fmi2raw
@@ -13,9 +13,7 @@ import fmi2raw
 
 @pytest.fixture(scope="module")
 def panel_lock(tmp_path_factory):
-    path = DIST / "PanelLock.fmu"
-    if not path.exists():
-        pytest.skip("PanelLock.fmu not packed")
+    path = packed("PanelLock")
     return Fmu(path, extract(str(path), unzipdir=str(tmp_path_factory.mktemp("floors"))))
 
 

@@ -7,7 +7,7 @@ import pathlib
 import shutil
 
 import pytest
-from conftest import DIST, Fmu, bits
+from conftest import Fmu, bits, packed
 from fmpy import extract
 
 # A plain 18 m x 12 m x 7 m box in the block's design frame (x along the length, centred; z up
@@ -38,9 +38,7 @@ f 4 5 8
 
 @pytest.fixture
 def rope_block_with_mesh(tmp_path):
-    path = DIST / "RopeBlock.fmu"
-    if not path.exists():
-        pytest.skip("RopeBlock.fmu not packed")
+    path = packed("RopeBlock")
     unzip = extract(str(path), unzipdir=str(tmp_path / "fmu"))
     (tmp_path / "fmu" / "resources" / "box.obj").write_text(BOX_OBJ)
     yield Fmu(path, unzip)
@@ -77,9 +75,7 @@ def test_a_state_naming_a_relative_mesh_restores_in_a_fresh_instance(rope_block_
 def test_reset_returns_to_the_scene_file_read_at_instantiation(tmp_path):
     """Issue #25 item 4, decided: fmi2Reset returns to the state after instantiation, so it
     applies the scene.toml values read then, not a file changed on disk since."""
-    path = DIST / "PanelLock.fmu"
-    if not path.exists():
-        pytest.skip("PanelLock.fmu not packed")
+    path = packed("PanelLock")
     unzip = extract(str(path), unzipdir=str(tmp_path / "fmu"))
     scene = tmp_path / "fmu" / "resources" / "scene.toml"
     text = scene.read_text()
