@@ -126,6 +126,12 @@ pub struct Dopri5 {
     xd: Vec<f64>,
     vd: Vec<f64>,
     qd: Vec<f64>,
+    /// Whether [`Dopri5::try_step`] watches the stages for contact events (see `hidden`).
+    watch_stages: bool,
+    /// Fraction of the trial step at the first interior stage whose state has a contact event
+    /// function `> 0` that is `<= 0` at the step's start (`inf`: none): a contact that closes
+    /// and opens again within the step, which its ends do not show.
+    hidden: f64,
     /// Events located in a step (index, fraction of the step).
     roots: Vec<(usize, f64)>,
     /// Events the step being retaken ends on: recorded after it is accepted.
@@ -163,6 +169,8 @@ impl Dopri5 {
             qd: Vec::new(),
             roots: Vec::new(),
             landing: Vec::new(),
+            watch_stages: false,
+            hidden: f64::INFINITY,
         }
     }
 
@@ -192,6 +200,24 @@ impl Dopri5 {
                 v.resize(nv, 0.0);
             }
             self.qd.resize(nq, 0.0);
+        }
+    }
+
+    /// After stage `i` (at `qs`, `vs`) of a trial step from `st`: notes in `hidden` the stage's
+    /// fraction of the step when an event function is positive there but not at the start.
+    fn watch_stage(&mut self, sys: &mut System, st: &State, i: usize) {
+        sys.contact_event_functions(st.t, &self.qs, &self.vs, &mut self.gt);
+        if !self.gt.iter().any(|g| *g > 0.0) {
+            return;
+        }
+        sys.contact_event_functions(st.t, &st.q, &st.v, &mut self.g0);
+        if self
+            .gt
+            .iter()
+            .zip(&self.g0)
+            .any(|(g, g0)| *g > 0.0 && *g0 <= 0.0)
+        {
+            self.hidden = C[i];
         }
     }
 
@@ -307,6 +333,7 @@ impl Dopri5 {
     /// One trial step of size `h`; returns the weighted error (0 in fixed-step mode).
     fn try_step(&mut self, sys: &mut System, st: &State, h: f64) -> Result<f64, String> {
         let nv = sys.n_v();
+        self.hidden = f64::INFINITY;
         for i in 0..7 {
             if i == 0 && self.k1_valid {
                 continue;
@@ -321,6 +348,9 @@ impl Dopri5 {
                 self.vs[k] = st.v[k] + h * sv;
             }
             self.stage(sys, st, st.t + C[i] * h, i)?;
+            if self.watch_stages && (1..5).contains(&i) && self.hidden.is_infinite() {
+                self.watch_stage(sys, st, i);
+            }
         }
         // stage 7 is at the 5th-order solution: x, vs now hold it
         if self.s.fixed_step > 0.0 {
@@ -402,6 +432,7 @@ impl Integrator for Dopri5 {
         let locate = adaptive && sys.n_contact_events() > 0;
         // a step cut to end at a located contact event, to be taken next
         let mut cut: Option<f64> = None;
+        self.watch_stages = locate;
         let mut steps = 0u64;
         while t_end - st.t > time_eps(t_end) {
             steps += 1;
@@ -469,6 +500,12 @@ impl Integrator for Dopri5 {
                         continue;
                     }
                     // else the step ends at the event already
+                } else if self.hidden < 1.0 && self.hidden * h > time_eps(st.t) {
+                    // a contact closed within the step and opened again before its end: retry
+                    // up to that stage, until the closing shows at a step's end (not counted as a
+                    // rejection: `Stats` has no cause for it)
+                    self.h = self.hidden * h;
+                    continue;
                 }
             }
             self.accept(sys, st, h)?;
