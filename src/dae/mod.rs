@@ -60,6 +60,9 @@ pub struct System {
     pub n_evals: u64,
     /// Memory of each force effect: `memory_offsets[i]..memory_offsets[i + 1]`.
     memory_offsets: Vec<usize>,
+    /// Contact events of each force effect: `event_offsets[i]..event_offsets[i + 1]` (see
+    /// [`System::contact_event_functions`]).
+    event_offsets: Vec<usize>,
     /// Current effect memory (copied from the state before each evaluation).
     pub memory: Vec<f64>,
     /// Decisions of each force effect frozen within a Newton iteration (see
@@ -110,10 +113,15 @@ impl System {
             memory_offsets.push(memory_offsets.last().copied().unwrap_or(0) + e.n_memory());
         }
         let n_mem = *memory_offsets.last().unwrap_or(&0);
+        let mut event_offsets = vec![0];
+        for e in &model.forces {
+            event_offsets.push(event_offsets.last().copied().unwrap_or(0) + e.n_contact_events());
+        }
         let nodes = node_body_terms(&model, &modal, &modal_of);
         let f_ext = vec![0.0; model.n_v + 6 * nodes.len()];
         let mut sys = System {
             memory_offsets,
+            event_offsets,
             memory: vec![0.0; n_mem],
             frozen: vec![Vec::new(); model.forces.len()],
             frozen_on: false,
@@ -363,6 +371,54 @@ impl System {
             let ctx = self.ctx(t, i);
             change = change.max(e.update_memory(&ctx, &mut memory[a..b]));
         }
+        self.memory.copy_from_slice(memory);
+        change
+    }
+
+    /// Number of contact events the force effects expose (0: no contact whose closing or
+    /// opening matters, and integrators evaluate nothing for events).
+    pub fn n_contact_events(&self) -> usize {
+        self.event_offsets.last().copied().unwrap_or(0)
+    }
+
+    /// The contact event functions at `(t, q, v)` under the current memory, into `out` (length
+    /// [`System::n_contact_events`]): a change from `<= 0` to `> 0` within a step is a contact
+    /// closing or opening (see [`crate::effect::ForceEffect::contact_event_functions`]).
+    pub fn contact_event_functions(&mut self, t: f64, q: &[f64], v: &[f64], out: &mut [f64]) {
+        self.update_kinematics(q, v);
+        for (i, e) in self.model.forces.iter().enumerate() {
+            let (a, b) = (self.event_offsets[i], self.event_offsets[i + 1]);
+            if a < b {
+                e.contact_event_functions(&self.ctx(t, i), &mut out[a..b]);
+            }
+        }
+    }
+
+    /// Records in `memory` (the state's effect memory, which the system's copy then follows)
+    /// that contact event `event` (index into [`System::contact_event_functions`]) happens at
+    /// `(t, q, v)`; returns how the forces there change.
+    pub fn record_contact_event(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        memory: &mut [f64],
+        event: usize,
+    ) -> MemoryChange {
+        let Some(i) = (0..self.model.forces.len())
+            .find(|&i| (self.event_offsets[i]..self.event_offsets[i + 1]).contains(&event))
+        else {
+            return MemoryChange::None;
+        };
+        if memory.len() != self.memory.len() {
+            return MemoryChange::None;
+        }
+        self.memory.copy_from_slice(memory);
+        self.update_kinematics(q, v);
+        let (a, b) = (self.memory_offsets[i], self.memory_offsets[i + 1]);
+        let ctx = self.ctx(t, i);
+        let local = event - self.event_offsets[i];
+        let change = self.model.forces[i].record_contact_event(&ctx, local, &mut memory[a..b]);
         self.memory.copy_from_slice(memory);
         change
     }

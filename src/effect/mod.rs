@@ -100,6 +100,30 @@ pub trait ForceEffect: Send + Sync + std::fmt::Debug {
         MemoryChange::None
     }
 
+    /// Number of contact events (closing and opening of a contact) an integrator may locate in
+    /// time, one per contact whose force depends on the state at its onset (a recorded approach
+    /// speed) or is not smooth where it closes and opens; see
+    /// [`ForceEffect::contact_event_functions`]. 0: nothing to locate, nothing is evaluated.
+    fn n_contact_events(&self) -> usize {
+        0
+    }
+
+    /// Writes into `out` (length [`ForceEffect::n_contact_events`]) one event function per
+    /// contact whose sign change from `<= 0` to `> 0` within a step is the contact's next event
+    /// under the current memory (`ctx.memory`): the penetration [m] of a contact the memory says
+    /// is separated (it closes when it turns positive), minus the penetration of a closed one
+    /// (it opens when the penetration turns negative).
+    fn contact_event_functions(&self, _ctx: &EvalCtx, _out: &mut [f64]) {}
+
+    /// Records in `memory` (the effect's own) that the event of contact `i` happens at the state
+    /// of `ctx`, where an integrator located it (event function zero to the integrator's
+    /// accuracy, either sign): a separated contact closes here with the approach speed of this
+    /// state, a closed one opens. Returns how the forces at this state change
+    /// ([`MemoryChange::Smooth`] when they do not).
+    fn record_contact_event(&self, _ctx: &EvalCtx, _i: usize, _memory: &mut [f64]) -> MemoryChange {
+        MemoryChange::None
+    }
+
     /// Writes into `out` (cleared by the caller) the discrete decisions the effect takes inside
     /// an evaluation at `ctx` (slip modes of rope contact nodes), for an integrator to hold
     /// within a step's Newton iteration: evaluated with them as `ctx.frozen`, the forces are the

@@ -3,7 +3,11 @@
 //! Penetration `delta = d - n . p` of point `p` below the plane `n . x = d` (unit normal `n`
 //! pointing out of the solid); the force `F(delta, delta_dot) n` pushes the point out. Memory per
 //! contact: `[in contact, approach speed, peak force]`; before the approach speed is recorded
-//! (the onset step) the current penetration rate stands in for it.
+//! (the onset step) the current penetration rate stands in for it. The contacts expose their
+//! closing and opening as events ([`ForceEffect::contact_event_functions`]): an integrator that
+//! locates an onset in time records the approach speed there
+//! ([`ForceEffect::record_contact_event`]) instead of at the end of the first step in contact
+//! (DOPRI5 does, see `docs/contact_onset.md`).
 
 use super::point_force::TwoPointForce;
 use super::{EvalCtx, ForceEffect, JacobianSink, MemoryChange};
@@ -145,6 +149,55 @@ impl ForceEffect for PlaneContacts {
 
     fn n_memory(&self) -> usize {
         self.elements.len() * MEMORY_PER_CONTACT
+    }
+
+    fn n_contact_events(&self) -> usize {
+        self.elements.len()
+    }
+
+    fn contact_event_functions(&self, ctx: &EvalCtx, out: &mut [f64]) {
+        for ((i, c), g) in self.elements.iter().enumerate().zip(out.iter_mut()) {
+            let delta = c.penetration(kin_of(ctx.kins, c.point.body)).0;
+            *g = if Self::mem(ctx, i)[0] < 0.5 {
+                delta
+            } else {
+                -delta
+            };
+        }
+    }
+
+    fn record_contact_event(&self, ctx: &EvalCtx, i: usize, memory: &mut [f64]) -> MemoryChange {
+        let Some(c) = self.elements.get(i) else {
+            return MemoryChange::None;
+        };
+        let Some(m) = memory.get_mut(i * MEMORY_PER_CONTACT..(i + 1) * MEMORY_PER_CONTACT) else {
+            return MemoryChange::None;
+        };
+        let (delta, delta_dot) = c.penetration(kin_of(ctx.kins, c.point.body));
+        let before = [m[0], m[1]];
+        if m[0] < 0.5 {
+            // closes: the approach speed of the onset (a non-finite rate records 0, unknown)
+            m[0] = 1.0;
+            m[1] = if delta_dot.is_finite() {
+                delta_dot.max(0.0)
+            } else {
+                0.0
+            };
+        } else {
+            m[0] = 0.0;
+            m[1] = 0.0;
+        }
+        if before[0].to_bits() == m[0].to_bits() && before[1].to_bits() == m[1].to_bits() {
+            MemoryChange::None
+        } else if delta > 0.0 && m[0] < 0.5 {
+            // opened at a penetration of the order of the integrator's accuracy: the elastic
+            // force there (about k delta^n) is dropped
+            MemoryChange::Discontinuous
+        } else {
+            // at a located onset the force is zero, or (a small penetration) evaluated with this
+            // very rate standing in for the approach speed, as the recorded speed now gives
+            MemoryChange::Smooth
+        }
     }
 
     fn update_memory(&self, ctx: &EvalCtx, memory: &mut [f64]) -> MemoryChange {

@@ -15,6 +15,7 @@ use super::{
 };
 use crate::dae::System;
 use crate::dae::linear::LinearSolver;
+use crate::effect::MemoryChange;
 use crate::math::wrms;
 use crate::state::State;
 
@@ -68,6 +69,29 @@ const E: [f64; 7] = [
     -1.0 / 40.0,
 ];
 
+/// Coefficients of the 4th-order continuous extension (dense output) of Dormand-Prince 5(4)
+/// (Shampine 1986, as in Hairer, Norsett and Wanner, Solving ODEs I, sec. II.6): with
+/// `r2 = y1 - y0`, `r3 = h k1 - r2`, `r4 = r2 - h k7 - r3`, `r5 = h sum d_i k_i`,
+/// `y(t0 + theta h) = y0 + theta (r2 + (1 - theta) (r3 + theta (r4 + (1 - theta) r5)))`.
+const D: [f64; 7] = [
+    -12715105075.0 / 11282082432.0,
+    0.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+];
+
+/// Value at `theta` of the dense output of one component: `y0`, `y1` the step's ends, `hk1`,
+/// `hk7` the step times the first and last stage derivatives, `r5 = h sum d_i k_i`.
+fn dense(theta: f64, y0: f64, y1: f64, hk1: f64, hk7: f64, r5: f64) -> f64 {
+    let r2 = y1 - y0;
+    let r3 = hk1 - r2;
+    let r4 = r2 - hk7 - r3;
+    y0 + theta * (r2 + (1.0 - theta) * (r3 + theta * (r4 + (1.0 - theta) * r5)))
+}
+
 /// Dormand-Prince 5(4) integrator.
 #[derive(Debug, Clone)]
 pub struct Dopri5 {
@@ -90,6 +114,28 @@ pub struct Dopri5 {
     k1_valid: bool,
     /// Buffers of the projections.
     projection: ProjectionScratch,
+    /// Contact-event location (only for models with contact events, see
+    /// [`System::n_contact_events`]): event functions at the step's start and end and at a
+    /// dense-output point.
+    g0: Vec<f64>,
+    g1: Vec<f64>,
+    gt: Vec<f64>,
+    /// Dense output: `h sum d_i k_i` of chart positions and speeds, and the interpolated point.
+    rx: Vec<f64>,
+    rv: Vec<f64>,
+    xd: Vec<f64>,
+    vd: Vec<f64>,
+    qd: Vec<f64>,
+    /// Whether [`Dopri5::try_step`] watches the stages for contact events (see `hidden`).
+    watch_stages: bool,
+    /// Fraction of the trial step at the first interior stage whose state has a contact event
+    /// function `> 0` that is `<= 0` at the step's start (`inf`: none): a contact that closes
+    /// and opens again within the step, which its ends do not show.
+    hidden: f64,
+    /// Events located in a step (index, fraction of the step).
+    roots: Vec<(usize, f64)>,
+    /// Events the step being retaken ends on: recorded after it is accepted.
+    landing: Vec<usize>,
 }
 
 impl Dopri5 {
@@ -113,10 +159,23 @@ impl Dopri5 {
             wv: Vec::new(),
             k1_valid: false,
             projection: ProjectionScratch::default(),
+            g0: Vec::new(),
+            g1: Vec::new(),
+            gt: Vec::new(),
+            rx: Vec::new(),
+            rv: Vec::new(),
+            xd: Vec::new(),
+            vd: Vec::new(),
+            qd: Vec::new(),
+            roots: Vec::new(),
+            landing: Vec::new(),
+            watch_stages: false,
+            hidden: f64::INFINITY,
         }
     }
 
-    fn resize(&mut self, nq: usize, nv: usize, nc: usize) {
+    fn resize(&mut self, sys: &System) {
+        let (nq, nv, nc) = (sys.n_q(), sys.n_v(), sys.n_c());
         for k in self.kx.iter_mut().chain(self.kv.iter_mut()) {
             k.resize(nv, 0.0);
         }
@@ -132,6 +191,120 @@ impl Dopri5 {
         }
         self.qs.resize(nq, 0.0);
         self.rhs.resize(nv + nc, 0.0);
+        let n_on = sys.n_contact_events();
+        if n_on > 0 {
+            for g in [&mut self.g0, &mut self.g1, &mut self.gt] {
+                g.resize(n_on, 0.0);
+            }
+            for v in [&mut self.rx, &mut self.rv, &mut self.xd, &mut self.vd] {
+                v.resize(nv, 0.0);
+            }
+            self.qd.resize(nq, 0.0);
+        }
+    }
+
+    /// After stage `i` (at `qs`, `vs`) of a trial step from `st`: notes in `hidden` the stage's
+    /// fraction of the step when an event function is positive there but not at the start.
+    fn watch_stage(&mut self, sys: &mut System, st: &State, i: usize) {
+        sys.contact_event_functions(st.t, &self.qs, &self.vs, &mut self.gt);
+        if !self.gt.iter().any(|g| *g > 0.0) {
+            return;
+        }
+        sys.contact_event_functions(st.t, &st.q, &st.v, &mut self.g0);
+        if self
+            .gt
+            .iter()
+            .zip(&self.g0)
+            .any(|(g, g0)| *g > 0.0 && *g0 <= 0.0)
+        {
+            self.hidden = C[i];
+        }
+    }
+
+    /// Event function `i` at the fraction `theta` of the trial step of size `h` from `st`, on
+    /// the dense output (`rx`, `rv` prepared by [`Dopri5::events_in_step`]).
+    fn gap_at(&mut self, sys: &mut System, st: &State, h: f64, theta: f64, i: usize) -> f64 {
+        for k in 0..self.x.len() {
+            let (kx1, kx7, kv1, kv7) = (self.kx[0][k], self.kx[6][k], self.kv[0][k], self.kv[6][k]);
+            self.xd[k] = dense(theta, 0.0, self.x[k], h * kx1, h * kx7, self.rx[k]);
+            self.vd[k] = dense(theta, st.v[k], self.vs[k], h * kv1, h * kv7, self.rv[k]);
+        }
+        sys.model.retract(&st.q, &self.xd, &mut self.qd);
+        sys.contact_event_functions(st.t + theta * h, &self.qd, &self.vd, &mut self.gt);
+        self.gt[i]
+    }
+
+    /// After a trial step of size `h` from `st` that passed the error test (its end in `qs`,
+    /// `vs`, its stages in `kx`, `kv`): the earliest contact event (closing or opening) inside
+    /// the step, as a fraction of the step, located on the dense output to 1e-12 of the step;
+    /// `landing` then holds the events at that instant. `None`: no contact closes or opens.
+    fn events_in_step(&mut self, sys: &mut System, st: &State, h: f64) -> Option<f64> {
+        self.landing.clear();
+        sys.contact_event_functions(st.t + h, &self.qs, &self.vs, &mut self.g1);
+        if !self.g1.iter().any(|g| *g > 0.0) {
+            return None;
+        }
+        sys.contact_event_functions(st.t, &st.q, &st.v, &mut self.g0);
+        for k in 0..self.x.len() {
+            let (mut sx, mut sv) = (0.0, 0.0);
+            for (i, d) in D.iter().enumerate() {
+                sx += d * self.kx[i][k];
+                sv += d * self.kv[i][k];
+            }
+            self.rx[k] = h * sx;
+            self.rv[k] = h * sv;
+        }
+        self.roots.clear();
+        for i in 0..self.g1.len() {
+            let (g0, g1) = (self.g0[i], self.g1[i]);
+            if !(g0 <= 0.0 && g1 > 0.0) {
+                continue;
+            }
+            if g0 == 0.0 {
+                self.roots.push((i, 0.0));
+                continue;
+            }
+            // Illinois (modified regula falsi) on [a, b] with f(a) <= 0 < f(b)
+            let (mut a, mut fa, mut b, mut fb) = (0.0, g0, 1.0, g1);
+            let mut kept = 0i8;
+            for _ in 0..100 {
+                if b - a <= 1e-12 {
+                    break;
+                }
+                let mut m = (a * fb - b * fa) / (fb - fa);
+                if !(m > a && m < b) {
+                    m = 0.5 * (a + b);
+                }
+                let fm = self.gap_at(sys, st, h, m, i);
+                if !fm.is_finite() {
+                    break;
+                }
+                if fm > 0.0 {
+                    (b, fb) = (m, fm);
+                    if kept == 1 {
+                        fa *= 0.5;
+                    }
+                    kept = 1;
+                } else {
+                    (a, fa) = (m, fm);
+                    if kept == -1 {
+                        fb *= 0.5;
+                    }
+                    kept = -1;
+                }
+            }
+            // the end past the event: the contact has just closed (opened) there
+            self.roots.push((i, b));
+        }
+        let first = self.roots.iter().map(|r| r.1).fold(f64::INFINITY, f64::min);
+        if !first.is_finite() {
+            return None;
+        }
+        // events at the same instant (a symmetric body landing on several points) go together
+        let same = first + 1e-9;
+        self.landing
+            .extend(self.roots.iter().filter(|r| r.1 <= same).map(|r| r.0));
+        Some(first)
     }
 
     /// Stage derivative at chart point `x`, speeds `vs`, time `t`: fills `kx[i]`, `kv[i]`, `pw[i]`.
@@ -160,6 +333,7 @@ impl Dopri5 {
     /// One trial step of size `h`; returns the weighted error (0 in fixed-step mode).
     fn try_step(&mut self, sys: &mut System, st: &State, h: f64) -> Result<f64, String> {
         let nv = sys.n_v();
+        self.hidden = f64::INFINITY;
         for i in 0..7 {
             if i == 0 && self.k1_valid {
                 continue;
@@ -174,6 +348,9 @@ impl Dopri5 {
                 self.vs[k] = st.v[k] + h * sv;
             }
             self.stage(sys, st, st.t + C[i] * h, i)?;
+            if self.watch_stages && (1..5).contains(&i) && self.hidden.is_infinite() {
+                self.watch_stage(sys, st, i);
+            }
         }
         // stage 7 is at the 5th-order solution: x, vs now hold it
         if self.s.fixed_step > 0.0 {
@@ -227,7 +404,7 @@ impl Integrator for Dopri5 {
     }
 
     fn start(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
-        self.resize(sys.n_q(), sys.n_v(), sys.n_c());
+        self.resize(sys);
         self.k1_valid = false;
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
         let acc = wrms(&st.vdot, &self.wv)
@@ -248,10 +425,14 @@ impl Integrator for Dopri5 {
         t_end: f64,
         hook: &mut dyn StepHook,
     ) -> Result<(), SolverError> {
-        self.resize(sys.n_q(), sys.n_v(), sys.n_c());
+        self.resize(sys);
         // inputs may have changed at this communication point: recompute the first stage
         self.k1_valid = false;
         let adaptive = self.s.fixed_step == 0.0;
+        let locate = adaptive && sys.n_contact_events() > 0;
+        // a step cut to end at a located contact event, to be taken next
+        let mut cut: Option<f64> = None;
+        self.watch_stages = locate;
         let mut steps = 0u64;
         while t_end - st.t > time_eps(t_end) {
             steps += 1;
@@ -267,16 +448,23 @@ impl Integrator for Dopri5 {
                 self.s.fixed_step
             };
             let remaining = t_end - st.t;
-            let h = if natural >= remaining - time_eps(t_end) {
+            let landing_trial = cut.is_some();
+            let h = if let Some(h_on) = cut.take() {
+                h_on
+            } else if natural >= remaining - time_eps(t_end) {
                 remaining
             } else {
                 natural
             };
+            if !landing_trial {
+                self.landing.clear();
+            }
             let err = match self.try_step(sys, st, h) {
                 Ok(e) if e.is_finite() => e,
                 Ok(_) | Err(_) => f64::INFINITY,
             };
             if adaptive && err > 1.0 {
+                self.landing.clear();
                 self.stats.rejected += 1;
                 self.stats.rejected_error += 1;
                 self.h = h * if err.is_finite() {
@@ -298,6 +486,28 @@ impl Integrator for Dopri5 {
                     st.t
                 )));
             }
+            // a contact closing or opening inside the step: take the step again, ending at the
+            // event, so no step straddles the kink of the contact force and the approach speed
+            // is the one at the onset
+            if locate && !landing_trial {
+                if let Some(theta) = self.events_in_step(sys, st, h) {
+                    let h_on = theta * h;
+                    if h_on <= time_eps(st.t) {
+                        // at the start of the step: nothing to land on
+                        self.landing.clear();
+                    } else if (1.0 - theta) * h > time_eps(st.t + h) {
+                        cut = Some(h_on);
+                        continue;
+                    }
+                    // else the step ends at the event already
+                } else if self.hidden < 1.0 && self.hidden * h > time_eps(st.t) {
+                    // a contact closed within the step and opened again before its end: retry
+                    // up to that stage, until the closing shows at a step's end (not counted as a
+                    // rejection: `Stats` has no cause for it)
+                    self.h = self.hidden * h;
+                    continue;
+                }
+            }
             self.accept(sys, st, h)?;
             if adaptive && h == natural {
                 self.h = h * if err > 0.0 {
@@ -306,7 +516,18 @@ impl Integrator for Dopri5 {
                     5.0
                 };
             }
-            match hook.after_step(sys, st)? {
+            let action = hook.after_step(sys, st)?;
+            // the step ended on located events: the contacts close or open here (after the
+            // hook, whose memory update decides by the sign of a penetration that is zero to
+            // the step's accuracy)
+            for &i in &self.landing {
+                let (q, v, mem) = (&st.q, &st.v, &mut st.memory);
+                if sys.record_contact_event(st.t, q, v, mem, i) == MemoryChange::Discontinuous {
+                    self.k1_valid = false;
+                }
+            }
+            self.landing.clear();
+            match action {
                 StepAction::Continue => {}
                 // the first stage (FSAL) was evaluated at the positions before the move
                 StepAction::Moved => self.k1_valid = false,
@@ -343,5 +564,50 @@ impl Integrator for Dopri5 {
         self.k1_valid = false;
         self.h = *m.first().ok_or("dopri5 memory is empty")?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{A, B, C, D, dense};
+
+    #[test]
+    fn dense_output_is_fourth_order_and_hits_the_step_ends() {
+        // y' = y cos(t) + 1 from y(0) = 1; the exact value from classical RK4 at 2e4 steps
+        let f = |t: f64, y: f64| y * t.cos() + 1.0;
+        let exact = |t_end: f64| {
+            let n = 20_000;
+            let h = t_end / n as f64;
+            let mut y = 1.0;
+            for s in 0..n {
+                let t = s as f64 * h;
+                let k1 = f(t, y);
+                let k2 = f(t + 0.5 * h, y + 0.5 * h * k1);
+                let k3 = f(t + 0.5 * h, y + 0.5 * h * k2);
+                let k4 = f(t + h, y + h * k3);
+                y += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+            }
+            y
+        };
+        let mut errors = Vec::new();
+        for h in [0.2, 0.1, 0.05] {
+            let mut k = [0.0; 7];
+            for i in 0..7 {
+                let y = 1.0 + h * (0..i).map(|j| A[i][j] * k[j]).sum::<f64>();
+                k[i] = f(C[i] * h, y);
+            }
+            let y1 = 1.0 + h * (0..7).map(|i| B[i] * k[i]).sum::<f64>();
+            let r5 = h * (0..7).map(|i| D[i] * k[i]).sum::<f64>();
+            let at = |theta: f64| dense(theta, 1.0, y1, h * k[0], h * k[6], r5);
+            assert_eq!(at(0.0), 1.0);
+            assert!((at(1.0) - y1).abs() <= 1e-15);
+            errors.push((at(0.5) - exact(0.5 * h)).abs());
+        }
+        // local error O(h^5): halving the step divides it by about 32 (a wrong coefficient in D
+        // leaves O(h^4) or worse: 16 or less)
+        for w in errors.windows(2) {
+            let ratio = w[0] / w[1];
+            assert!(ratio > 24.0 && ratio < 45.0, "errors {errors:?}");
+        }
     }
 }
