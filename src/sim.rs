@@ -251,6 +251,12 @@ impl Simulation {
             .fold(0.0, f64::max)
     }
 
+    /// Messages the solver raised since the last call (e.g. a singular configuration passed,
+    /// reported once per set of joints), oldest first; models forward them to their log.
+    pub fn take_solver_notes(&mut self) -> Vec<String> {
+        self.system.take_solver_notes()
+    }
+
     /// Integrator work counters.
     pub fn stats(&self) -> Stats {
         self.integrator.stats()

@@ -66,6 +66,11 @@ impl DenseLu {
         Ok(())
     }
 
+    /// Magnitude of pivot `k` (the diagonal of `U`) after [`DenseLu::factor`].
+    pub fn pivot(&self, k: usize) -> f64 {
+        self.a[k * self.n + k].abs()
+    }
+
     /// Solves `A x = b` in place.
     pub fn solve(&self, b: &mut [f64]) {
         let (n, a) = (self.n, &self.a);

@@ -257,6 +257,16 @@ impl LinearSolver {
         Ok(())
     }
 
+    /// Magnitude of pivot `k` of the last factorization when the dense LU made it (`None` for
+    /// the sparse LU, whose fill-reducing column order hides which column a pivot belongs to).
+    /// Costs nothing: the pivots are the diagonal of `U`, already computed.
+    pub fn dense_pivot(&self, k: usize) -> Option<f64> {
+        match self.backend {
+            Backend::Dense if self.factored && k < self.n => Some(self.dense.pivot(k)),
+            _ => None,
+        }
+    }
+
     /// Solves `A x = rhs` in place with the last factorization.
     pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), String> {
         if !self.factored {

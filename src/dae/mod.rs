@@ -52,6 +52,12 @@ pub struct System {
     modal_of: Vec<Option<usize>>,
     /// Indices of the independent (active) rows among the full rows.
     active: Vec<usize>,
+    /// For each full row, whether it lies in a component of the joint graph with a closed loop
+    /// (the rows whose rank can drop; see [`System::active_row_in_loop`]).
+    row_in_loop: Vec<bool>,
+    /// Messages for the log that the integrators raised (e.g. a singular configuration), taken
+    /// by [`System::take_solver_notes`].
+    solver_notes: Vec<String>,
     kins: Vec<BodyKin>,
     rows_full: Vec<RowEval>,
     /// Active constraint rows of the last [`System::eval_constraints`].
@@ -134,6 +140,8 @@ impl System {
             row_modal_at: Vec::with_capacity(n_full),
             modal_of,
             active: (0..n_full).collect(),
+            row_in_loop: Vec::new(),
+            solver_notes: Vec::new(),
             kins: Vec::with_capacity(model.bodies.len()),
             rows_full: Vec::with_capacity(n_full),
             rows: Vec::with_capacity(n_full),
@@ -150,6 +158,7 @@ impl System {
         let active =
             redundancy::independent_rows(&sys.model, &sys.row_bodies, &sys.rows_full, &modal_cols)?;
         sys.active = active;
+        sys.row_in_loop = redundancy::rows_in_loops(&sys.model, &sys.row_bodies);
         Ok(sys)
     }
 
@@ -210,6 +219,42 @@ impl System {
             .filter(|(_, r)| (start..end).contains(*r))
             .map(|(i, _)| i)
             .collect()
+    }
+
+    /// Whether active row `r` lies in a closed kinematic loop (only such rows can lose rank as
+    /// the mechanism moves).
+    pub fn active_row_in_loop(&self, r: usize) -> bool {
+        self.active
+            .get(r)
+            .is_some_and(|&f| self.row_in_loop.get(f).copied().unwrap_or(false))
+    }
+
+    /// Whether any active row lies in a closed kinematic loop.
+    pub fn has_loops(&self) -> bool {
+        self.row_in_loop.iter().any(|&x| x)
+    }
+
+    /// Index in `model.joints` of the joint of active row `r`.
+    pub fn joint_of_active_row(&self, r: usize) -> Option<usize> {
+        let mut f = *self.active.get(r)?;
+        for (i, j) in self.model.joints.iter().enumerate() {
+            let n = j.kind.n_rows();
+            if f < n {
+                return Some(i);
+            }
+            f -= n;
+        }
+        None
+    }
+
+    /// Queues a message for the log (a model forwards it, e.g. as an FMU warning).
+    pub fn push_solver_note(&mut self, note: String) {
+        self.solver_notes.push(note);
+    }
+
+    /// The queued log messages, oldest first; the queue is emptied.
+    pub fn take_solver_notes(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.solver_notes)
     }
 
     /// Number of constraint rows dropped as redundant.

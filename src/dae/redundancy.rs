@@ -17,17 +17,13 @@ fn find(parent: &mut [usize], mut x: usize) -> usize {
     x
 }
 
-/// Returns the indices of the independent rows among `rows` (all rows of all joints, in order).
-pub fn independent_rows(
-    model: &Model,
-    row_bodies: &[[BodyId; 2]],
-    rows: &[RowEval],
-    add_modal_columns: &dyn Fn(usize, &mut [f64]),
-) -> Result<Vec<usize>, String> {
+/// Union-find of the joint graph: for each full row whether its joint closes a loop, the
+/// parent array and the body-graph node of each body.
+fn loop_graph(model: &Model, n_rows: usize) -> (Vec<bool>, Vec<usize>) {
     let nb = model.bodies.len();
     let node = |b: BodyId| b.index().unwrap_or(nb);
     let mut parent: Vec<usize> = (0..=nb).collect();
-    let mut closes_loop = vec![false; row_bodies.len()];
+    let mut closes_loop = vec![false; n_rows];
     let mut r0 = 0;
     for j in &model.joints {
         let n = j.kind.n_rows();
@@ -42,6 +38,35 @@ pub fn independent_rows(
         }
         r0 += n;
     }
+    (closes_loop, parent)
+}
+
+/// For each full row, whether it lies in a connected component of the joint graph that
+/// contains a closed loop: only such rows can become dependent as the mechanism moves (a tree
+/// of standard joints never loses rank), so only they are watched for singular configurations.
+pub fn rows_in_loops(model: &Model, row_bodies: &[[BodyId; 2]]) -> Vec<bool> {
+    let nb = model.bodies.len();
+    let node = |b: BodyId| b.index().unwrap_or(nb);
+    let (closes_loop, mut parent) = loop_graph(model, row_bodies.len());
+    let loop_roots: Vec<usize> = (0..row_bodies.len())
+        .filter(|&r| closes_loop[r])
+        .map(|r| find(&mut parent, node(row_bodies[r][0])))
+        .collect();
+    (0..row_bodies.len())
+        .map(|r| loop_roots.contains(&find(&mut parent, node(row_bodies[r][0]))))
+        .collect()
+}
+
+/// Returns the indices of the independent rows among `rows` (all rows of all joints, in order).
+pub fn independent_rows(
+    model: &Model,
+    row_bodies: &[[BodyId; 2]],
+    rows: &[RowEval],
+    add_modal_columns: &dyn Fn(usize, &mut [f64]),
+) -> Result<Vec<usize>, String> {
+    let nb = model.bodies.len();
+    let node = |b: BodyId| b.index().unwrap_or(nb);
+    let (closes_loop, mut parent) = loop_graph(model, row_bodies.len());
     if !closes_loop.iter().any(|&c| c) {
         return Ok((0..rows.len()).collect());
     }

@@ -58,6 +58,8 @@ pub struct Bdf {
     /// A restored matrix point: the matrix is formed there again when it would have been reused.
     pending: Option<JacobianPoint>,
     stats: Stats,
+    /// Watches the constraint pivots of the Newton matrices for singular configurations.
+    rank: super::rank::RankMonitor,
     // scratch: chart coordinates of history points (newest first), unknowns, residuals
     xs: Vec<Vec<f64>>,
     x: Vec<f64>,
@@ -165,6 +167,7 @@ impl Bdf {
             jac_point: None,
             pending: None,
             stats: Stats::default(),
+            rank: super::rank::RankMonitor::default(),
             xs: Vec::new(),
             x: Vec::new(),
             v: Vec::new(),
@@ -370,6 +373,9 @@ impl Bdf {
                     });
                 }
                 self.jac_valid = true;
+                let nv = sys.n_v();
+                self.rank
+                    .observe(sys, &self.lin, 2 * nv, 2, t1, &mut self.stats);
             }
             if self.lin.solve(&mut self.rhs[..n]).is_err() {
                 self.jac_valid = false;

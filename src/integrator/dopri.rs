@@ -9,6 +9,7 @@
 use super::init::{
     ProjectionScratch, accelerations, project_positions_reusing, project_velocities_reusing,
 };
+use super::rank::{Passage, RankMonitor};
 use super::{
     Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, kkt, time_eps,
     weights,
@@ -136,7 +137,17 @@ pub struct Dopri5 {
     roots: Vec<(usize, f64)>,
     /// Events the step being retaken ends on: recorded after it is accepted.
     landing: Vec<usize>,
+    /// Watches the constraint pivots for singular configurations.
+    rank: RankMonitor,
+    /// Speeds where the current passage through a singular configuration began (empty outside).
+    v_entry: Vec<f64>,
 }
+
+/// Cosine (in the kinetic-energy metric) between the speeds entering and leaving a singular
+/// configuration below which the run left it on another branch. Continuing on the branch
+/// keeps the direction of motion over the short passage (a passage spans a few hundredths of a
+/// radian of a crank); switching branch turns it to the other branch's tangent.
+const BRANCH_COS: f64 = 0.9;
 
 impl Dopri5 {
     /// A new integrator with the given settings.
@@ -171,6 +182,8 @@ impl Dopri5 {
             landing: Vec::new(),
             watch_stages: false,
             hidden: f64::INFINITY,
+            rank: RankMonitor::default(),
+            v_entry: Vec::new(),
         }
     }
 
@@ -387,14 +400,63 @@ impl Dopri5 {
         self.x.fill(0.0);
         self.vs.copy_from_slice(&st.v);
         self.stage(sys, st, st.t, 0).map_err(SolverError)?;
-        st.vdot.copy_from_slice(&self.kv[0]);
         let nv = sys.n_v();
+        self.check_branch(sys, st)?;
+        st.vdot.copy_from_slice(&self.kv[0]);
         st.lambda.clear();
         st.lambda.extend_from_slice(&self.rhs[nv..]);
         self.k1_valid = true;
         self.stats.steps += 1;
         self.stats.last_step = h;
         Ok(())
+    }
+}
+
+impl Dopri5 {
+    /// Watches the factorization just made at the accepted state for a singular configuration
+    /// and checks velocity continuity across each passage: the projection after every step
+    /// lands on the nearest branch, which near the singular configuration may be another one.
+    fn check_branch(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
+        let nv = sys.n_v();
+        match self
+            .rank
+            .observe(sys, &self.lin, nv, 1, st.t, &mut self.stats)
+        {
+            Passage::None => Ok(()),
+            Passage::Entered => {
+                self.v_entry.clone_from(&st.v);
+                Ok(())
+            }
+            Passage::Left => {
+                let v0 = std::mem::take(&mut self.v_entry);
+                if v0.len() != nv {
+                    return Ok(());
+                }
+                // kinetic-energy metric at the accepted state (its kinematics are current)
+                let dot = |sys: &System, a: &[f64], b: &[f64], tmp: &mut [f64]| {
+                    sys.mass_mul(b, tmp);
+                    a.iter().zip(tmp.iter()).map(|(x, y)| x * y).sum::<f64>()
+                };
+                let mut tmp = std::mem::take(&mut self.ex);
+                let c = dot(sys, &v0, &st.v, &mut tmp);
+                let n0 = dot(sys, &v0, &v0, &mut tmp);
+                let n1 = dot(sys, &st.v, &st.v, &mut tmp);
+                self.ex = tmp;
+                let cos = c / (n0 * n1).sqrt();
+                if n0 > 0.0 && n1 > 0.0 && cos < BRANCH_COS {
+                    let (joints, t) = self
+                        .rank
+                        .last_passage(sys)
+                        .unwrap_or_else(|| ("in a closed loop".into(), st.t));
+                    return Err(SolverError(format!(
+                        "singular configuration at t = {t:.9e} s (joints {joints}): the solution left it on another branch of the mechanism (the direction of motion turned by {:.0} degrees within the passage, up to t = {:.9e} s); dopri5's projection onto the constraints cannot keep the branch there: use gen-alpha, or loosen rtol so the steps pass the singular configuration",
+                        cos.clamp(-1.0, 1.0).acos().to_degrees(),
+                        st.t
+                    )));
+                }
+                Ok(())
+            }
+        }
     }
 }
 

@@ -54,6 +54,8 @@ pub struct GenAlpha {
     /// A restored matrix point: the matrix is formed there again when it would have been reused.
     pending: Option<JacobianPoint>,
     stats: Stats,
+    /// Watches the constraint pivots of the Newton matrices for singular configurations.
+    rank: super::rank::RankMonitor,
     // scratch
     w: Vec<f64>,
     lam: Vec<f64>,
@@ -203,6 +205,7 @@ impl GenAlpha {
             jac_point: None,
             pending: None,
             stats: Stats::default(),
+            rank: super::rank::RankMonitor::default(),
             w: Vec::new(),
             lam: Vec::new(),
             lam_scratch: Vec::new(),
@@ -377,6 +380,8 @@ impl GenAlpha {
                 }
                 self.jac_valid = true;
                 self.jac_h = hm;
+                self.rank
+                    .observe(sys, &self.lin, nv, 1, t1, &mut self.stats);
             }
             if let Err(e) = self.lin.solve(&mut self.rhs) {
                 self.jac_valid = false;

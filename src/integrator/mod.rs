@@ -14,6 +14,7 @@ pub mod dopri;
 pub mod gen_alpha;
 pub mod init;
 mod kkt;
+pub mod rank;
 
 use crate::dae::System;
 use crate::state::State;
@@ -160,6 +161,7 @@ pub struct Stats {
     pub rejected_error: u64,
     /// Rejected for gaining energy beyond the tolerance (generalized-alpha's energy check).
     pub rejected_energy: u64,
+
     pub newton_iterations: u64,
     /// Newton iterations that did not converge (the step is retried with a fresh matrix or a
     /// smaller step).
@@ -169,11 +171,18 @@ pub struct Stats {
     pub rhs_evaluations: u64,
     /// Last accepted step size [s].
     pub last_step: f64,
+    /// Passages through a singular configuration: the active constraint Jacobian lost rank
+    /// (see [`rank::RankMonitor`]).
+    pub singular_configurations: u64,
 }
 
 impl Stats {
     /// Number of values in [`Stats::to_numbers`].
-    pub const LEN: usize = 10;
+    pub const LEN: usize = 11;
+
+    /// Number of values written before `singular_configurations` was added: such states are
+    /// still read (the counter then starts at 0).
+    pub const LEN_WITHOUT_SINGULAR: usize = 10;
 
     /// The counters as plain numbers (for serialized states; counts are exact below 2^53).
     pub fn to_numbers(&self) -> [f64; Self::LEN] {
@@ -188,17 +197,19 @@ impl Stats {
             self.factorizations as f64,
             self.rhs_evaluations as f64,
             self.last_step,
+            self.singular_configurations as f64,
         ]
     }
 
     /// Reads what [`Stats::to_numbers`] wrote.
     pub fn from_numbers(x: &[f64]) -> Result<Stats, String> {
         let bad = || "solver counters are truncated or corrupt".to_string();
-        if x.len() != Self::LEN
-            || x[..Self::LEN - 1]
-                .iter()
-                .any(|c| !(c.is_finite() && *c >= 0.0 && c.fract() == 0.0 && *c < 9.0e15))
-            || !x[Self::LEN - 1].is_finite()
+        let count = |c: &f64| c.is_finite() && *c >= 0.0 && c.fract() == 0.0 && *c < 9.0e15;
+        let old = Self::LEN_WITHOUT_SINGULAR;
+        if !(x.len() == Self::LEN || x.len() == old)
+            || !x[..old - 1].iter().all(count)
+            || !x[old - 1].is_finite()
+            || !x[old..].iter().all(count)
         {
             return Err(bad());
         }
@@ -213,6 +224,7 @@ impl Stats {
             factorizations: x[7] as u64,
             rhs_evaluations: x[8] as u64,
             last_step: x[9],
+            singular_configurations: x.get(10).map_or(0, |c| *c as u64),
         })
     }
 }

@@ -190,6 +190,12 @@ impl CoSimModel for PanelLockModel {
         scene
             .advance_to(step.end)
             .map_err(|e| ModelError::SolverFailure(format!("PanelLock solver failed: {e}")))?;
+        for note in scene.sim.take_solver_notes() {
+            self.log.push(LogRecord {
+                level: LogLevel::Warning,
+                message: note,
+            });
+        }
         self.clock.advance(&step);
         let after = self.lock_times();
         for (k, (a, b)) in after.iter().zip(&before).enumerate() {

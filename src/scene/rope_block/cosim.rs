@@ -368,7 +368,14 @@ impl CoSimModel for RopeBlockModel {
         let start = self.clock.start();
         let scene = self.scene()?;
         match catch_unwind(AssertUnwindSafe(|| scene.sim.advance_to(t_end))) {
-            Ok(Ok(())) => {}
+            Ok(Ok(())) => {
+                for note in scene.sim.sim.take_solver_notes() {
+                    self.log.push(LogRecord {
+                        level: LogLevel::Warning,
+                        message: note,
+                    });
+                }
+            }
             Ok(Err(e)) => {
                 return Err(ModelError::SolverFailure(format!(
                     "RopeBlock solver failed in the step from t = {} s to {} s: {e}{}",

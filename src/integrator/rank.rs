@@ -1,0 +1,165 @@
+//! Rank of the active constraint Jacobian, watched through the pivots of the Newton (or
+//! `[M G^T; G 0]`) matrix the integrator factorizes anyway: no extra factorization.
+//!
+//! When the active rows `G` lose rank (a closed loop at a singular configuration: a
+//! parallelogram four-bar with its links collinear, a four-bar at its change point) the matrix
+//! becomes singular, and the dense LU shows it in the pivot of a constraint column: that column
+//! is then nearly a combination of the columns before it. The pivot of each watched column is
+//! compared with its value at the first factorization (a regular configuration: the redundancy
+//! check at the start keeps only independent rows), both relative to the largest pivot of the
+//! watched columns of the same block, so a uniform scaling of the constraint block (BDF's
+//! leading coefficient) does not count. A ratio below [`RANK_DROP`] is a rank drop; the
+//! passage ends when every ratio is back above [`RANK_BACK`]. Each passage is counted in
+//! [`Stats::singular_configurations`]; the first passage of a set of joints is reported once
+//! through the system's log queue, with the joints named.
+//!
+//! Only rows in components of the joint graph with a closed loop are watched (a tree of
+//! standard joints never loses rank), so models without loops pay nothing. The sparse LU
+//! (systems above [`crate::dae::linear::DENSE_LIMIT`] unknowns) reorders columns for fill and
+//! is not watched.
+
+use super::Stats;
+use crate::dae::System;
+use crate::dae::linear::LinearSolver;
+
+/// Relative pivot below which the constraint Jacobian counts as rank-deficient. Measured on a
+/// parallelogram four-bar: the ratio falls linearly with the distance to the change point
+/// (about 11 per radian of crank angle there) and stays above 0.18 elsewhere on its turn.
+pub const RANK_DROP: f64 = 1e-2;
+/// Relative pivot above which (for every watched row) a passage has ended.
+pub const RANK_BACK: f64 = 1e-1;
+
+/// What an observation found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Passage {
+    /// Nothing new.
+    None,
+    /// A passage through a singular configuration begins here.
+    Entered,
+    /// The passage has ended here.
+    Left,
+}
+
+/// The watcher of one integrator's factorizations.
+#[derive(Debug, Clone, Default)]
+pub struct RankMonitor {
+    /// Normalized pivot of each watched column at the first observation.
+    baseline: Vec<f64>,
+    /// Scratch: normalized pivots of the current observation.
+    now: Vec<f64>,
+    /// Inside a passage (a ratio fell below [`RANK_DROP`] and not all are back).
+    inside: bool,
+    /// Joint sets (indices into `model.joints`, sorted) already reported.
+    reported: Vec<Vec<usize>>,
+    /// Joints and time of the last passage (for messages).
+    last: Option<(Vec<usize>, f64)>,
+    /// Smallest ratio seen in the current passage.
+    smallest: f64,
+}
+
+impl RankMonitor {
+    /// Forgets the baseline (a new system or a restart with another structure).
+    pub fn reset(&mut self) {
+        self.baseline.clear();
+        self.inside = false;
+    }
+
+    /// Joints (names) and time of the last singular configuration seen, for messages.
+    pub fn last_passage(&self, sys: &System) -> Option<(String, f64)> {
+        let (joints, t) = self.last.as_ref()?;
+        Some((joint_names(sys, joints), *t))
+    }
+
+    /// Looks at the pivots of the factorization just made of a matrix whose constraint columns
+    /// are `col0 + b * n_c + r` for blocks `b < blocks` and active rows `r`, formed at time `t`.
+    pub fn observe(
+        &mut self,
+        sys: &mut System,
+        lin: &LinearSolver,
+        col0: usize,
+        blocks: usize,
+        t: f64,
+        stats: &mut Stats,
+    ) -> Passage {
+        if !sys.has_loops() {
+            return Passage::None;
+        }
+        let nc = sys.n_c();
+        self.now.clear();
+        for b in 0..blocks {
+            let at = self.now.len();
+            for r in 0..nc {
+                let p = if sys.active_row_in_loop(r) {
+                    match lin.dense_pivot(col0 + b * nc + r) {
+                        Some(p) => p,
+                        None => return Passage::None,
+                    }
+                } else {
+                    0.0
+                };
+                self.now.push(p);
+            }
+            let big = self.now[at..].iter().fold(0.0_f64, |m, p| m.max(*p));
+            if !(big > 0.0 && big.is_finite()) {
+                return Passage::None;
+            }
+            self.now[at..].iter_mut().for_each(|p| *p /= big);
+        }
+        if self.baseline.len() != self.now.len() {
+            self.baseline.clone_from(&self.now);
+            return Passage::None;
+        }
+        let mut smallest = f64::INFINITY;
+        let mut rows = Vec::new();
+        for (k, (p, b)) in self.now.iter().zip(&self.baseline).enumerate() {
+            if *b <= 0.0 {
+                continue;
+            }
+            let ratio = p / b;
+            smallest = smallest.min(ratio);
+            if ratio < RANK_DROP {
+                rows.push(k % nc);
+            }
+        }
+        if !self.inside {
+            if rows.is_empty() {
+                return Passage::None;
+            }
+            self.inside = true;
+            self.smallest = smallest;
+            stats.singular_configurations += 1;
+            let mut joints: Vec<usize> = rows
+                .iter()
+                .filter_map(|&r| sys.joint_of_active_row(r))
+                .collect();
+            joints.sort_unstable();
+            joints.dedup();
+            if !self.reported.contains(&joints) {
+                sys.push_solver_note(format!(
+                    "singular configuration at t = {t:.6} s: the constraints of joint(s) {} lose rank (pivot ratio {smallest:.1e}); further passages of these joints are only counted (Stats::singular_configurations)",
+                    joint_names(sys, &joints)
+                ));
+                self.reported.push(joints.clone());
+            }
+            self.last = Some((joints, t));
+            Passage::Entered
+        } else {
+            self.smallest = self.smallest.min(smallest);
+            if smallest > RANK_BACK {
+                self.inside = false;
+                return Passage::Left;
+            }
+            Passage::None
+        }
+    }
+}
+
+/// The joints' names, quoted and comma-separated.
+fn joint_names(sys: &System, joints: &[usize]) -> String {
+    joints
+        .iter()
+        .filter_map(|&j| sys.model.joints.get(j))
+        .map(|j| format!("'{}'", j.name))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
