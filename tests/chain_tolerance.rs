@@ -99,6 +99,11 @@ fn reference_tip(steps: usize) -> [f64; 2] {
     [x, z]
 }
 
+/// Distance between two points of the plane [m].
+fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
 fn simulated_tip(
     model: &Model,
     offset: usize,
@@ -125,7 +130,7 @@ fn simulated_tip(
 fn eight_link_pendulum_meets_every_tolerance_or_says_why() {
     let reference = reference_tip(40_000);
     let check = reference_tip(20_000);
-    let ref_err = ((reference[0] - check[0]).powi(2) + (reference[1] - check[1]).powi(2)).sqrt();
+    let ref_err = distance(reference, check);
     assert!(ref_err < 1e-11, "reference not converged: {ref_err:.2e}");
     let (model, offset) = chain();
     for kind in [IntegratorKind::Bdf, IntegratorKind::Dopri5] {
@@ -134,8 +139,7 @@ fn eight_link_pendulum_meets_every_tolerance_or_says_why() {
             let rtol = 10f64.powi(-k);
             match simulated_tip(&model, offset, kind, rtol) {
                 Ok(tip) => {
-                    let e =
-                        ((tip[0] - reference[0]).powi(2) + (tip[1] - reference[1]).powi(2)).sqrt();
+                    let e = distance(tip, reference);
                     println!(
                         "{:8} rtol {rtol:.0e}: tip error {e:.2e} m ({:.2} rtol)",
                         kind.name(),

@@ -3,44 +3,31 @@
 //! `sqrt(2 g d)` that the damped law records as its approach speed, and (Hertz, no loss) energy
 //! conservation through the rebound, whose error must fall with rtol decade by decade.
 
+mod common;
+use common::particle_on_floor;
 use mbcosim::contact::{ContactLaw, LawKind};
 use mbcosim::dae::System;
-use mbcosim::effect::plane_contact::{PlaneContact, PlaneContacts};
 use mbcosim::integrator::{IntegratorKind, Settings, SolverError, StepAction, StepHook};
 use mbcosim::math::Vec3;
-use mbcosim::model::{Frame, ModelBuilder};
+use mbcosim::model::ModelBuilder;
 use mbcosim::sim::Simulation;
 use mbcosim::state::State;
 use std::sync::Arc;
 
-const G: f64 = 9.81;
+use common::G;
 /// Drop height above the plane [m].
 const DROP: f64 = 0.05;
 /// End time [s]: the contact (about 5 ms from 0.101 s) is over, the particle in the air.
 const T_END: f64 = 0.25;
 
 fn drop(law: ContactLaw, kind: IntegratorKind, rtol: f64) -> Simulation {
-    let mut b = ModelBuilder::new();
-    b.set_gravity(Some(Vec3::new(0.0, 0.0, -G))).unwrap();
-    let p = b
-        .add_particle("ball", 1.0, Vec3::new(0.0, 0.0, DROP), Vec3::zeros())
-        .unwrap();
-    b.add_force_effect(Arc::new(PlaneContacts {
-        elements: vec![PlaneContact {
-            name: "floor".into(),
-            point: Frame::new(p, Vec3::zeros()),
-            normal: Vec3::z(),
-            offset: 0.0,
-            law,
-        }],
-    }));
     let s = Settings {
         rtol,
         atol: rtol,
         max_steps: 10_000_000,
         ..Settings::default()
     };
-    Simulation::new(b.build().unwrap(), kind, s, 0.0).unwrap()
+    Simulation::new(particle_on_floor(law, DROP, 0.0, true), kind, s, 0.0).unwrap()
 }
 
 /// Notes every accepted step's end time and the first approach speed the contact records.

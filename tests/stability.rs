@@ -4,15 +4,13 @@
 //! change. Each test prints its envelope table (`cargo test --release --test stability --
 //! --nocapture`); the README's envelope table is taken from it.
 
+mod common;
+use common::particle_on_floor;
 use mbcosim::contact::{ContactLaw, LawKind};
-use mbcosim::effect::plane_contact::{PlaneContact, PlaneContacts};
 use mbcosim::integrator::{IntegratorKind, Settings};
-use mbcosim::math::Vec3;
-use mbcosim::model::{Frame, ModelBuilder};
 use mbcosim::scene::native;
 use mbcosim::scene::panel_lock::{PanelLock, PanelLockModel, PanelLockParams};
 use mbcosim::sim::Simulation;
-use std::sync::Arc;
 
 const KINDS: [IntegratorKind; 3] = [
     IntegratorKind::GenAlpha,
@@ -60,24 +58,14 @@ impl Tally {
 /// A 1 kg particle hitting the plane z = 0 at `speed` [m/s]; runs 0.3 s and returns the velocity
 /// afterwards and the largest kinetic energy seen at 1 ms samples after the contact began.
 fn bounce(law: ContactLaw, speed: f64, kind: IntegratorKind) -> Result<(f64, f64), String> {
-    let mut b = ModelBuilder::new();
-    let p = b.add_particle("ball", 1.0, Vec3::zeros(), Vec3::new(0.0, 0.0, -speed))?;
-    b.add_force_effect(Arc::new(PlaneContacts {
-        elements: vec![PlaneContact {
-            name: "floor".into(),
-            point: Frame::new(p, Vec3::zeros()),
-            normal: Vec3::z(),
-            offset: 0.0,
-            law,
-        }],
-    }));
     let settings = Settings {
         rtol: 1e-6,
         atol: 1e-9,
         h_max: 1e-2,
         ..Settings::default()
     };
-    let mut sim = Simulation::new(b.build()?, kind, settings, 0.0).map_err(|e| e.to_string())?;
+    let model = particle_on_floor(law, 0.0, -speed, false);
+    let mut sim = Simulation::new(model, kind, settings, 0.0).map_err(|e| e.to_string())?;
     let mut peak_ke: f64 = 0.0;
     for k in 1..=300 {
         sim.advance_to(k as f64 * 1e-3).map_err(|e| e.0)?;

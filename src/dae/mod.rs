@@ -44,6 +44,8 @@ pub struct System {
     row_bodies: Vec<[BodyId; 2]>,
     /// Flexible-body nodes of the frames of each full row (`None`: not on a node).
     row_nodes: Vec<[Option<usize>; 2]>,
+    /// Joint (index in `model.joints`) of each full row.
+    row_joint: Vec<usize>,
     /// Modal columns of node frames: full row `r`, side `s` has `n` entries from
     /// `row_modal[row_modal_at[r][s]..]` (`usize::MAX` when the side has none).
     row_modal: Vec<f64>,
@@ -102,10 +104,12 @@ impl System {
     pub fn new(model: Arc<Model>) -> Result<Self, String> {
         let mut row_bodies = Vec::new();
         let mut row_nodes = Vec::new();
-        for j in &model.joints {
+        let mut row_joint = Vec::new();
+        for (ji, j) in model.joints.iter().enumerate() {
             for _ in 0..j.kind.n_rows() {
                 row_bodies.push([j.frame_i.body, j.frame_j.body]);
                 row_nodes.push([j.frame_i.node, j.frame_j.node]);
+                row_joint.push(ji);
             }
         }
         let modal = modal_terms(&model);
@@ -135,6 +139,7 @@ impl System {
             frozen_next: vec![Vec::new(); model.forces.len()],
             inputs: vec![0.0; model.n_inputs()],
             row_bodies,
+            row_joint,
             row_nodes,
             row_modal: Vec::new(),
             row_modal_at: Vec::with_capacity(n_full),
@@ -208,15 +213,10 @@ impl System {
     /// Positions in `lambda` (active rows) of the rows of joint `joint` (index in
     /// `model.joints`); rows dropped as redundant are absent.
     pub fn joint_multiplier_rows(&self, joint: usize) -> Vec<usize> {
-        let start: usize = self.model.joints[..joint]
-            .iter()
-            .map(|j| j.kind.n_rows())
-            .sum();
-        let end = start + self.model.joints[joint].kind.n_rows();
         self.active
             .iter()
             .enumerate()
-            .filter(|(_, r)| (start..end).contains(*r))
+            .filter(|(_, f)| self.row_joint[**f] == joint)
             .map(|(i, _)| i)
             .collect()
     }
@@ -236,15 +236,7 @@ impl System {
 
     /// Index in `model.joints` of the joint of active row `r`.
     pub fn joint_of_active_row(&self, r: usize) -> Option<usize> {
-        let mut f = *self.active.get(r)?;
-        for (i, j) in self.model.joints.iter().enumerate() {
-            let n = j.kind.n_rows();
-            if f < n {
-                return Some(i);
-            }
-            f -= n;
-        }
-        None
+        self.row_joint.get(*self.active.get(r)?).copied()
     }
 
     /// Queues a message for the log (a model forwards it, e.g. as an FMU warning).

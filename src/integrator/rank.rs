@@ -53,8 +53,6 @@ pub struct RankMonitor {
     reported: Vec<Vec<usize>>,
     /// Joints and time of the last passage (for messages).
     last: Option<(Vec<usize>, f64)>,
-    /// Smallest ratio seen in the current passage.
-    smallest: f64,
 }
 
 impl RankMonitor {
@@ -126,7 +124,6 @@ impl RankMonitor {
                 return Passage::None;
             }
             self.inside = true;
-            self.smallest = smallest;
             stats.singular_configurations += 1;
             let mut joints: Vec<usize> = rows
                 .iter()
@@ -144,7 +141,6 @@ impl RankMonitor {
             self.last = Some((joints, t));
             Passage::Entered
         } else {
-            self.smallest = self.smallest.min(smallest);
             if smallest > RANK_BACK {
                 self.inside = false;
                 return Passage::Left;

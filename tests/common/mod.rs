@@ -10,6 +10,39 @@ use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, Model, ModelBuilder};
 
 pub const G: f64 = 9.81;
 
+/// A 1 kg particle at height `z0` [m] moving along z at `vz0` [m/s] above the plane z = 0, with
+/// the contact law `law`; gravity `G` along -z when `gravity`.
+pub fn particle_on_floor(
+    law: mbcosim::contact::ContactLaw,
+    z0: f64,
+    vz0: f64,
+    gravity: bool,
+) -> Model {
+    use mbcosim::effect::plane_contact::{PlaneContact, PlaneContacts};
+    let mut b = ModelBuilder::new();
+    if gravity {
+        b.set_gravity(Some(Vec3::new(0.0, 0.0, -G))).unwrap();
+    }
+    let p = b
+        .add_particle(
+            "ball",
+            1.0,
+            Vec3::new(0.0, 0.0, z0),
+            Vec3::new(0.0, 0.0, vz0),
+        )
+        .unwrap();
+    b.add_force_effect(std::sync::Arc::new(PlaneContacts {
+        elements: vec![PlaneContact {
+            name: "floor".into(),
+            point: Frame::new(p, Vec3::zeros()),
+            normal: Vec3::z(),
+            offset: 0.0,
+            law,
+        }],
+    }));
+    b.build().unwrap()
+}
+
 /// Names of the force effects a model assembled.
 pub fn force_effect_names(model: &Model) -> Vec<String> {
     model.forces.iter().map(|f| f.name().to_string()).collect()
