@@ -93,11 +93,22 @@ fn hanging_flexible_panel_swings_with_the_flexible_pendulum_period() {
             Frame::with_z(p, Vec3::zeros(), Vec3::y()).on_node(hinge_node),
         )
         .unwrap();
-        let settings = Settings {
-            rtol: 1e-9,
-            atol: 1e-11,
-            h_max: 0.01,
-            ..Settings::default()
+        // generalized-alpha holds its error per unit step: 1e-7 (atol = rtol) suffices for the
+        // period and stays above its index-3 round-off floor
+        let settings = if kind == IntegratorKind::GenAlpha {
+            Settings {
+                rtol: 1e-7,
+                atol: 1e-7,
+                h_max: 0.01,
+                ..Settings::default()
+            }
+        } else {
+            Settings {
+                rtol: 1e-9,
+                atol: 1e-11,
+                h_max: 0.01,
+                ..Settings::default()
+            }
         };
         let mut sim = Simulation::new(b.build().unwrap(), kind, settings, 0.0).unwrap();
         let e0 = sim.energy().balance();

@@ -5,14 +5,19 @@ use common::*;
 use mbcosim::integrator::{IntegratorKind, Settings};
 use mbcosim::sim::Simulation;
 
-/// Tight tolerance for the second-order generalized-alpha, whose global phase error grows as
-/// h^2 (its local error control bounds the per-step error, not the accumulated phase).
 /// Time of the first downward zero crossing of the bob's x coordinate after release at +x,
 /// located by bisection on re-simulations from snapshots; a quarter period.
 fn quarter_period(kind: IntegratorKind, angle0: f64, rtol: f64) -> f64 {
+    // generalized-alpha: atol = rtol (with atol 1e-2 rtol the small coordinates' weights put the
+    // steps where its index-3 round-off fills the error estimate, and it stops on purpose)
+    let atol = if kind == IntegratorKind::GenAlpha {
+        rtol
+    } else {
+        rtol * 1e-2
+    };
     let settings = Settings {
         rtol,
-        atol: rtol * 1e-2,
+        atol,
         h_max: 0.01,
         ..Settings::default()
     };
@@ -46,7 +51,7 @@ fn ninety_degree_release_matches_elliptic_period() {
     let exact = 2.3678419475762 * (1.0f64 + 1e-6).sqrt();
     for kind in IntegratorKind::ALL {
         let rtol = match kind {
-            IntegratorKind::GenAlpha => 1e-11,
+            IntegratorKind::GenAlpha => 1e-8,
             _ => 1e-10,
         };
         let period = 4.0 * quarter_period(kind, std::f64::consts::FRAC_PI_2, rtol);
@@ -69,7 +74,7 @@ fn small_angle_period_matches_linear_theory() {
     let exact = 2.0 * std::f64::consts::PI * (i_pivot / G).sqrt() * (1.0 + angle0 * angle0 / 16.0);
     for kind in IntegratorKind::ALL {
         let rtol = match kind {
-            IntegratorKind::GenAlpha => 1e-11,
+            IntegratorKind::GenAlpha => 1e-8,
             _ => 1e-9,
         };
         let period = 4.0 * quarter_period(kind, angle0, rtol);

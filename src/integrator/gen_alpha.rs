@@ -138,16 +138,23 @@ const NOISE_ALLOWANCE: f64 = 2.0 * ERROR_SAFETY;
 /// was 0.14 there); at 0.1 it stops, and the chains still run at 1e-9 (6.5 and 1.4 x rtol).
 const ROUNDOFF_SHARE_LIMIT: f64 = 0.1;
 
-/// Fraction of the local error tolerance a step of `h` [s] may use (see [`ERROR_TIME_UNIT`]).
-fn unit_step_fraction(h: f64) -> f64 {
-    (h / ERROR_TIME_UNIT).min(1.0)
+/// Fraction of the local error tolerance a step of `h` [s] may use (see [`ERROR_TIME_UNIT`]);
+/// 1 with `per_unit_step` off (the whole tolerance per step).
+fn unit_step_fraction(h: f64, per_unit_step: bool) -> f64 {
+    if per_unit_step {
+        (h / ERROR_TIME_UNIT).min(1.0)
+    } else {
+        1.0
+    }
 }
 
-/// Factor on the step size from the error per unit step `err` (`O(h^2)`) and the energy gain
-/// ratio `gain` (`O(h^3)`), both relative to their tolerances: the smaller of the two proposals.
-fn step_factor(err: f64, gain: f64) -> f64 {
+/// Factor on the step size from the error `err` (per unit step `O(h^2)`, per step `O(h^3)`) and
+/// the energy gain ratio `gain` (`O(h^3)`), both relative to their tolerances: the smaller of
+/// the two proposals.
+fn step_factor(err: f64, gain: f64, per_unit_step: bool) -> f64 {
+    let order = if per_unit_step { 2.0 } else { 3.0 };
     let from_err = if err > 0.0 {
-        0.9 * err.powf(-0.5)
+        0.9 * err.powf(-1.0 / order)
     } else {
         f64::INFINITY
     };
@@ -261,7 +268,7 @@ impl GenAlpha {
     fn adaptive_newton_weights(&mut self, sys: &System, st: &State, h: f64) -> (f64, f64) {
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
         let floor = fixed_step_newton_weights(sys, &st.q, &mut self.wn);
-        let share = unit_step_fraction(h);
+        let share = unit_step_fraction(h, self.s.error_per_unit_step);
         let mut scale: f64 = 1e-3;
         for (n, w) in self.wn.iter_mut().zip(&self.wx) {
             // `wn` holds the round-off floor scaled like a weight (see fixed_step_newton_weights)
@@ -478,11 +485,16 @@ impl GenAlpha {
                     // the step's share of the tolerance, widened by the round-off: a step
                     // shortened to reach a communication point (down to 1e-12 s in event
                     // location) is not rejected for round-off it cannot remove
-                    let share = unit_step_fraction(h);
+                    let share = unit_step_fraction(h, self.s.error_per_unit_step);
                     for (e, w) in self.werr.iter_mut().zip(&self.wx) {
                         *e = share * w + floor;
                     }
-                    err = ERROR_SAFETY * wrms(&self.tmp, &self.werr);
+                    let safety = if self.s.error_per_unit_step {
+                        ERROR_SAFETY
+                    } else {
+                        1.0
+                    };
+                    err = safety * wrms(&self.tmp, &self.werr);
                     for (e, w) in self.werr.iter_mut().zip(&self.wx) {
                         *e = share * w;
                     }
@@ -687,7 +699,8 @@ impl Integrator for GenAlpha {
                         } else {
                             self.stats.rejected_error += 1;
                         }
-                        self.h = h * step_factor(err, self.gain_ratio).clamp(0.1, 0.9);
+                        self.h = h * step_factor(err, self.gain_ratio, self.s.error_per_unit_step)
+                            .clamp(0.1, 0.9);
                         let floor = 1e-14 * st.t.abs().max(1.0);
                         if err >= self.gain_ratio
                             && (self.err_roundoff * h / self.h >= ROUNDOFF_SHARE_LIMIT
@@ -719,7 +732,8 @@ impl Integrator for GenAlpha {
                             StepAction::Stop => return Ok(()),
                         }
                         if adaptive {
-                            let fac = step_factor(err, self.gain_ratio).clamp(0.2, 3.0);
+                            let fac = step_factor(err, self.gain_ratio, self.s.error_per_unit_step)
+                                .clamp(0.2, 3.0);
                             // grow only by more than 20 % (a new step size costs a new
                             // Newton matrix); shrink whenever the error asks for it
                             let proposed = h * fac;

@@ -101,6 +101,7 @@ pub fn solver_settings(params: &RopeBlockParams) -> (Settings, ContactSettings) 
         max_order: BDF_MAX_ORDER,
         // equal steps per communication step, one Newton matrix for many of them (long slings)
         equal_steps: true,
+        error_per_unit_step: false,
         rho_inf: params.rho_inf,
         ..Settings::default()
     };
