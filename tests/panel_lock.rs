@@ -11,7 +11,7 @@ fn params(rtol: f64) -> PanelLockParams {
             rtol,
             atol: rtol * 1e-2,
             h_max: 0.02,
-            ..Settings::default()
+            ..PanelLockParams::default().settings
         },
         ..PanelLockParams::default()
     }

@@ -29,7 +29,7 @@ fn one_panel(n_modes: usize) -> PanelLockParams {
             rtol: 1e-7,
             atol: 1e-9,
             h_max: 0.02,
-            ..Settings::default()
+            ..PanelLockParams::default().settings
         },
         ..PanelLockParams::flexible(n_modes)
     }

@@ -12,7 +12,7 @@ fn scene(kind: IntegratorKind) -> PanelLock {
             rtol: 1e-5,
             atol: 1e-7,
             h_max: 0.02,
-            ..Settings::default()
+            ..PanelLockParams::default().settings
         },
         ..PanelLockParams::default()
     };

@@ -180,7 +180,7 @@ fn with(kind: IntegratorKind, rtol: f64) -> PanelLockParams {
             rtol,
             atol: rtol * 1e-2,
             h_max: 0.02,
-            ..Settings::default()
+            ..PanelLockParams::default().settings
         },
         ..PanelLockParams::default()
     }
@@ -368,7 +368,7 @@ fn flexible_panels_with_many_modes_and_tiny_damping() {
                 rtol: 1e-4,
                 atol: 1e-6,
                 h_max: 0.02,
-                ..Settings::default()
+                ..PanelLockParams::default().settings
             },
             ..PanelLockParams::flexible(modes)
         };
