@@ -58,9 +58,15 @@ fn clamped_panel_vibrates_at_first_fe_frequency() {
             Frame::at_node(p, frame_node),
         )
         .unwrap();
+        // gen-alpha holds its error per unit step: atol 1e-10 on a 0.01 m vibration is below
+        // the round-off of its index-3 form (it stops with a message), 1e-8 is not
+        let (rtol, atol) = match kind {
+            IntegratorKind::GenAlpha => (1e-6, 1e-8),
+            _ => (1e-8, 1e-10),
+        };
         let settings = Settings {
-            rtol: 1e-8,
-            atol: 1e-10,
+            rtol,
+            atol,
             h_max: 0.01,
             ..Settings::default()
         };

@@ -275,6 +275,10 @@ impl GenAlpha {
             *n = n.max(share * w);
         }
         scale = scale.max(floor);
+        if !self.s.error_per_unit_step {
+            // per step: the constraint violation of the whole tolerance, as it always was
+            return (10.0 * self.s.atol, scale);
+        }
         // constraints to round-off as with a fixed step: a violation left by one step is
         // corrected by the next as a velocity jump of `phi / (b h)`, which grows without bound
         // when the step shrinks (an energy rejection then shrank the step further: the step
@@ -317,6 +321,9 @@ impl GenAlpha {
         self.w.copy_from_slice(&st.vdot);
         self.lam.copy_from_slice(&st.lambda);
         let fixed = self.s.fixed_step > 0.0;
+        // adaptive with the error held per unit step: constraints and Newton to round-off,
+        // speeds projected, round-off allowed for in the error test (per step: none of these)
+        let unit = !fixed && self.s.error_per_unit_step;
         // constraint violation accepted at convergence [m, rad]; largest position scale [m]
         let (phi_tol, scale) = if fixed {
             let scale = fixed_step_newton_weights(sys, &st.q, &mut self.wn);
@@ -425,12 +432,13 @@ impl GenAlpha {
             // keeps iterating to 0.9 (at 0.2 the double pendulum's error at h = 1e-4 rose from
             // 5.7e-7 to 1.3e-6 m)
             let stall_rate = if fixed { 0.9 } else { 0.2 };
-            let stalled = it >= 1
+            // near a singular configuration the factorization amplifies round-off by the
+            // inverse of its smallest pivot ratio: the round-off band widens with it
+            let band = POSITION_ROUNDOFF * scale * self.rank.round_off_amplification();
+            let stalled = (fixed || unit)
+                && it >= 1
                 && rate > stall_rate
-                && self
-                    .tmp
-                    .iter()
-                    .all(|x| x.abs() <= POSITION_ROUNDOFF * scale);
+                && self.tmp.iter().all(|x| x.abs() <= band);
             if it >= 2 && rate > 0.9 && !stalled {
                 return StepOutcome::Failed(format!(
                     "Newton iteration diverges at t = {t1:.9e} s (rate {rate:.2})"
@@ -443,6 +451,11 @@ impl GenAlpha {
                 norm * rate / (1.0 - rate).max(1e-3)
             };
             it += 1;
+            let phi_tol = if unit {
+                phi_tol * self.rank.round_off_amplification()
+            } else {
+                phi_tol
+            };
             if (est <= NEWTON_FRACTION || norm <= 1e-12 || stalled) && phi_max <= phi_tol {
                 self.kinematics(sys, st, h);
                 if !sys.frozen_consistent(t1, &self.q1, &self.v1, self.s.rtol, self.s.atol) {
@@ -460,7 +473,12 @@ impl GenAlpha {
                 sys.thaw();
                 let mut err = 0.0;
                 if self.s.fixed_step == 0.0 {
-                    if let Err(e) = self.project_speeds(sys, t1) {
+                    let projected = if unit {
+                        self.project_speeds(sys, t1)
+                    } else {
+                        Ok(())
+                    };
+                    if let Err(e) = projected {
                         self.jac_valid = false;
                         return StepOutcome::Failed(e);
                     }
@@ -472,7 +490,7 @@ impl GenAlpha {
                     // positions `dx` (`eps scale`, or the last Newton correction if the
                     // iteration stalled in the round-off band) as `dx / (b h^2)`, so the
                     // estimate carries `c dx / b` whatever the step
-                    let noise = if nc == 0 {
+                    let noise = if nc == 0 || !unit {
                         // no constraints: positions are not projected, accelerations carry no
                         // round-off of `1 / h^2`
                         0.0
@@ -480,7 +498,7 @@ impl GenAlpha {
                         last_correction.max(f64::EPSILON * scale)
                     } else {
                         f64::EPSILON * scale
-                    };
+                    } * self.rank.round_off_amplification();
                     let floor = NOISE_ALLOWANCE * c.abs() * noise / self.beta;
                     // the step's share of the tolerance, widened by the round-off: a step
                     // shortened to reach a communication point (down to 1e-12 s in event
@@ -702,7 +720,12 @@ impl Integrator for GenAlpha {
                         self.h = h * step_factor(err, self.gain_ratio, self.s.error_per_unit_step)
                             .clamp(0.1, 0.9);
                         let floor = 1e-14 * st.t.abs().max(1.0);
+                        // inside a singular configuration the positions' round-off grows
+                        // with the conditioning for a while: the allowance widens the test
+                        // there instead of stopping the run
                         if err >= self.gain_ratio
+                            && self.s.error_per_unit_step
+                            && !self.rank.inside()
                             && (self.err_roundoff * h / self.h >= ROUNDOFF_SHARE_LIMIT
                                 || self.h < floor)
                         {

@@ -53,6 +53,8 @@ pub struct RankMonitor {
     reported: Vec<Vec<usize>>,
     /// Joints and time of the last passage (for messages).
     last: Option<(Vec<usize>, f64)>,
+    /// Smallest pivot ratio of the last observation (1 before the first).
+    smallest: f64,
 }
 
 impl RankMonitor {
@@ -60,6 +62,21 @@ impl RankMonitor {
     pub fn reset(&mut self) {
         self.baseline.clear();
         self.inside = false;
+    }
+
+    /// Whether the last observation was inside a passage through a singular configuration.
+    pub fn inside(&self) -> bool {
+        self.inside
+    }
+
+    /// How much the last factorization amplifies round-off beyond the first one's: the inverse
+    /// of the smallest pivot ratio inside a passage (capped at 1e8), 1 outside.
+    pub fn round_off_amplification(&self) -> f64 {
+        if self.inside && self.smallest > 0.0 {
+            (1.0 / self.smallest).min(1e8)
+        } else {
+            1.0
+        }
     }
 
     /// Joints (names) and time of the last singular configuration seen, for messages.
@@ -119,6 +136,7 @@ impl RankMonitor {
                 rows.push(k % nc);
             }
         }
+        self.smallest = smallest;
         if !self.inside {
             if rows.is_empty() {
                 return Passage::None;
