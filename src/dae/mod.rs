@@ -431,14 +431,16 @@ impl System {
         }
     }
 
-    /// Records in `memory` (the state's effect memory, which the system's copy then follows)
-    /// that contact event `event` (index into [`System::contact_event_functions`]) happens at
-    /// `(t, q, v)`; returns how the forces there change.
+    /// Records in `memory` (the state's effect memory after the step's memory update, which the
+    /// system's copy then follows) that contact event `event` (index into
+    /// [`System::contact_event_functions`], as defined under `step_start`, the memory at the
+    /// step's start) happens at `(t, q, v)`; returns how the forces there change.
     pub fn record_contact_event(
         &mut self,
         t: f64,
         q: &[f64],
         v: &[f64],
+        step_start: &[f64],
         memory: &mut [f64],
         event: usize,
     ) -> MemoryChange {
@@ -447,10 +449,10 @@ impl System {
         else {
             return MemoryChange::None;
         };
-        if memory.len() != self.memory.len() {
+        if memory.len() != self.memory.len() || step_start.len() != memory.len() {
             return MemoryChange::None;
         }
-        self.memory.copy_from_slice(memory);
+        self.memory.copy_from_slice(step_start);
         self.update_kinematics(q, v);
         let (a, b) = (self.memory_offsets[i], self.memory_offsets[i + 1]);
         let ctx = self.ctx(t, i);

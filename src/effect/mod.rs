@@ -115,11 +115,14 @@ pub trait ForceEffect: Send + Sync + std::fmt::Debug {
     /// (it opens when the penetration turns negative).
     fn contact_event_functions(&self, _ctx: &EvalCtx, _out: &mut [f64]) {}
 
-    /// Records in `memory` (the effect's own) that the event of contact `i` happens at the state
-    /// of `ctx`, where an integrator located it (event function zero to the integrator's
-    /// accuracy, either sign): a separated contact closes here with the approach speed of this
-    /// state, a closed one opens. Returns how the forces at this state change
-    /// ([`MemoryChange::Smooth`] when they do not).
+    /// Records in `memory` (the effect's own, as the step's memory update left it) that the
+    /// event of contact `i` happens at the state of `ctx`, where an integrator located it (event
+    /// function zero to the integrator's accuracy, either sign): a contact that `ctx.memory` (the
+    /// memory at the step's start, under which the event function was defined) says is
+    /// separated closes here with the approach speed of this state, a closed one opens, whatever
+    /// the memory update decided from the sign of a penetration that is zero to round-off.
+    /// Returns how the forces at this state change from those of `memory` as it came in
+    /// ([`MemoryChange::Smooth`] when they do not jump).
     fn record_contact_event(&self, _ctx: &EvalCtx, _i: usize, _memory: &mut [f64]) -> MemoryChange {
         MemoryChange::None
     }

@@ -175,7 +175,10 @@ impl ForceEffect for PlaneContacts {
         };
         let (delta, delta_dot) = c.penetration(kin_of(ctx.kins, c.point.body));
         let before = [m[0], m[1]];
-        if m[0] < 0.5 {
+        // the direction from the memory at the step's start: the memory update of the step
+        // (already in `m`) may have closed or opened the contact on a penetration of 1e-15 m of
+        // either sign (a closing recorded as an opening then dropped the onset's approach speed)
+        if Self::mem(ctx, i)[0] < 0.5 {
             // closes: the approach speed of the onset (a non-finite rate records 0, unknown)
             m[0] = 1.0;
             m[1] = if delta_dot.is_finite() {

@@ -137,6 +137,8 @@ pub struct Dopri5 {
     roots: Vec<(usize, f64)>,
     /// Events the step being retaken ends on: recorded after it is accepted.
     landing: Vec<usize>,
+    /// The state's effect memory before the step hook of a step that lands on events.
+    step_start_memory: Vec<f64>,
     /// Watches the constraint pivots for singular configurations.
     rank: RankMonitor,
     /// Speeds where the current passage through a singular configuration began (empty outside).
@@ -180,6 +182,7 @@ impl Dopri5 {
             qd: Vec::new(),
             roots: Vec::new(),
             landing: Vec::new(),
+            step_start_memory: Vec::new(),
             watch_stages: false,
             hidden: f64::INFINITY,
             rank: RankMonitor::default(),
@@ -267,57 +270,16 @@ impl Dopri5 {
             self.rx[k] = h * sx;
             self.rv[k] = h * sv;
         }
-        self.roots.clear();
-        for i in 0..self.g1.len() {
-            let (g0, g1) = (self.g0[i], self.g1[i]);
-            if !(g0 <= 0.0 && g1 > 0.0) {
-                continue;
-            }
-            if g0 == 0.0 {
-                self.roots.push((i, 0.0));
-                continue;
-            }
-            // Illinois (modified regula falsi) on [a, b] with f(a) <= 0 < f(b)
-            let (mut a, mut fa, mut b, mut fb) = (0.0, g0, 1.0, g1);
-            let mut kept = 0i8;
-            for _ in 0..100 {
-                if b - a <= 1e-12 {
-                    break;
-                }
-                let mut m = (a * fb - b * fa) / (fb - fa);
-                if !(m > a && m < b) {
-                    m = 0.5 * (a + b);
-                }
-                let fm = self.gap_at(sys, st, h, m, i);
-                if !fm.is_finite() {
-                    break;
-                }
-                if fm > 0.0 {
-                    (b, fb) = (m, fm);
-                    if kept == 1 {
-                        fa *= 0.5;
-                    }
-                    kept = 1;
-                } else {
-                    (a, fa) = (m, fm);
-                    if kept == -1 {
-                        fb *= 0.5;
-                    }
-                    kept = -1;
-                }
-            }
-            // the end past the event: the contact has just closed (opened) there
-            self.roots.push((i, b));
-        }
-        let first = self.roots.iter().map(|r| r.1).fold(f64::INFINITY, f64::min);
-        if !first.is_finite() {
-            return None;
-        }
-        // events at the same instant (a symmetric body landing on several points) go together
-        let same = first + 1e-9;
-        self.landing
-            .extend(self.roots.iter().filter(|r| r.1 <= same).map(|r| r.0));
-        Some(first)
+        let (g0, g1) = (std::mem::take(&mut self.g0), std::mem::take(&mut self.g1));
+        let (mut roots, mut landing) = (
+            std::mem::take(&mut self.roots),
+            std::mem::take(&mut self.landing),
+        );
+        let first = super::events::earliest_events(&g0, &g1, &mut roots, &mut landing, |m, i| {
+            self.gap_at(sys, st, h, m, i)
+        });
+        (self.g0, self.g1, self.roots, self.landing) = (g0, g1, roots, landing);
+        first
     }
 
     /// Stage derivative at chart point `x`, speeds `vs`, time `t`: fills `kx[i]`, `kv[i]`, `pw[i]`.
@@ -578,13 +540,19 @@ impl Integrator for Dopri5 {
                     5.0
                 };
             }
+            if !self.landing.is_empty() {
+                self.step_start_memory.clone_from(&st.memory);
+            }
             let action = hook.after_step(sys, st)?;
             // the step ended on located events: the contacts close or open here (after the
             // hook, whose memory update decides by the sign of a penetration that is zero to
-            // the step's accuracy)
+            // the step's accuracy; the events are those of the memory at the step's start)
             for &i in &self.landing {
                 let (q, v, mem) = (&st.q, &st.v, &mut st.memory);
-                if sys.record_contact_event(st.t, q, v, mem, i) == MemoryChange::Discontinuous {
+                let start = &self.step_start_memory;
+                if sys.record_contact_event(st.t, q, v, start, mem, i)
+                    == MemoryChange::Discontinuous
+                {
                     self.k1_valid = false;
                 }
             }

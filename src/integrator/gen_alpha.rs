@@ -20,6 +20,7 @@ use super::{
 };
 use crate::dae::System;
 use crate::dae::linear::LinearSolver;
+use crate::effect::MemoryChange;
 use crate::math::wrms;
 use crate::state::State;
 
@@ -75,6 +76,19 @@ pub struct GenAlpha {
     /// Weights of the error test of a step [m, rad] (adaptive mode).
     werr: Vec<f64>,
     tmp: Vec<f64>,
+    /// Contact-event location (adaptive, models with contact events): event functions at the
+    /// step's start and end and at a trial instant; the interpolated chart increment, speeds and
+    /// positions there; roots found; the events the next step lands on.
+    g0: Vec<f64>,
+    g1: Vec<f64>,
+    gt: Vec<f64>,
+    xd: Vec<f64>,
+    vd: Vec<f64>,
+    qd: Vec<f64>,
+    roots: Vec<(usize, f64)>,
+    landing: Vec<usize>,
+    /// The state's effect memory before the step hook of a step that lands on events.
+    step_start_memory: Vec<f64>,
 }
 
 /// Newton iterate (0: the predictor) at which the effects' discrete decisions are frozen for
@@ -235,6 +249,15 @@ impl GenAlpha {
             wn: Vec::new(),
             werr: Vec::new(),
             tmp: Vec::new(),
+            g0: Vec::new(),
+            g1: Vec::new(),
+            gt: Vec::new(),
+            xd: Vec::new(),
+            vd: Vec::new(),
+            qd: Vec::new(),
+            roots: Vec::new(),
+            landing: Vec::new(),
+            step_start_memory: Vec::new(),
         }
     }
 
@@ -284,6 +307,58 @@ impl GenAlpha {
         // when the step shrinks (an energy rejection then shrank the step further: the step
         // collapsed to 1e-16 s on the double pendulum with a violation of `0.02 h atol`)
         (POSITION_ROUNDOFF * scale, scale)
+    }
+
+    /// Sizes the event-location buffers for `sys` (nothing for models without contact events).
+    fn resize_events(&mut self, sys: &System) {
+        let n_on = sys.n_contact_events();
+        if n_on == 0 {
+            return;
+        }
+        for g in [&mut self.g0, &mut self.g1, &mut self.gt] {
+            g.resize(n_on, 0.0);
+        }
+        self.xd.resize(sys.n_v(), 0.0);
+        self.vd.resize(sys.n_v(), 0.0);
+        self.qd.resize(sys.n_q(), 0.0);
+    }
+
+    /// Event function `i` at the fraction `theta` of the converged step of `h` [s] from `st`,
+    /// on the step's own update formulas evaluated at `theta h` with the step's accelerations
+    /// (exact at both ends, and for motion of constant acceleration before a contact).
+    fn gap_at(&mut self, sys: &mut System, st: &State, h: f64, theta: f64, i: usize) -> f64 {
+        let (g, b) = (self.gamma, self.beta);
+        let tau = theta * h;
+        for k in 0..self.xd.len() {
+            let (a0, a1) = (self.a[k], self.a1[k]);
+            self.xd[k] = tau * st.v[k] + tau * tau * ((0.5 - b) * a0 + b * a1);
+            self.vd[k] = st.v[k] + tau * ((1.0 - g) * a0 + g * a1);
+        }
+        sys.model.retract(&st.q, &self.xd, &mut self.qd);
+        sys.contact_event_functions(st.t + tau, &self.qd, &self.vd, &mut self.gt);
+        self.gt[i]
+    }
+
+    /// After a converged step of `h` [s] from `st` (its end in `q1`, `v1`): the earliest contact
+    /// closing or opening inside it as a fraction of the step, located to 1e-12 of the step;
+    /// `landing` then holds the events at that instant. `None`: no contact closes or opens.
+    fn events_in_step(&mut self, sys: &mut System, st: &State, h: f64) -> Option<f64> {
+        self.landing.clear();
+        sys.contact_event_functions(st.t + h, &self.q1, &self.v1, &mut self.g1);
+        if !self.g1.iter().any(|g| *g > 0.0) {
+            return None;
+        }
+        sys.contact_event_functions(st.t, &st.q, &st.v, &mut self.g0);
+        let (g0, g1) = (std::mem::take(&mut self.g0), std::mem::take(&mut self.g1));
+        let (mut roots, mut landing) = (
+            std::mem::take(&mut self.roots),
+            std::mem::take(&mut self.landing),
+        );
+        let first = super::events::earliest_events(&g0, &g1, &mut roots, &mut landing, |m, i| {
+            self.gap_at(sys, st, h, m, i)
+        });
+        (self.g0, self.g1, self.roots, self.landing) = (g0, g1, roots, landing);
+        first
     }
 
     /// Fills `a1`, `v1`, `dx`, `q1` from the current `w`.
@@ -671,7 +746,14 @@ impl Integrator for GenAlpha {
         hook: &mut dyn StepHook,
     ) -> Result<(), SolverError> {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
+        self.resize_events(sys);
         let adaptive = self.s.fixed_step == 0.0;
+        // contact onset: a step that closes or opens a contact is taken again to end there, so
+        // no step straddles the kink of the contact force and a damped law records the approach
+        // speed at the onset, not at the end of the first step in contact
+        let locate = adaptive && sys.n_contact_events() > 0;
+        // a step cut to end at a located contact event, to be taken next
+        let mut cut: Option<f64> = None;
         let mut steps = 0u64;
         let mut refreshed = false;
         while t_end - st.t > time_eps(t_end) {
@@ -688,7 +770,13 @@ impl Integrator for GenAlpha {
                 self.s.fixed_step
             };
             let remaining = t_end - st.t;
-            let h = if natural >= remaining - time_eps(t_end) {
+            let landing_trial = cut.is_some();
+            if !landing_trial {
+                self.landing.clear();
+            }
+            let h = if let Some(h_on) = cut.take() {
+                h_on
+            } else if natural >= remaining - time_eps(t_end) {
                 remaining
             } else if adaptive && !self.s.equal_steps {
                 if natural > 0.5 * remaining {
@@ -711,6 +799,7 @@ impl Integrator for GenAlpha {
                     // grown from the position error alone that the energy check rejects again
                     let reject = err.max(self.gain_ratio);
                     if adaptive && reject > 1.0 {
+                        self.landing.clear();
                         self.stats.rejected += 1;
                         if self.gain_ratio > err {
                             self.stats.rejected_energy += 1;
@@ -745,13 +834,45 @@ impl Integrator for GenAlpha {
                             )));
                         }
                     } else {
+                        if locate && !landing_trial {
+                            if let Some(theta) = self.events_in_step(sys, st, h) {
+                                let h_on = theta * h;
+                                if h_on <= time_eps(st.t) {
+                                    // at the start of the step: nothing to land on
+                                    self.landing.clear();
+                                } else if (1.0 - theta) * h > time_eps(st.t + h) {
+                                    cut = Some(h_on);
+                                    continue;
+                                }
+                                // else the step ends at the event already
+                            }
+                        }
                         self.accept(sys, st, h);
                         refreshed = false;
-                        match hook.after_step(sys, st)? {
+                        if !self.landing.is_empty() {
+                            self.step_start_memory.clone_from(&st.memory);
+                        }
+                        let action = hook.after_step(sys, st)?;
+                        // the step ended on located events: the contacts close or open here
+                        // (after the hook, whose memory update decides by the sign of a
+                        // penetration that is zero to the step's accuracy; the events are
+                        // those of the memory at the step's start)
+                        let mut jump = false;
+                        for &i in &self.landing {
+                            let (q, v, mem) = (&st.q, &st.v, &mut st.memory);
+                            let start = &self.step_start_memory;
+                            jump |= sys.record_contact_event(st.t, q, v, start, mem, i)
+                                == MemoryChange::Discontinuous;
+                        }
+                        self.landing.clear();
+                        match action {
                             // the step starts from the state itself (positions, speeds and
                             // the algorithmic accelerations), so a moved state needs nothing
-                            StepAction::Continue | StepAction::Moved => {}
-                            StepAction::Restart => self.restart(sys, st)?,
+                            StepAction::Continue | StepAction::Moved if !jump => {}
+                            // forces that jump need accelerations consistent with them
+                            StepAction::Continue | StepAction::Moved | StepAction::Restart => {
+                                self.restart(sys, st)?
+                            }
                             StepAction::Stop => return Ok(()),
                         }
                         if adaptive {

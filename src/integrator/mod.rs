@@ -11,6 +11,7 @@
 
 pub mod bdf;
 pub mod dopri;
+mod events;
 pub mod gen_alpha;
 pub mod init;
 mod kkt;
