@@ -834,18 +834,21 @@ impl Integrator for GenAlpha {
                             )));
                         }
                     } else {
-                        if locate && !landing_trial {
-                            if let Some(theta) = self.events_in_step(sys, st, h) {
-                                let h_on = theta * h;
-                                if h_on <= time_eps(st.t) {
-                                    // at the start of the step: nothing to land on
-                                    self.landing.clear();
-                                } else if (1.0 - theta) * h > time_eps(st.t + h) {
-                                    cut = Some(h_on);
-                                    continue;
-                                }
-                                // else the step ends at the event already
+                        let located = if locate && !landing_trial {
+                            self.events_in_step(sys, st, h)
+                        } else {
+                            None
+                        };
+                        if let Some(theta) = located {
+                            let h_on = theta * h;
+                            if h_on <= time_eps(st.t) {
+                                // at the start of the step: nothing to land on
+                                self.landing.clear();
+                            } else if (1.0 - theta) * h > time_eps(st.t + h) {
+                                cut = Some(h_on);
+                                continue;
                             }
+                            // else the step ends at the event already
                         }
                         self.accept(sys, st, h);
                         refreshed = false;
