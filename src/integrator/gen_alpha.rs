@@ -14,6 +14,7 @@
 //! a restored state repeats the original bit for bit.
 
 use super::JacobianPoint;
+use super::newton::{MAX_ITERATIONS, NewtonTest, Progress, Verdict};
 use super::{
     Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
     weights,
@@ -90,13 +91,6 @@ pub struct GenAlpha {
     /// The state's effect memory before the step hook of a step that lands on events.
     step_start_memory: Vec<f64>,
 }
-
-/// Newton iterate (0: the predictor) at which the effects' discrete decisions are frozen for
-/// the rest of a step's iteration (see [`GenAlpha::solve_step`]).
-const FREEZE_AT: usize = 1;
-
-/// How often a step's frozen decisions may be taken again on a converged iterate.
-const MAX_REDECIDE: usize = 3;
 
 /// Whether a Newton matrix formed for step `a` serves step `b`: equal up to the rounding of
 /// step sizes computed from communication times (e.g. `0.5 * (t_end - t)`), so the matrix is
@@ -380,14 +374,13 @@ impl GenAlpha {
         out
     }
 
-    /// The step's Newton iteration. The effects' discrete decisions (rope slip modes) are taken
-    /// freely at the predictor and the first iterate, then frozen at the iterate of
-    /// [`FREEZE_AT`] so the remaining iterations solve one smooth branch (without, iterates near
-    /// a slip reversal switch modes back and forth and Newton stalls at rate ~1). A converged
-    /// iterate counts only if the effects take the frozen decisions there themselves; if not,
-    /// the decisions are taken again there and the iteration continues (at most
-    /// [`MAX_REDECIDE`] times, then the step fails and is retried smaller), so the converged
-    /// state is the one without freezing.
+    /// The step's Newton iteration (bookkeeping in [`super::newton`]). The effects' discrete
+    /// decisions (rope slip modes) are taken freely at the predictor and the first iterate, then
+    /// frozen so the remaining iterations solve one smooth branch (without, iterates near a slip
+    /// reversal switch modes back and forth and Newton stalls at rate ~1). A converged iterate
+    /// counts only if the effects take the frozen decisions there themselves; if not, the
+    /// decisions are taken again there and the iteration continues (a few times, then the step
+    /// fails and is retried smaller), so the converged state is the one without freezing.
     fn solve_step(&mut self, sys: &mut System, st: &State, h: f64) -> StepOutcome {
         let (nv, nc) = (sys.n_v(), sys.n_c());
         let t1 = st.t + h;
@@ -406,15 +399,14 @@ impl GenAlpha {
         } else {
             self.adaptive_newton_weights(sys, st, h)
         };
-        let mut prev_norm = f64::INFINITY;
-        let mut redecided = 0;
-        // iterations since the decisions were last taken (the divergence test restarts there)
-        let mut it = 0;
-        while it < 12 {
+        let test = NewtonTest {
+            fraction: NEWTON_FRACTION,
+            first_factor: 1.0,
+        };
+        let mut progress = Progress::default();
+        loop {
             self.kinematics(sys, st, h);
-            if it == FREEZE_AT && redecided == 0 {
-                sys.freeze_decisions(t1, &self.q1, &self.v1);
-            }
+            progress.freeze_if_due(sys, t1, &self.q1, &self.v1);
             sys.forces(t1, &self.q1, &self.v1, &mut self.f);
             sys.eval_constraints(t1, &self.q1, &self.v1);
             self.stats.rhs_evaluations += 1;
@@ -499,7 +491,7 @@ impl GenAlpha {
             // largest position correction of this iterate [m, rad]: at convergence, the
             // round-off the positions actually carry
             let last_correction = self.tmp.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let rate = norm / prev_norm;
+            let rate = progress.rate(norm);
             // an iteration inside the round-off band that no longer contracts has converged:
             // its corrections are round-off. Adaptive steps take a rate of 0.2 as no longer
             // contracting (at 0.9, corrections of 10-30 epsilons that came and went at random
@@ -511,41 +503,28 @@ impl GenAlpha {
             // inverse of its smallest pivot ratio: the round-off band widens with it
             let band = POSITION_ROUNDOFF * scale * self.rank.round_off_amplification();
             let stalled = (fixed || unit)
-                && it >= 1
+                && progress.iterations() >= 1
                 && rate > stall_rate
                 && self.tmp.iter().all(|x| x.abs() <= band);
-            if it >= 2 && rate > 0.9 && !stalled {
+            let verdict = progress.judge(&test, norm, stalled);
+            if let Verdict::Diverged(rate) = verdict {
                 return StepOutcome::Failed(format!(
                     "Newton iteration diverges at t = {t1:.9e} s (rate {rate:.2})"
                 ));
             }
-            prev_norm = norm;
-            let est = if it == 0 {
-                norm
-            } else {
-                norm * rate / (1.0 - rate).max(1e-3)
-            };
-            it += 1;
             let phi_tol = if unit {
                 phi_tol * self.rank.round_off_amplification()
             } else {
                 phi_tol
             };
-            if (est <= NEWTON_FRACTION || norm <= 1e-12 || stalled) && phi_max <= phi_tol {
+            if verdict == Verdict::Converged && phi_max <= phi_tol {
                 self.kinematics(sys, st, h);
-                if !sys.frozen_consistent(t1, &self.q1, &self.v1, self.s.rtol, self.s.atol) {
-                    if redecided == MAX_REDECIDE {
-                        return StepOutcome::Failed(format!(
-                            "slip modes not settled at t = {t1:.9e} s"
-                        ));
-                    }
-                    redecided += 1;
-                    sys.freeze_decisions(t1, &self.q1, &self.v1);
-                    prev_norm = f64::INFINITY;
-                    it = 0;
-                    continue;
+                let (rtol, atol) = (self.s.rtol, self.s.atol);
+                match progress.settle_decisions(sys, (t1, &self.q1, &self.v1), rtol, atol) {
+                    Err(e) => return StepOutcome::Failed(e),
+                    Ok(false) => continue,
+                    Ok(true) => {}
                 }
-                sys.thaw();
                 let mut err = 0.0;
                 if self.s.fixed_step == 0.0 {
                     let projected = if unit {
@@ -597,10 +576,12 @@ impl GenAlpha {
                 }
                 return StepOutcome::Converged(err);
             }
+            if progress.iterations() >= MAX_ITERATIONS {
+                return StepOutcome::Failed(format!(
+                    "Newton iteration did not converge in {MAX_ITERATIONS} iterations at t = {t1:.9e} s"
+                ));
+            }
         }
-        StepOutcome::Failed(format!(
-            "Newton iteration did not converge in 12 iterations at t = {t1:.9e} s"
-        ))
     }
 
     /// Projects the step's speeds `v1` onto the velocity constraints `G v + Phi_t = 0` at `q1`

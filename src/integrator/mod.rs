@@ -15,6 +15,7 @@ mod events;
 pub mod gen_alpha;
 pub mod init;
 mod kkt;
+pub mod newton;
 pub mod rank;
 
 use crate::dae::System;
