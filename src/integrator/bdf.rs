@@ -40,6 +40,25 @@ struct Point {
 /// How much a first Newton correction is scaled in the convergence test (see `solve_step`).
 const FIRST_CORRECTION_FACTOR: f64 = 1e4;
 
+/// Error per unit step: the local error of an adaptive step of `h` is held to
+/// `h / UNIT_TIME` of the tolerance (at most all of it), so the local errors of the steps in one
+/// `UNIT_TIME` add up to at most the tolerance [s].
+const UNIT_TIME: f64 = 1.0;
+
+/// The fraction of the tolerance a step's local error is held to is at least
+/// `ROUND_OFF_EPSILONS` machine epsilons over rtol: below it the estimate and Newton's stopping
+/// test would be round-off, so short steps are held to their tolerance per step.
+const ROUND_OFF_EPSILONS: f64 = 300.0;
+
+/// A Newton correction below `NEWTON_ROUND_OFF_EPSILONS` machine epsilons over rtol (in units of
+/// the error weights, that is about this many epsilons of each coordinate's scale) is round-off:
+/// the iteration has converged as far as the arithmetic goes.
+const NEWTON_ROUND_OFF_EPSILONS: f64 = 50.0;
+
+/// Newton stops when its estimated remaining correction is below this fraction of the step's
+/// local error tolerance.
+const NEWTON_FRACTION: f64 = 0.03;
+
 /// BDF integrator.
 #[derive(Debug, Clone)]
 pub struct Bdf {
@@ -53,6 +72,11 @@ pub struct Bdf {
     lin: LinearSolver,
     jac_alpha0: f64,
     jac_valid: bool,
+    /// Fraction of the tolerance (weights `wx`, `wv`) the current step's local error may use.
+    tol_fraction: f64,
+    /// The current step's fraction is `h / UNIT_TIME` (error per unit step: the estimate is of
+    /// order `k` in `h`, not `k + 1`).
+    per_unit_step: bool,
     /// Where the current Newton matrix was formed.
     jac_point: Option<JacobianPoint>,
     /// A restored matrix point: the matrix is formed there again when it would have been reused.
@@ -164,6 +188,8 @@ impl Bdf {
             lin: LinearSolver::new(),
             jac_alpha0: 0.0,
             jac_valid: false,
+            tol_fraction: 1.0,
+            per_unit_step: false,
             jac_point: None,
             pending: None,
             stats: Stats::default(),
@@ -394,7 +420,8 @@ impl Bdf {
             }
             let norm = wrms(&self.rhs[..nv], &self.wx).max(wrms(&self.rhs[nv..2 * nv], &self.wv));
             let rate = norm / prev;
-            if it >= 2 && rate > 0.9 {
+            let round_off = norm * self.s.rtol <= NEWTON_ROUND_OFF_EPSILONS * f64::EPSILON;
+            if it >= 2 && rate > 0.9 && !round_off {
                 return Outcome::Failed(Failure {
                     reason: "Newton iteration diverges",
                     t: t1,
@@ -409,7 +436,9 @@ impl Bdf {
             } else {
                 norm * rate / (1.0 - rate).max(1e-3)
             };
-            if (est <= 0.03 || norm <= 1e-12) && phi_max <= 10.0 * self.s.atol {
+            if (est <= NEWTON_FRACTION * self.tol_fraction || norm <= 1e-12 || round_off)
+                && phi_max <= 10.0 * self.s.atol
+            {
                 sys.model.retract(&self.q0, &self.x, &mut self.q1);
                 for i in 0..nv {
                     let mut s = a0 * self.v[i];
@@ -473,6 +502,7 @@ impl Bdf {
             &mut self.wx,
             &mut self.wv,
         );
+        self.set_tol_fraction(h);
         if let Outcome::Failed(e) = self.solve_step(sys, k, t1, &alpha[..k + 1]) {
             return Err(e);
         }
@@ -499,7 +529,32 @@ impl Bdf {
         } else {
             f64::NAN
         };
-        Ok([err_lo, err_k, err_hi])
+        let f = self.tol_fraction;
+        Ok([err_lo / f, err_k / f, err_hi / f])
+    }
+
+    /// Sets the fraction of the tolerance a step of `h` [s] may use (see [`UNIT_TIME`]): all of
+    /// it with fixed steps.
+    fn set_tol_fraction(&mut self, h: f64) {
+        let floor = (ROUND_OFF_EPSILONS * f64::EPSILON / self.s.rtol).min(1.0);
+        let per_unit = h / UNIT_TIME;
+        (self.tol_fraction, self.per_unit_step) = if self.s.fixed_step > 0.0 || per_unit >= 1.0 {
+            (1.0, false)
+        } else if per_unit <= floor {
+            (floor, false)
+        } else {
+            (per_unit, true)
+        };
+    }
+
+    /// Order in `h` of the error estimates of an order-`k` step at the current tolerance
+    /// fraction: `k + 1` per step, `k` per unit step.
+    fn estimate_order(&self, k: usize) -> f64 {
+        if self.per_unit_step {
+            k as f64
+        } else {
+            k as f64 + 1.0
+        }
     }
 
     /// Weighted norm of the scaled divided difference `j! h^j y[t1, t_n, ...]` of order `j` of the
@@ -665,7 +720,7 @@ impl Integrator for Bdf {
                         self.stats.rejected += 1;
                         self.stats.rejected_error += 1;
                         fails += 1;
-                        let fac = (0.9 * errk.powf(-1.0 / (k as f64 + 1.0))).clamp(0.1, 0.9);
+                        let fac = (0.9 * errk.powf(-1.0 / self.estimate_order(k))).clamp(0.1, 0.9);
                         self.h = h * fac;
                         if fails >= 3 {
                             self.order = 1;
@@ -690,9 +745,11 @@ impl Integrator for Bdf {
                     }
                     self.steps_at_order += 1;
                     // order and step selection
+                    // error per unit step lowers the estimates' order in h by one
+                    let shift = if self.per_unit_step { 0.0 } else { 1.0 };
                     let ratio = |e: f64, ord: usize| {
                         if e.is_finite() && e > 0.0 {
-                            0.9 * e.powf(-1.0 / (ord as f64 + 1.0))
+                            0.9 * e.powf(-1.0 / (ord as f64 + shift))
                         } else if e == 0.0 {
                             2.0
                         } else {
