@@ -45,15 +45,14 @@ const FIRST_CORRECTION_FACTOR: f64 = 1e4;
 /// `UNIT_TIME` add up to at most the tolerance [s].
 const UNIT_TIME: f64 = 1.0;
 
-/// The fraction of the tolerance a step's local error is held to is at least
-/// `ROUND_OFF_EPSILONS` machine epsilons over rtol: below it the estimate and Newton's stopping
-/// test would be round-off, so short steps are held to their tolerance per step.
+/// A step's error weights are at least `ROUND_OFF_EPSILONS` machine epsilons of the largest
+/// position scale (positions) and of the largest speed (speeds, at least that position scale
+/// per `UNIT_TIME`): below that the estimate and Newton's stopping test would see round-off.
 const ROUND_OFF_EPSILONS: f64 = 300.0;
 
-/// A Newton correction below `NEWTON_ROUND_OFF_EPSILONS` machine epsilons over rtol (in units of
-/// the error weights, that is about this many epsilons of each coordinate's scale) is round-off:
-/// the iteration has converged as far as the arithmetic goes.
-const NEWTON_ROUND_OFF_EPSILONS: f64 = 50.0;
+/// A Newton iteration that stops contracting with corrections below `NEWTON_ROUND_OFF_EPSILONS`
+/// machine epsilons of those scales has converged as far as the arithmetic goes.
+const NEWTON_ROUND_OFF_EPSILONS: f64 = 30.0;
 
 /// Newton stops when its estimated remaining correction is below this fraction of the step's
 /// local error tolerance.
@@ -72,11 +71,12 @@ pub struct Bdf {
     lin: LinearSolver,
     jac_alpha0: f64,
     jac_valid: bool,
-    /// Fraction of the tolerance (weights `wx`, `wv`) the current step's local error may use.
-    tol_fraction: f64,
-    /// The current step's fraction is `h / UNIT_TIME` (error per unit step: the estimate is of
-    /// order `k` in `h`, not `k + 1`).
+    /// The current step's weights are `h / UNIT_TIME` of the tolerance (error per unit step:
+    /// the estimate is of order `k` in `h`, not `k + 1`).
     per_unit_step: bool,
+    /// Round-off of positions [m, rad] and speeds [m/s, rad/s]: machine epsilon times their
+    /// largest scale (0 with fixed steps).
+    round_off: [f64; 2],
     /// Where the current Newton matrix was formed.
     jac_point: Option<JacobianPoint>,
     /// A restored matrix point: the matrix is formed there again when it would have been reused.
@@ -105,6 +105,11 @@ pub struct Bdf {
     vp: Vec<f64>,
     ex: Vec<f64>,
     ev: Vec<f64>,
+}
+
+/// Largest magnitude in `a` (0 when empty).
+fn max_abs(a: &[f64]) -> f64 {
+    a.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
 /// Weights `w` with `p(tau) = sum w_j y_j` for the polynomial through `(ts[j], y_j)`.
@@ -188,8 +193,8 @@ impl Bdf {
             lin: LinearSolver::new(),
             jac_alpha0: 0.0,
             jac_valid: false,
-            tol_fraction: 1.0,
             per_unit_step: false,
+            round_off: [0.0; 2],
             jac_point: None,
             pending: None,
             stats: Stats::default(),
@@ -420,8 +425,16 @@ impl Bdf {
             }
             let norm = wrms(&self.rhs[..nv], &self.wx).max(wrms(&self.rhs[nv..2 * nv], &self.wv));
             let rate = norm / prev;
-            let round_off = norm * self.s.rtol <= NEWTON_ROUND_OFF_EPSILONS * f64::EPSILON;
-            if it >= 2 && rate > 0.9 && !round_off {
+            let (dx, dv) = (max_abs(&self.rhs[..nv]), max_abs(&self.rhs[nv..2 * nv]));
+            let round_off = dx <= NEWTON_ROUND_OFF_EPSILONS * self.round_off[0]
+                && dv <= NEWTON_ROUND_OFF_EPSILONS * self.round_off[1];
+            if it >= 1 && rate > 0.9 && round_off {
+                // stopped contracting at round-off: converged as far as the arithmetic goes
+                sys.model.retract(&self.q0, &self.x, &mut self.q1);
+                self.set_vdot(k, alpha);
+                return Outcome::Converged;
+            }
+            if it >= 2 && rate > 0.9 {
                 return Outcome::Failed(Failure {
                     reason: "Newton iteration diverges",
                     t: t1,
@@ -436,17 +449,11 @@ impl Bdf {
             } else {
                 norm * rate / (1.0 - rate).max(1e-3)
             };
-            if (est <= NEWTON_FRACTION * self.tol_fraction || norm <= 1e-12 || round_off)
+            if (est <= NEWTON_FRACTION || norm <= 1e-12)
                 && phi_max <= 10.0 * self.s.atol
             {
                 sys.model.retract(&self.q0, &self.x, &mut self.q1);
-                for i in 0..nv {
-                    let mut s = a0 * self.v[i];
-                    for j in 0..k {
-                        s += alpha[j + 1] * self.hist[j].v[i];
-                    }
-                    self.vdot[i] = s;
-                }
+                self.set_vdot(k, alpha);
                 return Outcome::Converged;
             }
         }
@@ -454,6 +461,17 @@ impl Bdf {
             reason: "Newton iteration did not converge in 10 iterations",
             t: t1,
         })
+    }
+
+    /// The BDF derivative of the speeds at the new point (`sum alpha_j v_j`) into `vdot`.
+    fn set_vdot(&mut self, k: usize, alpha: &[f64]) {
+        for i in 0..self.v.len() {
+            let mut s = alpha[0] * self.v[i];
+            for j in 0..k {
+                s += alpha[j + 1] * self.hist[j].v[i];
+            }
+            self.vdot[i] = s;
+        }
     }
 
     /// Tries one step of size `h` at the current order. Returns the error estimates at orders
@@ -502,7 +520,7 @@ impl Bdf {
             &mut self.wx,
             &mut self.wv,
         );
-        self.set_tol_fraction(h);
+        self.scale_weights(h);
         if let Outcome::Failed(e) = self.solve_step(sys, k, t1, &alpha[..k + 1]) {
             return Err(e);
         }
@@ -529,22 +547,32 @@ impl Bdf {
         } else {
             f64::NAN
         };
-        let f = self.tol_fraction;
-        Ok([err_lo / f, err_k / f, err_hi / f])
+        Ok([err_lo, err_k, err_hi])
     }
 
-    /// Sets the fraction of the tolerance a step of `h` [s] may use (see [`UNIT_TIME`]): all of
-    /// it with fixed steps.
-    fn set_tol_fraction(&mut self, h: f64) {
-        let floor = (ROUND_OFF_EPSILONS * f64::EPSILON / self.s.rtol).min(1.0);
-        let per_unit = h / UNIT_TIME;
-        (self.tol_fraction, self.per_unit_step) = if self.s.fixed_step > 0.0 || per_unit >= 1.0 {
-            (1.0, false)
-        } else if per_unit <= floor {
-            (floor, false)
-        } else {
-            (per_unit, true)
-        };
+    /// Scales the error weights `wx`, `wv` (built from rtol/atol at the step's start) to the
+    /// share of the tolerance a step of `h` [s] may use: `h / UNIT_TIME` of it (all of it from
+    /// `UNIT_TIME` on and with fixed steps), never below the round-off floor
+    /// ([`ROUND_OFF_EPSILONS`]).
+    fn scale_weights(&mut self, h: f64) {
+        if self.s.fixed_step > 0.0 {
+            self.per_unit_step = false;
+            self.round_off = [0.0; 2];
+            return;
+        }
+        let f = (h / UNIT_TIME).min(1.0);
+        self.per_unit_step = f < 1.0;
+        // weights are atol + rtol * scale: recover the largest position scale [m or rad]
+        let x_scale = self
+            .wx
+            .iter()
+            .map(|w| (w - self.s.atol) / self.s.rtol)
+            .fold(0.0, f64::max);
+        let v_scale = max_abs(&self.hist[0].v).max(x_scale / UNIT_TIME);
+        self.round_off = [f64::EPSILON * x_scale, f64::EPSILON * v_scale];
+        let [fx, fv] = self.round_off.map(|r| ROUND_OFF_EPSILONS * r);
+        self.wx.iter_mut().for_each(|w| *w = (f * *w).max(fx));
+        self.wv.iter_mut().for_each(|w| *w = (f * *w).max(fv));
     }
 
     /// Order in `h` of the error estimates of an order-`k` step at the current tolerance
