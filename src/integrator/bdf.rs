@@ -54,6 +54,14 @@ const ROUND_OFF_EPSILONS: f64 = 300.0;
 /// machine epsilons of those scales has converged as far as the arithmetic goes.
 const NEWTON_ROUND_OFF_EPSILONS: f64 = 30.0;
 
+/// The Newton matrix is formed again when the BDF leading coefficient has moved by more than
+/// this fraction since it was formed (and the serialized matrix point is reused within it).
+const MATRIX_COEFFICIENT_CHANGE: f64 = 0.15;
+
+/// A step whose Newton iteration contracted by less than this factor per iteration after its
+/// second correction leaves the next step a fresh matrix (at the new configuration).
+const REFRESH_RATE: f64 = 0.2;
+
 /// Newton stops when its estimated remaining correction is below this fraction of the step's
 /// local error tolerance.
 const NEWTON_FRACTION: f64 = 0.03;
@@ -77,6 +85,10 @@ pub struct Bdf {
     /// Round-off of positions [m, rad] and speeds [m/s, rad/s]: machine epsilon times their
     /// largest scale (0 with fixed steps).
     round_off: [f64; 2],
+    /// Multipliers of the last accepted point and its time [s], and those of the point before
+    /// (known after two accepted points): they predict the next step's multipliers linearly.
+    lam_last: (f64, Vec<f64>),
+    lam_prev: Option<(f64, Vec<f64>)>,
     /// Where the current Newton matrix was formed.
     jac_point: Option<JacobianPoint>,
     /// A restored matrix point: the matrix is formed there again when it would have been reused.
@@ -195,6 +207,8 @@ impl Bdf {
             jac_valid: false,
             per_unit_step: false,
             round_off: [0.0; 2],
+            lam_last: (0.0, Vec::new()),
+            lam_prev: None,
             jac_point: None,
             pending: None,
             stats: Stats::default(),
@@ -316,6 +330,7 @@ impl Bdf {
         let n = 2 * nv + 2 * nc;
         self.q0.clone_from(&self.hist[0].q);
         let mut prev = f64::INFINITY;
+        let mut slow = false;
         for it in 0..10 {
             sys.model.retract(&self.q0, &self.x, &mut self.q1);
             sys.forces(t1, &self.q1, &self.v, &mut self.f);
@@ -370,9 +385,10 @@ impl Bdf {
             } else {
                 self.pending
                     .take()
-                    .filter(|p| (a0 / p.coefficient - 1.0).abs() <= 0.3)
+                    .filter(|p| (a0 / p.coefficient - 1.0).abs() <= MATRIX_COEFFICIENT_CHANGE)
             };
-            let refresh = !self.jac_valid || (a0 / self.jac_alpha0 - 1.0).abs() > 0.3;
+            let refresh =
+                !self.jac_valid || (a0 / self.jac_alpha0 - 1.0).abs() > MATRIX_COEFFICIENT_CHANGE;
             if refresh {
                 let lin = &mut self.lin;
                 match &restored {
@@ -441,6 +457,7 @@ impl Bdf {
                 });
             }
             prev = norm;
+            slow |= it >= 2 && rate > REFRESH_RATE;
             // a first correction shows no contraction rate yet: it is taken as converged only
             // when it is negligible (1e-4 of the tolerance); accepting larger first corrections
             // of a reused matrix leaves a per-step error that makes fixed-step BDF first order
@@ -449,11 +466,13 @@ impl Bdf {
             } else {
                 norm * rate / (1.0 - rate).max(1e-3)
             };
-            if (est <= NEWTON_FRACTION || norm <= 1e-12)
-                && phi_max <= 10.0 * self.s.atol
-            {
+            if (est <= NEWTON_FRACTION || norm <= 1e-12) && phi_max <= 10.0 * self.s.atol {
                 sys.model.retract(&self.q0, &self.x, &mut self.q1);
                 self.set_vdot(k, alpha);
+                if slow {
+                    // the next step forms its matrix afresh
+                    self.jac_valid = false;
+                }
                 return Outcome::Converged;
             }
         }
@@ -461,6 +480,25 @@ impl Bdf {
             reason: "Newton iteration did not converge in 10 iterations",
             t: t1,
         })
+    }
+
+    /// Starts the multipliers at `t1` [s] on the line through those of the last two accepted
+    /// points (at those of the last one when only it is known). A constant start leaves a
+    /// first-order residual `G^T (lambda_1 - lambda_n)` which a Newton matrix formed at an
+    /// earlier configuration turns into large, mostly cancelling speed corrections.
+    fn predict_multipliers(&mut self, nc: usize, t1: f64) {
+        let (t0, last) = (self.lam_last.0, &self.lam_last.1);
+        self.lam.clear();
+        self.lam.extend_from_slice(last);
+        self.lam.resize(nc, 0.0);
+        if let Some((tp, lp)) = &self.lam_prev {
+            if lp.len() == nc && last.len() == nc && t0 > *tp {
+                let c = (t1 - t0) / (t0 - tp);
+                for (l, p) in self.lam.iter_mut().zip(lp) {
+                    *l += c * (*l - p);
+                }
+            }
+        }
     }
 
     /// The BDF derivative of the speeds at the new point (`sum alpha_j v_j`) into `vdot`.
@@ -502,9 +540,7 @@ impl Bdf {
         self.xp.copy_from_slice(&self.x);
         self.vp.copy_from_slice(&self.v);
         self.mu.iter_mut().for_each(|m| *m = 0.0);
-        if self.lam.len() != nc {
-            self.lam.resize(nc, 0.0);
-        }
+        self.predict_multipliers(nc, t1);
         // corrector weights over t1, t_n, ..., t_{n-k+1}
         ts[0] = t1;
         for (slot, p) in ts[1..].iter_mut().zip(self.hist.iter().take(k)) {
@@ -647,6 +683,12 @@ impl Bdf {
         st.vdot.copy_from_slice(&self.vdot);
         st.lambda.clear();
         st.lambda.extend_from_slice(&self.lam);
+        // the last multipliers become the previous ones (their storage reused)
+        let mut older = self.lam_prev.take().map(|p| p.1).unwrap_or_default();
+        std::mem::swap(&mut older, &mut self.lam_last.1);
+        self.lam_prev = Some((self.lam_last.0, older));
+        self.lam_last.0 = t1;
+        self.lam_last.1.clone_from(&self.lam);
         st.energy_dissipated = z[0];
         st.work_input = z[1];
         self.push_point(st);
@@ -687,6 +729,8 @@ impl Integrator for Bdf {
         self.hist.clear();
         self.push_point(st);
         self.lam.copy_from_slice(&st.lambda);
+        self.lam_last = (st.t, st.lambda.clone());
+        self.lam_prev = None;
         self.order = 1;
         self.steps_at_order = 0;
         self.since_start = 0;
@@ -891,6 +935,12 @@ impl Integrator for Bdf {
             }
             _ => m.push(0.0),
         }
+        // optional (states written before it have none): the previous multipliers
+        if let Some((t, l)) = &self.lam_prev {
+            m.push(*t);
+            m.push(l.len() as f64);
+            m.extend_from_slice(l);
+        }
         m
     }
 
@@ -946,7 +996,19 @@ impl Integrator for Bdf {
             .collect::<Result<Vec<_>, _>>()?;
         let has_jac = next(&mut pos)? > 0.5;
         self.pending = if has_jac {
-            Some(JacobianPoint::read(&m[pos..])?.0)
+            let (p, used) = JacobianPoint::read(&m[pos..])?;
+            pos += used;
+            Some(p)
+        } else {
+            None
+        };
+        let lam_prev = if pos < m.len() {
+            let t = next(&mut pos)?;
+            let n = count(next(&mut pos)?)?;
+            let l = (0..n)
+                .map(|_| next(&mut pos))
+                .collect::<Result<Vec<_>, _>>()?;
+            Some((t, l))
         } else {
             None
         };
@@ -954,6 +1016,8 @@ impl Integrator for Bdf {
         self.order = order;
         self.steps_at_order = sao;
         self.since_start = since;
+        self.lam_last = (hist.front().map_or(0.0, |p| p.t), lam.clone());
+        self.lam_prev = lam_prev;
         self.hist = hist;
         self.lam = lam;
         self.jac_valid = false;
