@@ -598,17 +598,23 @@ impl Bdf {
         }
         let f = (h / UNIT_TIME).min(1.0);
         self.per_unit_step = f < 1.0;
-        // weights are atol + rtol * scale: recover the largest position scale [m or rad]
+        // weights are atol + rtol * scale: recover the largest position scale [m or rad]; a
+        // body at the origin still moves by its speed: lengths and speeds scale each other
         let x_scale = self
             .wx
             .iter()
             .map(|w| (w - self.s.atol) / self.s.rtol)
             .fold(0.0, f64::max);
-        let v_scale = max_abs(&self.hist[0].v).max(x_scale / UNIT_TIME);
+        let v_max = max_abs(&self.hist[0].v);
+        let (x_scale, v_scale) = (
+            x_scale.max(v_max * UNIT_TIME),
+            v_max.max(x_scale / UNIT_TIME),
+        );
         self.round_off = [f64::EPSILON * x_scale, f64::EPSILON * v_scale];
         let [fx, fv] = self.round_off.map(|r| ROUND_OFF_EPSILONS * r);
-        self.wx.iter_mut().for_each(|w| *w = (f * *w).max(fx));
-        self.wv.iter_mut().for_each(|w| *w = (f * *w).max(fv));
+        // the floor never loosens a weight beyond its tolerance per step
+        self.wx.iter_mut().for_each(|w| *w = (f * *w).max(fx.min(*w)));
+        self.wv.iter_mut().for_each(|w| *w = (f * *w).max(fv.min(*w)));
     }
 
     /// Order in `h` of the error estimates of an order-`k` step at the current tolerance
