@@ -588,7 +588,8 @@ impl Bdf {
 
     /// Scales the error weights `wx`, `wv` (built from rtol/atol at the step's start) to the
     /// share of the tolerance a step of `h` [s] may use: `h / UNIT_TIME` of it (all of it from
-    /// `UNIT_TIME` on and with fixed steps), never below the round-off floor
+    /// `UNIT_TIME` on, with fixed steps and with `Settings::error_per_unit_step` off), never
+    /// below the round-off floor
     /// ([`ROUND_OFF_EPSILONS`]).
     fn scale_weights(&mut self, h: f64) {
         if self.s.fixed_step > 0.0 {
@@ -596,7 +597,11 @@ impl Bdf {
             self.round_off = [0.0; 2];
             return;
         }
-        let f = (h / UNIT_TIME).min(1.0);
+        let f = if self.s.error_per_unit_step {
+            (h / UNIT_TIME).min(1.0)
+        } else {
+            1.0
+        };
         self.per_unit_step = f < 1.0;
         // weights are atol + rtol * scale: recover the largest position scale [m or rad]; a
         // body at the origin still moves by its speed: lengths and speeds scale each other
@@ -613,8 +618,12 @@ impl Bdf {
         self.round_off = [f64::EPSILON * x_scale, f64::EPSILON * v_scale];
         let [fx, fv] = self.round_off.map(|r| ROUND_OFF_EPSILONS * r);
         // the floor never loosens a weight beyond its tolerance per step
-        self.wx.iter_mut().for_each(|w| *w = (f * *w).max(fx.min(*w)));
-        self.wv.iter_mut().for_each(|w| *w = (f * *w).max(fv.min(*w)));
+        self.wx
+            .iter_mut()
+            .for_each(|w| *w = (f * *w).max(fx.min(*w)));
+        self.wv
+            .iter_mut()
+            .for_each(|w| *w = (f * *w).max(fv.min(*w)));
     }
 
     /// Order in `h` of the error estimates of an order-`k` step at the current tolerance

@@ -78,6 +78,12 @@ pub struct Settings {
     /// moved gen-alpha's energy errors past the stability suite's bounds; RopeBlock turns it on
     /// (long slings: factorizations per step 0.76 -> 0.32 at 5000 segments).
     pub equal_steps: bool,
+    /// BDF, adaptive: hold the local error of a step of `h` to `h / 1 s` of the tolerance (error
+    /// per unit step), so that the errors of many short steps add up to about the tolerance per
+    /// second rather than the tolerance per step (global error proportional to rtol; see
+    /// `docs/integrator_error_control.md`). On by default; RopeBlock turns it off (its contact
+    /// nodes slide between steps and the tighter Newton target of short steps then stalls).
+    pub error_per_unit_step: bool,
 }
 
 impl Default for Settings {
@@ -92,6 +98,7 @@ impl Default for Settings {
             max_order: 5,
             max_steps: 200_000,
             equal_steps: false,
+            error_per_unit_step: true,
         }
     }
 }
