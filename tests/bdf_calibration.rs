@@ -67,13 +67,16 @@ fn planar_positions(th: [f64; 3]) -> [f64; 9] {
     ]
 }
 
-/// The loop's pin points: (link, local x of the point, sign) terms of each 2-row equation
-/// `sum sign (r_link + R(angle) (s, 0)) = ground point`.
-const PINS: [([(usize, f64, f64); 2], [f64; 2]); 4] = [
-    ([(0, -0.5 * A, 1.0), (0, 0.0, 0.0)], [0.0, 0.0]),
-    ([(0, 0.5 * A, 1.0), (1, -0.5 * B, -1.0)], [0.0, 0.0]),
-    ([(1, 0.5 * B, 1.0), (2, 0.5 * C, -1.0)], [0.0, 0.0]),
-    ([(2, -0.5 * C, 1.0), (2, 0.0, 0.0)], [D, 0.0]),
+/// A term `(link, local x of the point [m], sign)` of a loop equation.
+type Term = (usize, f64, f64);
+
+/// The loop's four pin equations `sum sign (r_link + R(angle) (s, 0)) = ground point` (2 rows
+/// each; the ground points do not enter the accelerations; sign 0 marks an unused term).
+const PINS: [[Term; 2]; 4] = [
+    [(0, -0.5 * A, 1.0), (0, 0.0, 0.0)],
+    [(0, 0.5 * A, 1.0), (1, -0.5 * B, -1.0)],
+    [(1, 0.5 * B, 1.0), (2, 0.5 * C, -1.0)],
+    [(2, -0.5 * C, 1.0), (2, 0.0, 0.0)],
 ];
 
 /// Accelerations of the planar coordinates `z` with rates `w` (KKT solve).
@@ -87,7 +90,7 @@ fn planar_accelerations(z: &[f64], w: &[f64]) -> DVector<f64> {
         k[(3 * l + 2, 3 * l + 2)] = m * len * len / 12.0;
         rhs[3 * l + 1] = -m * G;
     }
-    for (e, (terms, _)) in PINS.iter().enumerate() {
+    for (e, terms) in PINS.iter().enumerate() {
         for &(l, s, sign) in terms {
             if sign == 0.0 {
                 continue;

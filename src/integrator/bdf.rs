@@ -491,12 +491,14 @@ impl Bdf {
         self.lam.clear();
         self.lam.extend_from_slice(last);
         self.lam.resize(nc, 0.0);
-        if let Some((tp, lp)) = &self.lam_prev {
-            if lp.len() == nc && last.len() == nc && t0 > *tp {
-                let c = (t1 - t0) / (t0 - tp);
-                for (l, p) in self.lam.iter_mut().zip(lp) {
-                    *l += c * (*l - p);
-                }
+        if let Some((tp, lp)) = &self.lam_prev
+            && lp.len() == nc
+            && last.len() == nc
+            && t0 > *tp
+        {
+            let c = (t1 - t0) / (t0 - tp);
+            for (l, p) in self.lam.iter_mut().zip(lp) {
+                *l += c * (*l - p);
             }
         }
     }
