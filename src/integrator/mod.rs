@@ -81,8 +81,9 @@ pub struct Settings {
     /// BDF, adaptive: hold the local error of a step of `h` to `h / 1 s` of the tolerance (error
     /// per unit step), so that the errors of many short steps add up to about the tolerance per
     /// second rather than the tolerance per step (global error proportional to rtol; see
-    /// `docs/integrator_error_control.md`). On by default; RopeBlock turns it off (its contact
-    /// nodes slide between steps and the tighter Newton target of short steps then stalls).
+    /// `docs/integrator_error_control.md`). On by default; the RopeBlock scene turns it off (its
+    /// contact nodes slide between steps and the tighter Newton target of short steps then
+    /// stalls), and so do PanelLock's default parameters (damped panel modes, CPU).
     pub error_per_unit_step: bool,
 }
 
