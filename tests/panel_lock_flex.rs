@@ -252,6 +252,17 @@ fn very_stiff_flexible_panels_reproduce_the_rigid_lock_times() {
         n_panels: 2,
         ..PanelLockParams::default()
     };
+    // the rigid reference at rtol 1e-8: at the default 1e-6 (BDF per step) its second lock time
+    // is 17.4264 s against 17.4050 s converged (17.4055 s at 1e-8, 17.4050 s at 1e-10), an error
+    // of 1.2e-3 of the 2e-3 this test allows
+    let rigid_reference = PanelLockParams {
+        settings: Settings {
+            rtol: 1e-8,
+            atol: 1e-10,
+            ..rigid.settings
+        },
+        ..rigid.clone()
+    };
     let flex = PanelLockParams {
         flexible_panels: true,
         n_modes: 12,
@@ -270,7 +281,7 @@ fn very_stiff_flexible_panels_reproduce_the_rigid_lock_times() {
             .map(|h| h.lock_time)
             .collect::<Vec<_>>()
     };
-    let (tr, tf) = (lock_times(rigid), lock_times(flex));
+    let (tr, tf) = (lock_times(rigid_reference), lock_times(flex));
     println!("lock times rigid {tr:?}, flexible {tf:?}");
     for (a, b) in tr.iter().zip(&tf) {
         assert!(

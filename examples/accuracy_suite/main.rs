@@ -209,10 +209,13 @@ fn run_suite() -> Result<(), String> {
         let n_extra = aux_rule.len() / 4;
         say!(
             csv,
-            "| integrator | rtol or h | {} | error/rtol |{aux} CPU [ms] | runs | steps | rejected | Newton failures | status |",
+            "| integrator | rtol or h | {} | error/rtol |{aux} CPU [ms] | runs | steps | rejected | Newton failures | Newton it./step | status |",
             p.quantity
         );
-        say!(csv, "|---|---|---|---|{aux_rule}---|---|---|---|---|---|");
+        say!(
+            csv,
+            "|---|---|---|---|{aux_rule}---|---|---|---|---|---|---|"
+        );
         let mut runs: Vec<Run> = Vec::new();
         for &series in &o.series {
             let xs = match series {
@@ -224,7 +227,7 @@ fn run_suite() -> Result<(), String> {
                 if over_budget {
                     say!(
                         csv,
-                        "| {} | {x:.0e} | - | - |{} - | - | - | - | - | skipped: a looser setting used up the CPU budget |",
+                        "| {} | {x:.0e} | - | - |{} - | - | - | - | - | - | skipped: a looser setting used up the CPU budget |",
                         series.name(),
                         " - |".repeat(n_extra)
                     );
@@ -261,7 +264,7 @@ fn run_suite() -> Result<(), String> {
                     .unwrap_or_else(|| "ok".into());
                 say!(
                     csv,
-                    "| {} | {x:.0e} | {} | {ratio} |{aux_cell} {:.3} | {} | {} | {} | {} | {status} |",
+                    "| {} | {x:.0e} | {} | {ratio} |{aux_cell} {:.3} | {} | {} | {} | {} | {:.2} | {status} |",
                     series.name(),
                     if r.failure.is_none() {
                         format!("{:.2e}", r.error)
@@ -272,7 +275,8 @@ fn run_suite() -> Result<(), String> {
                     r.repeats,
                     r.steps,
                     r.rejected,
-                    r.newton_failures
+                    r.newton_failures,
+                    r.newton_iterations as f64 / r.steps.max(1) as f64
                 );
                 if csv {
                     println!(

@@ -147,6 +147,8 @@ pub struct Run {
     pub rejected: u64,
     /// Newton iterations that did not converge (the step was retried).
     pub newton_failures: u64,
+    /// Newton iterations in all (converged or not).
+    pub newton_iterations: u64,
     /// Why the run failed (`None`: it reached the end time).
     pub failure: Option<String>,
     /// The failure was the CPU budget.
@@ -233,6 +235,7 @@ fn run_once(p: &Problem, series: Series, x: f64, atol_ratio: f64, budget: f64) -
         steps: 0,
         rejected: 0,
         newton_failures: 0,
+        newton_iterations: 0,
         failure: None,
         over_budget: false,
     };
@@ -258,6 +261,7 @@ fn run_once(p: &Problem, series: Series, x: f64, atol_ratio: f64, budget: f64) -
     out.steps = stats.steps;
     out.rejected = stats.rejected;
     out.newton_failures = stats.newton_failures;
+    out.newton_iterations = stats.newton_iterations;
     if let (Some(exact), Some(recorded)) = (p.approach_speed, hook.approach) {
         out.approach_error = Some((recorded - exact).abs());
     }

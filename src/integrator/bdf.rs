@@ -17,6 +17,7 @@
 
 use super::JacobianPoint;
 use super::dopri::Dopri5;
+use super::newton::{DIVERGENCE_RATE, MAX_ITERATIONS, NewtonTest, Progress, Verdict};
 use super::{
     Integrator, IntegratorKind, MemoryHook, Settings, SolverError, Stats, StepAction, StepHook,
     time_eps, weights,
@@ -40,6 +41,35 @@ struct Point {
 /// How much a first Newton correction is scaled in the convergence test (see `solve_step`).
 const FIRST_CORRECTION_FACTOR: f64 = 1e4;
 
+// the failure message names the cap
+const _: () = assert!(MAX_ITERATIONS == 12);
+
+/// Error per unit step: the local error of an adaptive step of `h` is held to
+/// `h / UNIT_TIME` of the tolerance (at most all of it), so the local errors of the steps in one
+/// `UNIT_TIME` add up to at most the tolerance [s].
+const UNIT_TIME: f64 = 1.0;
+
+/// A step's error weights are at least `ROUND_OFF_EPSILONS` machine epsilons of the largest
+/// position scale (positions) and of the largest speed (speeds, at least that position scale
+/// per `UNIT_TIME`): below that the estimate and Newton's stopping test would see round-off.
+const ROUND_OFF_EPSILONS: f64 = 300.0;
+
+/// A Newton iteration that stops contracting with corrections below `NEWTON_ROUND_OFF_EPSILONS`
+/// machine epsilons of those scales has converged as far as the arithmetic goes.
+const NEWTON_ROUND_OFF_EPSILONS: f64 = 30.0;
+
+/// The Newton matrix is formed again when the BDF leading coefficient has moved by more than
+/// this fraction since it was formed (and the serialized matrix point is reused within it).
+const MATRIX_COEFFICIENT_CHANGE: f64 = 0.15;
+
+/// A step whose Newton iteration contracted by less than this factor per iteration after its
+/// second correction leaves the next step a fresh matrix (at the new configuration).
+const REFRESH_RATE: f64 = 0.2;
+
+/// Newton stops when its estimated remaining correction is below this fraction of the step's
+/// local error tolerance.
+const NEWTON_FRACTION: f64 = 0.03;
+
 /// BDF integrator.
 #[derive(Debug, Clone)]
 pub struct Bdf {
@@ -53,6 +83,16 @@ pub struct Bdf {
     lin: LinearSolver,
     jac_alpha0: f64,
     jac_valid: bool,
+    /// The current step's weights are `h / UNIT_TIME` of the tolerance (error per unit step:
+    /// the estimate is of order `k` in `h`, not `k + 1`).
+    per_unit_step: bool,
+    /// Round-off of positions [m, rad] and speeds [m/s, rad/s]: machine epsilon times their
+    /// largest scale (0 with fixed steps).
+    round_off: [f64; 2],
+    /// Multipliers of the last accepted point and its time [s], and those of the point before
+    /// (known after two accepted points): they predict the next step's multipliers linearly.
+    lam_last: (f64, Vec<f64>),
+    lam_prev: Option<(f64, Vec<f64>)>,
     /// Where the current Newton matrix was formed.
     jac_point: Option<JacobianPoint>,
     /// A restored matrix point: the matrix is formed there again when it would have been reused.
@@ -81,6 +121,11 @@ pub struct Bdf {
     vp: Vec<f64>,
     ex: Vec<f64>,
     ev: Vec<f64>,
+}
+
+/// Largest magnitude in `a` (0 when empty).
+fn max_abs(a: &[f64]) -> f64 {
+    a.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
 /// Weights `w` with `p(tau) = sum w_j y_j` for the polynomial through `(ts[j], y_j)`.
@@ -164,6 +209,10 @@ impl Bdf {
             lin: LinearSolver::new(),
             jac_alpha0: 0.0,
             jac_valid: false,
+            per_unit_step: false,
+            round_off: [0.0; 2],
+            lam_last: (0.0, Vec::new()),
+            lam_prev: None,
             jac_point: None,
             pending: None,
             stats: Stats::default(),
@@ -284,9 +333,15 @@ impl Bdf {
         let a0 = alpha[0];
         let n = 2 * nv + 2 * nc;
         self.q0.clone_from(&self.hist[0].q);
-        let mut prev = f64::INFINITY;
-        for it in 0..10 {
+        let test = NewtonTest {
+            fraction: NEWTON_FRACTION,
+            first_factor: FIRST_CORRECTION_FACTOR,
+        };
+        let mut progress = Progress::default();
+        let mut slow = false;
+        loop {
             sys.model.retract(&self.q0, &self.x, &mut self.q1);
+            progress.freeze_if_due(sys, t1, &self.q1, &self.v);
             sys.forces(t1, &self.q1, &self.v, &mut self.f);
             sys.eval_constraints(t1, &self.q1, &self.v);
             self.stats.rhs_evaluations += 1;
@@ -339,9 +394,10 @@ impl Bdf {
             } else {
                 self.pending
                     .take()
-                    .filter(|p| (a0 / p.coefficient - 1.0).abs() <= 0.3)
+                    .filter(|p| (a0 / p.coefficient - 1.0).abs() <= MATRIX_COEFFICIENT_CHANGE)
             };
-            let refresh = !self.jac_valid || (a0 / self.jac_alpha0 - 1.0).abs() > 0.3;
+            let refresh =
+                !self.jac_valid || (a0 / self.jac_alpha0 - 1.0).abs() > MATRIX_COEFFICIENT_CHANGE;
             if refresh {
                 let lin = &mut self.lin;
                 match &restored {
@@ -393,38 +449,84 @@ impl Bdf {
                 self.mu[r] += self.rhs[2 * nv + nc + r];
             }
             let norm = wrms(&self.rhs[..nv], &self.wx).max(wrms(&self.rhs[nv..2 * nv], &self.wv));
-            let rate = norm / prev;
-            if it >= 2 && rate > 0.9 {
+            let it = progress.iterations();
+            let rate = progress.rate(norm);
+            let (dx, dv) = (max_abs(&self.rhs[..nv]), max_abs(&self.rhs[nv..2 * nv]));
+            let round_off = dx <= NEWTON_ROUND_OFF_EPSILONS * self.round_off[0]
+                && dv <= NEWTON_ROUND_OFF_EPSILONS * self.round_off[1];
+            // stopped contracting at round-off: converged as far as the arithmetic goes
+            let stalled = it >= 1 && rate > DIVERGENCE_RATE && round_off;
+            slow |= it >= 2 && rate > REFRESH_RATE;
+            // a first correction shows no contraction rate yet: it is taken as converged only
+            // when it is negligible (1e-4 of the tolerance, FIRST_CORRECTION_FACTOR); accepting
+            // larger first corrections of a reused matrix leaves a per-step error that makes
+            // fixed-step BDF first order
+            let verdict = progress.judge(&test, norm, stalled);
+            if let Verdict::Diverged(_) = verdict {
                 return Outcome::Failed(Failure {
                     reason: "Newton iteration diverges",
                     t: t1,
                 });
             }
-            prev = norm;
-            // a first correction shows no contraction rate yet: it is taken as converged only
-            // when it is negligible (1e-4 of the tolerance); accepting larger first corrections
-            // of a reused matrix leaves a per-step error that makes fixed-step BDF first order
-            let est = if it == 0 {
-                norm * FIRST_CORRECTION_FACTOR
-            } else {
-                norm * rate / (1.0 - rate).max(1e-3)
-            };
-            if (est <= 0.03 || norm <= 1e-12) && phi_max <= 10.0 * self.s.atol {
+            if verdict == Verdict::Converged && (stalled || phi_max <= 10.0 * self.s.atol) {
                 sys.model.retract(&self.q0, &self.x, &mut self.q1);
-                for i in 0..nv {
-                    let mut s = a0 * self.v[i];
-                    for j in 0..k {
-                        s += alpha[j + 1] * self.hist[j].v[i];
+                let (rtol, atol) = (self.s.rtol, self.s.atol);
+                match progress.settle_decisions(sys, (t1, &self.q1, &self.v), rtol, atol) {
+                    Err(_) => {
+                        return Outcome::Failed(Failure {
+                            reason: "slip modes not settled",
+                            t: t1,
+                        });
                     }
-                    self.vdot[i] = s;
+                    Ok(false) => continue,
+                    Ok(true) => {}
+                }
+                self.set_vdot(k, alpha);
+                if slow && !stalled {
+                    // the next step forms its matrix afresh
+                    self.jac_valid = false;
                 }
                 return Outcome::Converged;
             }
+            if progress.iterations() >= MAX_ITERATIONS {
+                return Outcome::Failed(Failure {
+                    reason: "Newton iteration did not converge in 12 iterations",
+                    t: t1,
+                });
+            }
         }
-        Outcome::Failed(Failure {
-            reason: "Newton iteration did not converge in 10 iterations",
-            t: t1,
-        })
+    }
+
+    /// Starts the multipliers at `t1` [s] on the line through those of the last two accepted
+    /// points (at those of the last one when only it is known). A constant start leaves a
+    /// first-order residual `G^T (lambda_1 - lambda_n)` which a Newton matrix formed at an
+    /// earlier configuration turns into large, mostly cancelling speed corrections.
+    fn predict_multipliers(&mut self, nc: usize, t1: f64) {
+        let (t0, last) = (self.lam_last.0, &self.lam_last.1);
+        self.lam.clear();
+        self.lam.extend_from_slice(last);
+        self.lam.resize(nc, 0.0);
+        if let Some((tp, lp)) = &self.lam_prev
+            && lp.len() == nc
+            && last.len() == nc
+            && t0 > *tp
+        {
+            let c = (t1 - t0) / (t0 - tp);
+            for (l, p) in self.lam.iter_mut().zip(lp) {
+                *l += c * (*l - p);
+            }
+        }
+    }
+
+    /// The BDF derivative of the speeds at the new point (`sum alpha_j v_j`) into `vdot`.
+    fn set_vdot(&mut self, k: usize, alpha: &[f64]) {
+        for i in 0..self.v.len() {
+            let mut s = alpha[0] * self.v[i];
+            for j in 0..k {
+                s += alpha[j + 1] * self.hist[j].v[i];
+            }
+            self.vdot[i] = s;
+        }
     }
 
     /// Tries one step of size `h` at the current order. Returns the error estimates at orders
@@ -455,9 +557,7 @@ impl Bdf {
         self.xp.copy_from_slice(&self.x);
         self.vp.copy_from_slice(&self.v);
         self.mu.iter_mut().for_each(|m| *m = 0.0);
-        if self.lam.len() != nc {
-            self.lam.resize(nc, 0.0);
-        }
+        self.predict_multipliers(nc, t1);
         // corrector weights over t1, t_n, ..., t_{n-k+1}
         ts[0] = t1;
         for (slot, p) in ts[1..].iter_mut().zip(self.hist.iter().take(k)) {
@@ -473,6 +573,7 @@ impl Bdf {
             &mut self.wx,
             &mut self.wv,
         );
+        self.scale_weights(h);
         if let Outcome::Failed(e) = self.solve_step(sys, k, t1, &alpha[..k + 1]) {
             return Err(e);
         }
@@ -500,6 +601,56 @@ impl Bdf {
             f64::NAN
         };
         Ok([err_lo, err_k, err_hi])
+    }
+
+    /// Scales the error weights `wx`, `wv` (built from rtol/atol at the step's start) to the
+    /// share of the tolerance a step of `h` [s] may use: `h / UNIT_TIME` of it (all of it from
+    /// `UNIT_TIME` on, with fixed steps and with `Settings::error_per_unit_step` off), never
+    /// below the round-off floor
+    /// ([`ROUND_OFF_EPSILONS`]).
+    fn scale_weights(&mut self, h: f64) {
+        if self.s.fixed_step > 0.0 {
+            self.per_unit_step = false;
+            self.round_off = [0.0; 2];
+            return;
+        }
+        let f = if self.s.error_per_unit_step {
+            (h / UNIT_TIME).min(1.0)
+        } else {
+            1.0
+        };
+        self.per_unit_step = f < 1.0;
+        // weights are atol + rtol * scale: recover the largest position scale [m or rad]; a
+        // body at the origin still moves by its speed: lengths and speeds scale each other
+        let x_scale = self
+            .wx
+            .iter()
+            .map(|w| (w - self.s.atol) / self.s.rtol)
+            .fold(0.0, f64::max);
+        let v_max = max_abs(&self.hist[0].v);
+        let (x_scale, v_scale) = (
+            x_scale.max(v_max * UNIT_TIME),
+            v_max.max(x_scale / UNIT_TIME),
+        );
+        self.round_off = [f64::EPSILON * x_scale, f64::EPSILON * v_scale];
+        let [fx, fv] = self.round_off.map(|r| ROUND_OFF_EPSILONS * r);
+        // the floor never loosens a weight beyond its tolerance per step
+        self.wx
+            .iter_mut()
+            .for_each(|w| *w = (f * *w).max(fx.min(*w)));
+        self.wv
+            .iter_mut()
+            .for_each(|w| *w = (f * *w).max(fv.min(*w)));
+    }
+
+    /// Order in `h` of the error estimates of an order-`k` step at the current tolerance
+    /// fraction: `k + 1` per step, `k` per unit step.
+    fn estimate_order(&self, k: usize) -> f64 {
+        if self.per_unit_step {
+            k as f64
+        } else {
+            k as f64 + 1.0
+        }
     }
 
     /// Weighted norm of the scaled divided difference `j! h^j y[t1, t_n, ...]` of order `j` of the
@@ -564,6 +715,12 @@ impl Bdf {
         st.vdot.copy_from_slice(&self.vdot);
         st.lambda.clear();
         st.lambda.extend_from_slice(&self.lam);
+        // the last multipliers become the previous ones (their storage reused)
+        let mut older = self.lam_prev.take().map(|p| p.1).unwrap_or_default();
+        std::mem::swap(&mut older, &mut self.lam_last.1);
+        self.lam_prev = Some((self.lam_last.0, older));
+        self.lam_last.0 = t1;
+        self.lam_last.1.clone_from(&self.lam);
         st.energy_dissipated = z[0];
         st.work_input = z[1];
         self.push_point(st);
@@ -604,6 +761,8 @@ impl Integrator for Bdf {
         self.hist.clear();
         self.push_point(st);
         self.lam.copy_from_slice(&st.lambda);
+        self.lam_last = (st.t, st.lambda.clone());
+        self.lam_prev = None;
         self.order = 1;
         self.steps_at_order = 0;
         self.since_start = 0;
@@ -665,7 +824,7 @@ impl Integrator for Bdf {
                         self.stats.rejected += 1;
                         self.stats.rejected_error += 1;
                         fails += 1;
-                        let fac = (0.9 * errk.powf(-1.0 / (k as f64 + 1.0))).clamp(0.1, 0.9);
+                        let fac = (0.9 * errk.powf(-1.0 / self.estimate_order(k))).clamp(0.1, 0.9);
                         self.h = h * fac;
                         if fails >= 3 {
                             self.order = 1;
@@ -690,9 +849,11 @@ impl Integrator for Bdf {
                     }
                     self.steps_at_order += 1;
                     // order and step selection
+                    // error per unit step lowers the estimates' order in h by one
+                    let shift = if self.per_unit_step { 0.0 } else { 1.0 };
                     let ratio = |e: f64, ord: usize| {
                         if e.is_finite() && e > 0.0 {
-                            0.9 * e.powf(-1.0 / (ord as f64 + 1.0))
+                            0.9 * e.powf(-1.0 / (ord as f64 + shift))
                         } else if e == 0.0 {
                             2.0
                         } else {
@@ -806,6 +967,12 @@ impl Integrator for Bdf {
             }
             _ => m.push(0.0),
         }
+        // optional (states written before it have none): the previous multipliers
+        if let Some((t, l)) = &self.lam_prev {
+            m.push(*t);
+            m.push(l.len() as f64);
+            m.extend_from_slice(l);
+        }
         m
     }
 
@@ -861,7 +1028,19 @@ impl Integrator for Bdf {
             .collect::<Result<Vec<_>, _>>()?;
         let has_jac = next(&mut pos)? > 0.5;
         self.pending = if has_jac {
-            Some(JacobianPoint::read(&m[pos..])?.0)
+            let (p, used) = JacobianPoint::read(&m[pos..])?;
+            pos += used;
+            Some(p)
+        } else {
+            None
+        };
+        let lam_prev = if pos < m.len() {
+            let t = next(&mut pos)?;
+            let n = count(next(&mut pos)?)?;
+            let l = (0..n)
+                .map(|_| next(&mut pos))
+                .collect::<Result<Vec<_>, _>>()?;
+            Some((t, l))
         } else {
             None
         };
@@ -869,6 +1048,8 @@ impl Integrator for Bdf {
         self.order = order;
         self.steps_at_order = sao;
         self.since_start = since;
+        self.lam_last = (hist.front().map_or(0.0, |p| p.t), lam.clone());
+        self.lam_prev = lam_prev;
         self.hist = hist;
         self.lam = lam;
         self.jac_valid = false;

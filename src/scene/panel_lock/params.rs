@@ -152,10 +152,12 @@ impl Default for PanelLockParams {
                 rtol: 1e-6,
                 atol: 1e-8,
                 h_max: 0.02,
-                // gen-alpha per step, as before: per unit step cost 10x at rtol 1e-6 (0.51 ->
+                // per step, as before: per unit step gen-alpha cost 10x at rtol 1e-6 (0.51 ->
                 // 5.4 s for the 30 s deployment) with no visible gain against a BDF reference
-                // (the post-lock vibration, damped by design, dominates); see
-                // docs/integrator_error_control.md
+                // (the post-lock vibration, damped by design, dominates); BDF's damped panel
+                // modes of the flexible variant forced more than 2e5 steps after the first lock
+                // (tests/panel_lock_flex.rs), and its rigid deployment cost 3.6 times the CPU
+                // (docs/integrator_error_control.md)
                 error_per_unit_step: false,
                 ..Settings::default()
             },
