@@ -357,7 +357,7 @@ impl GenAlpha {
                     it = 0;
                     continue;
                 }
-                sys.thaw();
+                sys.thaw_accepted();
                 let mut err = 0.0;
                 if self.s.fixed_step == 0.0 {
                     let c = self.gamma / 2.0 - self.beta - 1.0 / 12.0;

@@ -4,10 +4,15 @@
 //! The node then carries load along the rope and along the edge. At every output point the
 //! friction the model applies at the node, the hold's force along the edge `F_e` and the rope's
 //! pull along the rope `F_r`, must stay inside `|(F_e, F_r)| <= mu N` (`N` the rope's pull on the
-//! plate along the contact normal) to 1e-9 relative; the tension ratio across the node must obey
-//! the sharp-edge law `T2/T1 <= (1 + mu tan(theta/2)) / (1 - mu tan(theta/2))`, with equality
-//! while the rope slides through an untilted node. Before the fix friction / (mu N) reached
-//! 1.067 at 5 degrees and about 1.5 at 20 degrees.
+//! plate along the contact normal) to 1e-9 relative (plus 1e-9 T1 for round-off where the rope
+//! goes slack). Untilted, the cone is the sharp-edge law: the tension ratio across the node must
+//! stay within `T2/T1 <= (1 + mu tan(theta/2)) / (1 - mu tan(theta/2))` and equal it while the
+//! rope slides through the node, to 1e-9. Tilted, that planar law is no bound (the rope's pull
+//! has a different split in the edge's frame; the cone is the law and is what is checked). On main
+//! c11afeb friction / (mu N) reached 1.068 at 5 degrees, 1.250 at 10, 19.2 at 15 and 30.6 at 20 (T1
+//! 9.81 kN; at 15-20 degrees after edge slides that left the hold's force above the cone), and N
+//! fell below zero at 30. The end loads weigh 100 kg per 9.81 kN of T1, so both load levels
+//! accelerate alike.
 
 use crate::rig::*;
 use mbcosim::math::Vec3;
@@ -51,7 +56,7 @@ fn tilted_run(tilt_deg: f64, t1: f64) -> (f64, f64, usize, Option<String>) {
         nodes: 3,
         props: props(),
         t_init: vec![t1, t1],
-        end_mass: 100.0,
+        end_mass: 100.0 * t1 / 9.81e3,
         f1: Profile::constant(t1),
         f2: Profile::constant(q * t1),
         hold: Hold::Fixed,
@@ -63,6 +68,9 @@ fn tilted_run(tilt_deg: f64, t1: f64) -> (f64, f64, usize, Option<String>) {
     let mut sim = rig.sim(settings(1e-3));
     let (mut worst_cone, mut worst_law, mut slid) = (0.0f64, 0.0f64, 0);
     let mut first_bad = None;
+    // round-off of the hold's force (stiffness 1.5e9 N/m times 1e-16 of the coordinate) where
+    // the rope goes slack (N = 0) in the violent 981 kN runs
+    let floor = 1e-9 * t1;
     for k in 1..=60 {
         let t = 5e-3 * k as f64;
         sim.advance_to(t).unwrap();
@@ -70,9 +78,8 @@ fn tilted_run(tilt_deg: f64, t1: f64) -> (f64, f64, usize, Option<String>) {
         for rep in sim.contact_reports() {
             let n = rep.pull.normal;
             let f = rep.hold_force.hypot(rep.pull.along_rope);
-            let excess = f / (MU * n);
-            assert!(n > 0.0, "tilt {tilt_deg}: t = {t}: N = {n}");
-            if f > MU * n * (1.0 + 1e-9) && first_bad.is_none() {
+            let excess = if n > 0.0 { f / (MU * n) } else { 0.0 };
+            if f > MU * n.max(0.0) * (1.0 + 1e-9) + floor && first_bad.is_none() {
                 first_bad = Some(format!(
                     "tilt {tilt_deg} deg, t = {t} s: friction {f:.6e} N = {excess:.6} mu N (F_e {:.4e}, F_r {:.4e}, N {n:.4e}), mode {:?}",
                     rep.hold_force, rep.pull.along_rope, modes[rep.slot]
@@ -82,25 +89,28 @@ fn tilted_run(tilt_deg: f64, t1: f64) -> (f64, f64, usize, Option<String>) {
             let theta = rep.turn;
             let ratio = rep.segments.t_next / rep.segments.t_prev;
             let limit = sharp_edge_ratio(MU, theta);
-            worst_law = worst_law.max(ratio / limit - 1.0);
-            if ratio > limit * (1.0 + 1e-9) && first_bad.is_none() {
-                first_bad = Some(format!(
-                    "tilt {tilt_deg} deg, t = {t} s: T2/T1 = {ratio:.9} above the sharp-edge limit {limit:.9}"
-                ));
-            }
-            if modes[rep.slot] == SlipMode::SlipForward {
-                slid += 1;
-                if tilt_deg == 0.0 {
-                    assert!(
-                        (ratio / limit - 1.0).abs() < 1e-9,
-                        "untilted, sliding: T2/T1 = {ratio:.12} vs {limit:.12}"
-                    );
+            let sliding = modes[rep.slot] == SlipMode::SlipForward;
+            slid += usize::from(sliding);
+            if tilt_deg == 0.0 {
+                // in the plane across the edge the cone is the sharp-edge law: at most the
+                // ratio while sticking, exactly it while sliding
+                worst_law = worst_law.max(ratio / limit - 1.0);
+                let off = if sliding {
+                    (ratio / limit - 1.0).abs()
+                } else {
+                    ratio / limit - 1.0
+                };
+                if off > 1e-9 && first_bad.is_none() {
+                    first_bad = Some(format!(
+                        "untilted, t = {t} s, {:?}: T2/T1 = {ratio:.12}, sharp-edge ratio {limit:.12}",
+                        modes[rep.slot]
+                    ));
                 }
             }
         }
     }
     println!(
-        "tilt {tilt_deg:4.1} deg, T1 {t1:.3e} N: max friction / (mu N) {worst_cone:.9}, max T2/T1 over the sharp-edge limit {worst_law:+.2e}, sliding samples {slid}/60"
+        "tilt {tilt_deg:4.1} deg, T1 {t1:.3e} N: max friction / (mu N) {worst_cone:.9}, T2/T1 over the sharp-edge ratio (untilted) {worst_law:+.2e}, sliding samples {slid}/60"
     );
     (worst_cone, worst_law, slid, first_bad)
 }

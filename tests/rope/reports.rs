@@ -1,12 +1,13 @@
 //! Post-step reports while the rope slides (issue #19): a rope pulled around a 32-edge polygonal
-//! drum (wrap 180 degrees, circumradius 0.52 m) at 2.2 T1 (gross slip at 1.875 T1), so that the rope
-//! runs through all 32 contact nodes. At every output point the tension the scene reports
-//! for each segment (`rope_tensions`, and each contact node's `contact_reports`) must equal the
-//! force that acts: the axial law `EA (l - L) / L` evaluated independently here from the node
-//! positions `l` and the accepted material coordinates `L` (the rope is undamped, so the law is
-//! elastic only). Over 1 s the rope is re-meshed 4 times. Before the fix the reports re-decided stick/slip from round-off after the
-//! memory update and disagreed (1 of 200 output points here, by 2.8 %: segments 17-32 reported
-//! as if the rope slid through a node whose accepted state sticks).
+//! drum (wrap 180 degrees, circumradius 0.52 m) at 2.2 T1 (gross slip at 1.875 T1), so that the
+//! rope runs through all 32 contact nodes. At every output point the tension the scene reports for
+//! each segment (`rope_tensions`, and each contact node's `contact_reports`) must equal the force
+//! that acts: the axial law `EA (l - L) / L` evaluated independently here from the node positions
+//! `l` and the accepted material coordinates `L` (the rope is undamped, so the law is elastic
+//! only). Over 1 s the rope is re-meshed (merges and splits) on the way. On main c11afeb the
+//! reports ran a fresh return mapping from the updated memory, which could settle on another set
+//! of sliding nodes than the step: 1 of 200 output points here was off by 2.8 % (segments 17-32
+//! reported as if the rope slid through a node the accepted state has sticking).
 
 use crate::rig::*;
 use mbcosim::math::Vec3;
