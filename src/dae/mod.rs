@@ -77,6 +77,9 @@ pub struct System {
     /// [`System::freeze_decisions`]); seen by the effects only while `frozen_on`.
     frozen: Vec<Vec<f64>>,
     frozen_on: bool,
+    /// The last step converged on the frozen decisions (see [`System::thaw_accepted`]): the
+    /// memory update evaluates the effects on them.
+    frozen_accepted: bool,
     /// Whether any force effect takes such decisions (else freezing is skipped).
     decides: bool,
     /// Scratch for the next frozen decisions (the effects see the current ones when deciding).
@@ -135,6 +138,7 @@ impl System {
             memory: vec![0.0; n_mem],
             frozen: vec![Vec::new(); model.forces.len()],
             frozen_on: false,
+            frozen_accepted: false,
             decides: model.forces.iter().any(|e| e.has_decisions()),
             frozen_next: vec![Vec::new(); model.forces.len()],
             inputs: vec![0.0; model.n_inputs()],
@@ -336,10 +340,22 @@ impl System {
             self.frozen_next[i] = std::mem::replace(&mut self.frozen[i], out);
         }
         self.frozen_on = true;
+        self.frozen_accepted = false;
     }
 
     /// Ends [`System::freeze_decisions`]: the effects decide at every evaluation again.
+    /// Leaves the record of [`System::thaw_accepted`] alone (a step's own thaw follows it).
     pub fn thaw(&mut self) {
+        self.frozen_on = false;
+    }
+
+    /// Ends [`System::freeze_decisions`] at a converged step: the next
+    /// [`System::update_memory`] evaluates the effects on the decisions the step was solved on
+    /// (if any were frozen), so that the memory holds what acted, not what a fresh decision at
+    /// the same state would take (the two may differ within the position tolerance, see
+    /// [`System::frozen_consistent`]).
+    pub fn thaw_accepted(&mut self) {
+        self.frozen_accepted = self.frozen_on;
         self.frozen_on = false;
     }
 
@@ -405,9 +421,17 @@ impl System {
             if a == b {
                 continue;
             }
-            let ctx = self.ctx(t, i);
+            let ctx = EvalCtx {
+                frozen: if self.frozen_accepted {
+                    &self.frozen[i]
+                } else {
+                    &[]
+                },
+                ..self.ctx(t, i)
+            };
             change = change.max(e.update_memory(&ctx, &mut memory[a..b]));
         }
+        self.frozen_accepted = false;
         self.memory.copy_from_slice(memory);
         change
     }

@@ -106,8 +106,9 @@ impl Progress {
     }
 
     /// After a converged iterate at `(t, q, v)`: whether the effects take the frozen decisions
-    /// there themselves (then they are thawed and the step may end). If not, they are taken
-    /// again there and the iteration restarts (`Ok(false)`), at most [`MAX_REDECIDE`] times.
+    /// there themselves (then they are thawed, kept for the step's memory update by
+    /// [`System::thaw_accepted`], and the step may end). If not, they are taken again there and
+    /// the iteration restarts (`Ok(false)`), at most [`MAX_REDECIDE`] times.
     pub fn settle_decisions(
         &mut self,
         sys: &mut System,
@@ -116,7 +117,7 @@ impl Progress {
         atol: f64,
     ) -> Result<bool, String> {
         if sys.frozen_consistent(t, q, v, rtol, atol) {
-            sys.thaw();
+            sys.thaw_accepted();
             return Ok(true);
         }
         if self.redecided == MAX_REDECIDE {

@@ -11,10 +11,16 @@
 //! (position at `t0`, velocity at `t0` and target velocity, `t0`, pay-out at `t0`, its rate and
 //! target rate, ramp time; see [`HookInit`]), then [`CONTACT_MEM`] per contact node:
 //! `sigma` [m] and the slip state along the rope of the last accepted step, the friction share
-//! `mu_rope` [-] for sliding along the rope, and for the friction along the edge
-//! ([`super::edge_hold`]) the anchor `u0` [m], the capacity `cap` [N] and the sliding state. A sticking node's `sigma` freezes the
-//! split of rope between its two segments; a slipping node's `sigma` is recomputed after every
-//! accepted step (it is not used while slipping).
+//! `mu_rope` [-] with which the rope slides through the node, for the friction along the edge
+//! ([`super::edge_hold`]) the anchor `u0` [m], the capacity `cap` [N] and the sliding state, and
+//! the coefficient `mu` [-] of the node's Coulomb cone ([`super::friction`]). A sticking node's
+//! `sigma` freezes the split of rope between its two segments; a slipping node's `sigma` is
+//! recomputed after every accepted step (it is not used while slipping).
+//!
+//! Decisions (frozen for a Newton iteration, see [`RopeEffect`]'s `freeze`): two values per
+//! contact slot, the slip state's code and the share `mu_rope`. After an accepted step the
+//! memory holds the decisions the step used, and the reports ([`RopeEffect::contact_segments`],
+//! [`RopeEffect::rope_tensions`]) evaluate with exactly those: what they show is what acted.
 
 use super::bending;
 use super::drag;
@@ -32,7 +38,7 @@ use crate::model::kinematics::{BodyKin, kin_of};
 /// Memory values per hook.
 pub const HOOK_MEM: usize = 14;
 /// Memory values per contact node.
-pub const CONTACT_MEM: usize = 6;
+pub const CONTACT_MEM: usize = 7;
 pub(crate) const NONE: u32 = u32::MAX;
 
 /// One evaluated plain segment: tension, geometry and the two-point derivatives.
@@ -249,9 +255,10 @@ impl RopeEffect {
                                 "{owner}, point {i}: a contact node must be a particle (offset 0)"
                             ));
                         }
-                        if !(ci.mu_rope.is_finite() && ci.mu_rope >= 0.0) {
+                        let ok = |x: f64| x.is_finite() && x >= 0.0;
+                        if !(ok(ci.mu_rope) && ok(ci.mu)) {
                             return Err(format!(
-                                "{owner}, point {i}: friction share must be finite and >= 0"
+                                "{owner}, point {i}: friction coefficient and share must be finite and >= 0"
                             ));
                         }
                         if let Some(h) = ci.hold {
@@ -487,12 +494,36 @@ impl RopeEffect {
         self.holds[c].map(|h| h.0)
     }
 
-    /// Slip state of the last accepted step and friction share of contact slot `c` from the
-    /// memory.
+    /// Slip state of the last accepted step and friction share along the rope of contact slot
+    /// `c` from the memory.
     #[inline]
     pub fn contact_state(&self, memory: &[f64], c: usize) -> (SlipMode, f64) {
         let o = self.contact_memory_offset(c);
         (SlipMode::from_code(memory[o + 1]), memory[o + 2])
+    }
+
+    /// Coefficient `mu` of contact slot `c`'s Coulomb cone from the memory.
+    #[inline]
+    pub fn contact_mu(&self, memory: &[f64], c: usize) -> f64 {
+        memory[self.contact_memory_offset(c) + 6]
+    }
+
+    /// The world direction of contact slot `c`'s edge at `ctx` (`None` without an edge hold).
+    pub fn edge_direction(&self, ctx: &EvalCtx, c: usize) -> Option<Vec3> {
+        let (h, _, _) = self.holds[c]?;
+        Some(kin_of(ctx.kins, h.block).rot * h.dir)
+    }
+
+    /// The anchor [m] that makes the hold of contact slot `c` push the node with `force` [N]
+    /// along its edge at `ctx` (`None` without a hold or without stiffness along the edge).
+    pub fn hold_anchor_for(&self, ctx: &EvalCtx, c: usize, force: f64) -> Option<f64> {
+        let (_, k, damp) = self.holds[c]?;
+        if k <= 0.0 {
+            return None;
+        }
+        let h = self.edge_hold(ctx, c)?;
+        // force = -(k (u - u0) + c u_dot)
+        Some(h.u + (force + damp * h.u_dot) / k)
     }
 
     /// Rate [m/s] at which the rest length of a segment at a hook grows by pay-out.
@@ -782,6 +813,7 @@ impl ForceEffect for RopeEffect {
                 memory[o + 4] = h.cap;
             }
             memory[o + 5] = 0.0;
+            memory[o + 6] = ci.mu;
         }
     }
 
@@ -797,7 +829,7 @@ impl ForceEffect for RopeEffect {
             frozen: &[],
             ..*ctx
         };
-        out.resize(self.n_contacts(), SlipMode::Stick.code());
+        out.resize(2 * self.n_contacts(), SlipMode::Stick.code());
         for r in 0..self.runs.len() {
             let ev = self.eval_run(&free, r);
             for k in 1..ev.points.len() - 1 {
@@ -806,10 +838,11 @@ impl ForceEffect for RopeEffect {
                 // a slide that converged where the node slides the other way: the reversal
                 // passes through sticking, which the return mapping from the step's start skips
                 // (its trial stick already leaves the band on one side or the other)
-                out[c] = match ctx.frozen.get(c) {
+                out[2 * c] = match ctx.frozen.get(2 * c) {
                     Some(&old) if old * code < 0.0 => SlipMode::Stick.code(),
                     _ => code,
                 };
+                out[2 * c + 1] = ev.share[k];
             }
         }
     }
@@ -826,7 +859,7 @@ impl ForceEffect for RopeEffect {
             let ev = self.eval_run(&free, r);
             let np = ev.points.len();
             if (1..np - 1)
-                .all(|k| ctx.frozen[self.contact[ev.points[k]] as usize] == ev.modes[k].code())
+                .all(|k| ctx.frozen[2 * self.contact[ev.points[k]] as usize] == ev.modes[k].code())
             {
                 return true;
             }
@@ -841,17 +874,19 @@ impl ForceEffect for RopeEffect {
     }
 
     fn update_memory(&self, ctx: &EvalCtx, memory: &mut [f64]) -> MemoryChange {
-        // accept the sliding of this step: every node's material coordinate and slip state become
-        // the start of the next step's return mapping (the forces at this instant are unchanged)
+        // accept the sliding of this step: every node's material coordinate, slip state and share
+        // become the start of the next step's return mapping (the forces at this instant are
+        // unchanged). `ctx` carries the decisions the accepted step was solved on when it was
+        // frozen (see `System::update_memory`), so the memory holds what acted
         let mut changed = false;
         for r in 0..self.runs.len() {
             let ev = self.eval_run(ctx, r);
             for (k, &p) in ev.points.iter().enumerate() {
                 if let Some(c) = self.contact_of(p) {
                     let o = self.contact_memory_offset(c);
-                    if memory[o] != ev.sigma[k] || memory[o + 1] != ev.modes[k].code() {
-                        memory[o] = ev.sigma[k];
-                        memory[o + 1] = ev.modes[k].code();
+                    let new = [ev.sigma[k], ev.modes[k].code(), ev.share[k]];
+                    if memory[o..o + 3] != new {
+                        memory[o..o + 3].copy_from_slice(&new);
                         changed = true;
                     }
                 }
@@ -882,8 +917,19 @@ pub struct NodeSegments {
 
 impl RopeEffect {
     /// Segment states of every contact node (index = contact slot), evaluating each run once.
+    /// Evaluated with the decisions in the memory (those of the last accepted step, see
+    /// [`RopeEffect::accepted_decisions`]) unless `ctx` carries decisions.
     pub fn contact_segments(&self, ctx: &EvalCtx) -> Vec<NodeSegments> {
         let mut out = vec![NodeSegments::default(); self.contact_point.len()];
+        let decided = self.accepted_decisions(ctx);
+        let ctx = &EvalCtx {
+            frozen: if ctx.frozen.is_empty() {
+                &decided
+            } else {
+                ctx.frozen
+            },
+            ..*ctx
+        };
         for r in 0..self.runs.len() {
             let ev = self.eval_run(ctx, r);
             for k in 1..ev.points.len() - 1 {
@@ -902,8 +948,19 @@ impl RopeEffect {
         out
     }
 
-    /// Tension [N] and rest length [m] of every segment of rope `r`, in order.
+    /// Tension [N] and rest length [m] of every segment of rope `r`, in order; runs evaluated with
+    /// the decisions in the memory unless `ctx` carries decisions (as
+    /// [`RopeEffect::contact_segments`]).
     pub fn rope_tensions(&self, ctx: &EvalCtx, r: usize) -> Vec<(f64, f64)> {
+        let decided = self.accepted_decisions(ctx);
+        let ctx = &EvalCtx {
+            frozen: if ctx.frozen.is_empty() {
+                &decided
+            } else {
+                ctx.frozen
+            },
+            ..*ctx
+        };
         let (first, end) = self.ropes[r];
         let mut out = vec![(0.0, 0.0); end - first - 1];
         for i in first..end - 1 {
@@ -926,6 +983,21 @@ impl RopeEffect {
 }
 
 impl RopeEffect {
+    /// The decisions stored in the memory of `ctx` (slip state code and share per contact slot,
+    /// the layout of the frozen decisions): those of the last accepted step. Empty when `ctx`
+    /// carries decisions already (they are used instead).
+    pub fn accepted_decisions(&self, ctx: &EvalCtx) -> Vec<f64> {
+        if !ctx.frozen.is_empty() {
+            return Vec::new();
+        }
+        let mut out = Vec::with_capacity(2 * self.n_contacts());
+        for c in 0..self.n_contacts() {
+            let (mode, share) = self.contact_state(ctx.memory, c);
+            out.extend([mode.code(), share]);
+        }
+        out
+    }
+
     /// Stick or slide of every contact node (index = contact slot) as the return mapping settles
     /// it at `ctx` (the memory holds the state of the last accepted step).
     pub fn contact_modes(&self, ctx: &EvalCtx) -> Vec<SlipMode> {

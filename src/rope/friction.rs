@@ -1,4 +1,5 @@
-//! The contact node's reaction split into normal and friction forces, and the Coulomb decisions.
+//! The friction model of a contact node: one Coulomb cone for the friction along the edge and
+//! along the rope, and the return mapping onto it.
 //!
 //! At a contact node `Q` on a plate edge with unit direction `e` (world), the rope arrives from
 //! its neighbours along the unit vectors `e_a` (towards the previous point) and `e_b` (towards the
@@ -9,6 +10,33 @@
 //! pushes), the friction along the edge `F_e = R . e`, along the rope `F_r = R . t`, and
 //! `|F| = sqrt(F_e^2 + F_r^2)`. Coulomb: `|F| <= mu N`. The pseudo friction coefficient is
 //! `rho = 1` while that holds and `rho = mu N / |F|` beyond.
+//!
+//! # One cone, one return mapping
+//!
+//! The model's friction at a node has two parts that act through different elements: along the
+//! edge the hold ([`super::edge_hold`], a stiff spring on the node's coordinate along the edge
+//! whose anchor lives in the memory), so `F_e` is the hold's force; along the rope the limited
+//! tension ratio across the node ([`super::slip`]), so `F_r` and `N` are the components of the
+//! rope's pull `-(T_prev e_prev + T_next e_next)` on the node (`e_*` unit vectors from the node
+//! to its neighbours). Both share one cone `F_e^2 + F_r^2 <= (mu N)^2`, decided by one return
+//! mapping, [`return_map`]: a trial state inside the cone sticks both ways; outside it, the
+//! friction goes to the closest point of the cone in the metric of the two elements'
+//! compliances, which for the stiff hold means the rope gives way first: the edge keeps its
+//! load `F_e` (up to `mu N`) and the rope slides with what is left.
+//!
+//! - Along the rope the mapping runs inside every evaluation of a run ([`super::run`]), from the
+//!   trial where the node sticks: the rope starts sliding through the node when its tensions
+//!   leave the band of the share the cone leaves along the rope, [`rope_share`]
+//!   `s = sqrt(mu^2 - (F_e/N)^2)`, and slides with it (as the sharp-edge law's coefficient in
+//!   the rope's own plane that gives `|F_r| / N = s` in the edge's frame, [`plane_coefficients`]);
+//!   the coefficient is part of the node's memory and of the decisions frozen for a Newton
+//!   iteration, and after every accepted step the contact manager sets it again for the load
+//!   along the edge and the geometry there (a few fixed-point passes, since `N` moves with it).
+//! - Along the edge the mapping runs after every accepted step (the contact manager): a hold
+//!   whose force exceeds `mu N` moves the node along the edge (as before the cone); then every
+//!   hold whose force exceeds what the cone leaves once the rope's friction is carried,
+//!   [`edge_capacity`] `= sqrt((mu N)^2 - F_r^2)`, is clipped to it by moving its anchor. So at
+//!   every accepted state `|F| <= mu N` holds to round-off.
 
 use crate::math::Vec3;
 
@@ -76,22 +104,205 @@ impl Reaction {
         let cap = mu * self.normal.max(0.0);
         if f <= cap { 1.0 } else { cap / f }
     }
+}
 
-    /// The friction coefficient left for sliding along the rope once the load along the edge is
-    /// carried: `sqrt(mu^2 - (F_e/N)^2)`, at least 0.
-    pub fn rope_share(&self, mu: f64) -> f64 {
-        if self.normal <= 0.0 {
-            return 0.0;
+/// The node's friction after the return mapping onto the cone `|(F_e, F_r)| <= mu N`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConeStep {
+    /// Whether the trial friction lies inside the cone (the node sticks along the edge and along
+    /// the rope).
+    pub inside: bool,
+    /// Friction along the edge `F_e` and along the rope `F_r` after the mapping [N].
+    pub along_edge: f64,
+    pub along_rope: f64,
+}
+
+/// The return mapping of a trial friction (`along_edge`, `along_rope` [N]) at normal force
+/// `normal` [N] onto the cone of coefficient `mu` [-]: unchanged inside; outside, the closest
+/// point of the cone in the metric of the two elements' compliances. The hold along the edge is
+/// far stiffer than the rope along itself (ten times a nominal segment's axial stiffness), so in
+/// that limit the rope gives way first: the edge keeps its load and the rope what is left, `F_r* =
+/// sqrt((mu N)^2 - F_e^2)`; only a load along the edge beyond `mu N` itself is cut to `mu N` (and
+/// the rope keeps nothing). No friction while the plate would pull (`normal <= 0`).
+pub fn return_map(mu: f64, normal: f64, along_edge: f64, along_rope: f64) -> ConeStep {
+    let cap = mu * normal.max(0.0);
+    if along_edge.hypot(along_rope) <= cap {
+        return ConeStep {
+            inside: true,
+            along_edge,
+            along_rope,
+        };
+    }
+    let fe = along_edge.clamp(-cap, cap);
+    ConeStep {
+        inside: false,
+        along_edge: fe,
+        along_rope: along_rope.signum() * (cap * cap - fe * fe).max(0.0).sqrt(),
+    }
+}
+
+/// The friction coefficient [-] the node's cone leaves along the rope once the load along the
+/// edge `along_edge` [N] is carried, at normal force `normal` [N]: `sqrt(mu^2 - (F_e/N)^2)`, at
+/// least 0 (the share of [`return_map`]). Without a normal force (`normal <= 0`: the plate would
+/// pull and the contact manager lets the rope leave the edge) the cone says nothing and the node
+/// keeps `mu`.
+///
+/// Whether the rope slides through the node is the band of this share
+/// ([`super::slip::edge_ratio`] with [`plane_coefficients`]), which agrees with the cone
+/// wherever the cone can see the tension difference: not at a fold (turn of 180 degrees), where
+/// the rope's pull has no component along the rope however unequal the tensions.
+pub fn rope_share(mu: f64, normal: f64, along_edge: f64) -> f64 {
+    if normal <= 0.0 {
+        return mu;
+    }
+    let fe = along_edge / normal;
+    (mu * mu - fe * fe).max(0.0).sqrt()
+}
+
+/// Friction capacity [N] the cone leaves along the edge once the friction along the rope
+/// `along_rope` [N] is carried: `sqrt((mu N)^2 - F_r^2)`, at least 0.
+pub fn edge_capacity(mu: f64, normal: f64, along_rope: f64) -> f64 {
+    let cap = mu * normal.max(0.0);
+    (cap * cap - along_rope * along_rope).max(0.0).sqrt()
+}
+
+/// The rope's pull on a contact node (what the plate supplies to a massless node) split in the
+/// node's frame: `-(t_prev e_prev + t_next e_next)`, tensions [N], unit vectors from the node
+/// towards its neighbours (world).
+pub fn rope_pull(
+    frame: &ContactFrame,
+    e_prev: &Vec3,
+    e_next: &Vec3,
+    t_prev: f64,
+    t_next: f64,
+) -> Reaction {
+    Reaction::new(&-(e_prev * t_prev + e_next * t_next), frame)
+}
+
+/// The coefficients `[forward, backward]` of the sharp-edge law in the rope's own plane
+/// ([`super::slip::edge_ratio`] at turn `turn` [rad]) with which the rope's pull on the node has
+/// exactly `|F_r| / N = share` in the node's frame (`e_prev`, `e_next` unit vectors from the node
+/// to its neighbours): forward for `T_next > T_prev`, backward for the other way. In the plane
+/// across the edge both equal `share`; with the rope tilted along the edge the friction of the
+/// law, measured in the edge's frame, differs by a geometric factor, which these take out.
+/// `None` where no positive tension ratio gives that share.
+pub fn plane_coefficients(
+    frame: &ContactFrame,
+    e_prev: &Vec3,
+    e_next: &Vec3,
+    turn: f64,
+    share: f64,
+) -> [Option<f64>; 2] {
+    // F_r / N = (a_t + rho b_t) / (a_n + rho b_n) for rho = T_next / T_prev
+    let (at, an) = (e_prev.dot(&frame.across), e_prev.dot(&frame.normal));
+    let (bt, bn) = (e_next.dot(&frame.across), e_next.dot(&frame.normal));
+    let half = (0.5 * turn).tan();
+    let mut out = [None, None];
+    for q in [share, -share] {
+        let den = bt - q * bn;
+        if den == 0.0 || half <= 0.0 {
+            continue;
         }
-        let fe = self.along_edge / self.normal;
-        (mu * mu - fe * fe).max(0.0).sqrt()
+        let rho = (q * an - at) / den;
+        if !(rho > 0.0 && rho.is_finite()) {
+            continue;
+        }
+        // the law's ratio r = (1 + x) / (1 - x), x = coefficient tan(turn/2)
+        let (slot, r) = if rho >= 1.0 { (0, rho) } else { (1, 1.0 / rho) };
+        let c = (r - 1.0) / (r + 1.0) / half;
+        if out[slot].is_none() {
+            out[slot] = Some(c);
+        }
+    }
+    out
+}
+
+/// A unit vector perpendicular to the unit vector `edge` (the fallback normal of a straight rope).
+pub fn any_normal(edge: &Vec3) -> Vec3 {
+    let a = if edge.x.abs() < 0.9 {
+        Vec3::x()
+    } else {
+        Vec3::y()
+    };
+    (a - edge * edge.dot(&a)).normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn return_map_lands_on_the_cone_rope_first() {
+        let (mu, n) = (0.2, 1e4);
+        // inside: unchanged
+        let m = return_map(mu, n, 1e3, -1e3);
+        assert!(m.inside && m.along_edge == 1e3 && m.along_rope == -1e3);
+        // outside: on the cone, the edge keeping its load, the rope the rest (sign kept)
+        let m = return_map(mu, n, 1.2e3, -4e3);
+        assert!(!m.inside && m.along_edge == 1.2e3);
+        assert!((m.along_rope + 1.6e3).abs() < 1e-9);
+        // the edge alone beyond the cone: cut to mu N, nothing left for the rope
+        let m = return_map(mu, n, -3e3, 5e2);
+        assert!(m.along_edge == -2e3 && m.along_rope == 0.0);
+        // the rope's share: sqrt(0.2^2 - 0.12^2) = 0.16; the full coefficient without edge load
+        assert!((rope_share(mu, n, 1.2e3) - 0.16).abs() < 1e-15);
+        assert!((rope_share(mu, n, 0.0) - mu).abs() < 1e-15);
+        assert_eq!(rope_share(mu, n, 5e3), 0.0);
+        assert_eq!(rope_share(mu, -1.0, 1.0), mu);
+        // what the edge keeps once the rope's friction is carried, and the plate pulling
+        let c = edge_capacity(mu, n, 0.8 * mu * n);
+        assert!((c - 0.6 * mu * n).abs() < 1e-9);
+        assert_eq!(return_map(mu, -1.0, 1.0, 0.0).along_edge, 0.0);
     }
 
-    /// Friction capacity left along the edge [N] when the rope-direction load is carried.
-    pub fn edge_capacity(&self, mu: f64) -> f64 {
-        let cap = mu * self.normal.max(0.0);
-        (cap * cap - self.along_rope * self.along_rope)
-            .max(0.0)
-            .sqrt()
+    #[test]
+    fn planar_pull_obeys_the_sharp_edge_ratio() {
+        // a rope turning by theta in the plane across the edge, sliding at the ratio
+        // (1 + mu tan(theta/2)) / (1 - mu tan(theta/2)): F_r = mu N exactly
+        let (mu, theta) = (0.2f64, 1.1f64);
+        let x = mu * (0.5 * theta).tan();
+        let r = (1.0 + x) / (1.0 - x);
+        let g = 0.5 * (std::f64::consts::PI - theta);
+        let (ea, eb) = (
+            Vec3::new(-g.sin(), -g.cos(), 0.0),
+            Vec3::new(g.sin(), -g.cos(), 0.0),
+        );
+        let edge = Vec3::z();
+        let frame = ContactFrame::new(&edge, &any_normal(&edge), &ea, &eb);
+        let p = rope_pull(&frame, &ea, &eb, 1e4, r * 1e4);
+        assert!(p.along_edge.abs() < 1e-9);
+        assert!((p.along_rope.abs() - mu * p.normal).abs() < 1e-12 * p.normal);
+        // in that plane the law's coefficients are the share itself, both ways
+        let [fwd, bwd] = plane_coefficients(&frame, &ea, &eb, theta, mu);
+        assert!((fwd.unwrap() - mu).abs() < 1e-12 && (bwd.unwrap() - mu).abs() < 1e-12);
+    }
+
+    #[test]
+    fn tilted_pull_at_the_plane_coefficient_has_the_share() {
+        // the next strand tilted 20 degrees along the edge: the law's coefficient from
+        // plane_coefficients puts |F_r| / N at the share in the edge's frame, both ways
+        let (share, g, a) = (0.13, 0.25 * std::f64::consts::PI, 20f64.to_radians());
+        let ea = Vec3::new(-g.sin(), -g.cos(), 0.0);
+        let eb = Vec3::new(g.sin() * a.cos(), -g.cos() * a.cos(), a.sin());
+        let edge = Vec3::z();
+        let frame = ContactFrame::new(&edge, &any_normal(&edge), &ea, &eb);
+        let turn = std::f64::consts::PI - ea.dot(&eb).acos();
+        let [fwd, bwd] = plane_coefficients(&frame, &ea, &eb, turn, share);
+        for (c, forward) in [(fwd.unwrap(), true), (bwd.unwrap(), false)] {
+            let x = c * (0.5 * turn).tan();
+            let r = (1.0 + x) / (1.0 - x);
+            let (tp, tn) = if forward {
+                (1e4, r * 1e4)
+            } else {
+                (r * 1e4, 1e4)
+            };
+            let p = rope_pull(&frame, &ea, &eb, tp, tn);
+            assert!(
+                (p.along_rope.abs() / p.normal - share).abs() < 1e-12,
+                "{forward}"
+            );
+        }
+        // and they differ from the share itself (the geometric factor is not trivial)
+        assert!((fwd.unwrap() - share).abs() > 1e-4);
     }
 }

@@ -53,8 +53,11 @@ impl SlipMode {
 pub struct ContactInit {
     /// Stick or slip.
     pub mode: SlipMode,
-    /// Friction coefficient available along the rope [-] (the Coulomb cone's share left by the
-    /// load along the edge).
+    /// Friction coefficient `mu` [-] of the node's Coulomb cone (along the edge and along the
+    /// rope together, see [`super::friction`]).
+    pub mu: f64,
+    /// Friction coefficient [-] with which the rope slides through the node while it slides
+    /// (the cone's share left by the load along the edge, at most `mu`).
     pub mu_rope: f64,
     /// Friction along the plate edge (the node is held on the edge line by a joint of the scene);
     /// `None`: no element along the edge.

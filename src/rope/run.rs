@@ -3,17 +3,21 @@
 //! The run's points are the material point before the first contact node, the contact nodes, and
 //! the material point after the last. Whether the rope slides through a node is decided inside
 //! every evaluation by a *return mapping* from the node's last accepted material coordinate
-//! `sigma_mem` (memory): the trial state has every node sticking (`sigma = sigma_mem`); a node
-//! whose neighbouring tensions leave the friction band `1/r <= T_next/T_prev <= r` slides in the
-//! direction of the larger tension, and a sliding node whose solved `sigma` moved against that
-//! direction sticks again; this repeats until nothing changes (the active set of a small
-//! complementarity problem, usually settled in one or two passes). Sticking nodes split the run
-//! into chains between points of fixed material coordinate; a chain of one segment follows the
-//! plain law, a longer one (whose interior nodes all slide) the friction-limited sliding of
-//! [`super::slip`]. The forces are thus a continuous, piecewise smooth function of the positions
-//! and the memory, and a node can never slide against its friction. Every pair of the run's points
-//! gets a Jacobian block at every evaluation (zero where uncoupled), so the sparsity pattern only
-//! changes when nodes are inserted or removed.
+//! `sigma_mem` and decisions (memory): the trial state has every node as the last accepted step
+//! left it (warm start; a sticking node at `sigma = sigma_mem`, a sliding one with its share
+//! `mu_rope`); a sticking node slides, in the direction of the larger tension, when its tensions
+//! leave the band `1/r <= T_next/T_prev <= r` of the share `s` its Coulomb cone leaves along the
+//! rope ([`super::friction`]: the hold's force along the edge and the rope's pull along the rope
+//! against `mu N`), and keeps that share while it slides; a sliding node whose solved `sigma` moved
+//! against its direction sticks again; this repeats until nothing changes (the active set of a
+//! small complementarity problem). At the accepted state the warm start is already settled, so an
+//! evaluation there reproduces the step's forces. Sticking nodes split the run into chains between
+//! points of fixed material coordinate; a chain of one segment follows the plain law, a longer one
+//! (whose interior nodes all slide) the friction-limited sliding of [`super::slip`]. The forces are
+//! thus a continuous, piecewise smooth function of the positions and the memory, and a node can
+//! never slide against its friction. Every pair of the run's points gets a Jacobian block at every
+//! evaluation (zero where uncoupled), so the sparsity pattern only changes when nodes are inserted
+//! or removed.
 //!
 //! Within a step's Newton iteration the integrator may freeze the modes (`ctx.frozen`, one code
 //! per contact slot, see [`RopeEffect`]'s `freeze`): the run is then evaluated on that smooth
@@ -23,6 +27,7 @@
 
 use super::assemble::{PointRef, add_pair};
 use super::effect::{RopeEffect, plain_segment};
+use super::friction::{self, ContactFrame};
 use super::layout::SlipMode;
 use super::segment;
 use super::slip::{MAX_MU_TAN, SlipNode, edge_ratio, eval_chain};
@@ -47,6 +52,8 @@ pub struct RunEval {
     pub sigma_rate: Vec<f64>,
     /// Stick or slide at each point (material points: stick).
     pub modes: Vec<SlipMode>,
+    /// Friction coefficient along the rope of each sliding node (0 at material points).
+    pub share: Vec<f64>,
     /// Elastic energy [J], damping and friction power [W].
     pub energy: f64,
     pub damping_power: f64,
@@ -68,32 +75,31 @@ pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32)) -> RunEval
         sigma_mem.push(e.sigma_at(ctx, i));
     }
     let mut modes = vec![SlipMode::Stick; np];
+    let mut share = vec![0.0; np];
     if !ctx.frozen.is_empty() {
-        // modes frozen for a Newton iteration (see `RopeEffect::freeze`)
-        for (k, m) in modes.iter_mut().enumerate().take(np - 1).skip(1) {
-            *m = SlipMode::from_code(ctx.frozen[e.contact[a + k] as usize]);
+        // decisions frozen for a Newton iteration (see `RopeEffect::freeze`), or those of the
+        // accepted step for a report
+        for k in 1..np - 1 {
+            let c = e.contact[a + k] as usize;
+            modes[k] = SlipMode::from_code(ctx.frozen[2 * c]);
+            share[k] = ctx.frozen[2 * c + 1];
         }
-        return eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes);
+        return eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share);
     }
-    let mut ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes);
+    for k in 1..np - 1 {
+        (modes[k], share[k]) = e.contact_state(ctx.memory, e.contact[a + k] as usize);
+    }
+    let mut ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share);
     for _ in 0..4 * np {
         let mut changed = false;
         for k in 1..np - 1 {
-            let c = e.contact[a + k] as usize;
-            let (_, mu) = e.contact_state(ctx.memory, c);
-            let (tp, tn) = (ev.tension[k - 1], ev.tension[k]);
             match modes[k] {
                 SlipMode::Stick => {
-                    let turn = turn_angle(&pos[k - 1], &pos[k], &pos[k + 1]);
-                    if mu * (0.5 * turn).tan() >= MAX_MU_TAN {
-                        continue;
-                    }
-                    let (r, _) = edge_ratio(mu, turn);
-                    if tn > r * tp {
-                        modes[k] = SlipMode::SlipForward;
-                        changed = true;
-                    } else if tp > r * tn {
-                        modes[k] = SlipMode::SlipBackward;
+                    let c = e.contact[a + k] as usize;
+                    let (tp, tn) = (ev.tension[k - 1], ev.tension[k]);
+                    if let Some((m, s)) = starts_sliding(e, ctx, c, &pos[k - 1..=k + 1], tp, tn) {
+                        modes[k] = m;
+                        share[k] = s;
                         changed = true;
                     }
                 }
@@ -110,9 +116,66 @@ pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32)) -> RunEval
         if !changed {
             break;
         }
-        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes);
+        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share);
     }
     ev
+}
+
+/// Whether the rope starts sliding through the sticking contact node of slot `c` (points `p`:
+/// previous, node, next; tensions `tp`, `tn` [N] of its segments): the node's Coulomb cone
+/// leaves the share `s` along the rope ([`friction::rope_share`] of the hold's force along the
+/// edge and the rope's pull); the rope slides in the direction of the larger tension, with that
+/// share, when the tensions leave the share's band.
+fn starts_sliding(
+    e: &RopeEffect,
+    ctx: &EvalCtx,
+    c: usize,
+    p: &[Vec3],
+    tp: f64,
+    tn: f64,
+) -> Option<(SlipMode, f64)> {
+    let mu = e.contact_mu(ctx.memory, c);
+    let turn = turn_angle(&p[0], &p[1], &p[2]);
+    let (la, lb) = ((p[0] - p[1]).norm(), (p[2] - p[1]).norm());
+    if la <= 0.0 || lb <= 0.0 {
+        return None;
+    }
+    let (ea, eb) = ((p[0] - p[1]) / la, (p[2] - p[1]) / lb);
+    let (s_fwd, s_bwd) = match e.edge_direction(ctx, c) {
+        Some(edge) => {
+            let frame = ContactFrame::new(&edge, &friction::any_normal(&edge), &ea, &eb);
+            let pull = friction::rope_pull(&frame, &ea, &eb, tp, tn);
+            let fe = e.edge_hold(ctx, c).map(|h| h.force).unwrap_or(0.0);
+            let s = friction::rope_share(mu, pull.normal, fe);
+            if pull.normal > 0.0 {
+                // the law's coefficient in the rope's plane that gives the share in the
+                // edge's frame (they differ while the rope is tilted along the edge)
+                let [f, b] = friction::plane_coefficients(&frame, &ea, &eb, turn, s);
+                (f.unwrap_or(s), b.unwrap_or(s))
+            } else {
+                (s, s)
+            }
+        }
+        // no element along the edge: the cone in the rope's plane is the band of mu
+        None => (mu, mu),
+    };
+    for (s, mode) in [
+        (s_fwd, SlipMode::SlipForward),
+        (s_bwd, SlipMode::SlipBackward),
+    ] {
+        if s * (0.5 * turn).tan() >= MAX_MU_TAN {
+            continue;
+        }
+        let (r, _) = edge_ratio(s, turn);
+        let leaves = match mode {
+            SlipMode::SlipForward => tn > r * tp,
+            _ => tp > r * tn,
+        };
+        if leaves {
+            return Some((mode, s));
+        }
+    }
+    None
 }
 
 /// Turning angle [rad] of the rope at `p1` between `p0` and `p2`.
@@ -125,7 +188,8 @@ fn turn_angle(p0: &Vec3, p1: &Vec3, p2: &Vec3) -> f64 {
     (u.dot(&w) / d).clamp(-1.0, 1.0).acos()
 }
 
-/// Evaluates the run for given slip modes of its nodes.
+/// Evaluates the run for given slip modes of its nodes and shares of the sliding ones.
+#[allow(clippy::too_many_arguments)]
 fn eval_modes(
     e: &RopeEffect,
     ctx: &EvalCtx,
@@ -134,6 +198,7 @@ fn eval_modes(
     vel: &[Vec3],
     sigma_mem: &[f64],
     modes: &[SlipMode],
+    share: &[f64],
 ) -> RunEval {
     let np = pos.len();
     let props = &e.props[e.rope_of[a] as usize];
@@ -147,6 +212,7 @@ fn eval_modes(
         sigma: vec![0.0; np],
         sigma_rate: vec![0.0; np],
         modes: modes.to_vec(),
+        share: share.to_vec(),
         ..Default::default()
     };
     // chain boundaries: run ends and sticking nodes
@@ -197,12 +263,9 @@ fn eval_modes(
             continue;
         }
         let nodes: Vec<SlipNode> = (k0 + 1..k1)
-            .map(|k| {
-                let (_, mu) = e.contact_state(ctx.memory, e.contact[a + k] as usize);
-                SlipNode {
-                    direction: modes[k].code(),
-                    mu,
-                }
+            .map(|k| SlipNode {
+                direction: modes[k].code(),
+                mu: share[k],
             })
             .collect();
         let ch = eval_chain(&pos[k0..=k1], &vel[k0..=k1], &nodes, s1 - s0, props.ea);

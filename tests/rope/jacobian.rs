@@ -214,18 +214,29 @@ fn setup_with(
             _ if i == 4 && middle_sticks => 0.9,
             _ => 0.05,
         };
-        // edge hold on the block: a slanted edge, the anchor off the node (the spring is loaded)
+        // edge hold on the block: a slanted edge, the anchor at the node (the spring unloaded:
+        // the node's Coulomb cone takes the hold's force along the edge with the rope's friction,
+        // so a loaded spring would make the rope slide; the hold's own derivatives with a loaded
+        // spring are checked in `edge_hold_matches_finite_differences`)
         let dir = Vec3::new(0.3, -0.5, 0.8).normalize();
         let point = Vec3::new(0.2, 0.4, -0.3);
         let hold = EdgeHold {
             block: blk,
             point,
             dir,
-            u0: 0.5 + 0.1 * i as f64,
+            u0: dir.dot(&(kins[0].rot.transpose() * (w - kins[0].r) - point)),
             cap: 1e3,
+        };
+        // the run starts from the decisions in the memory (warm start): the middle node that is
+        // to stick starts sticking
+        let mode = if i == 4 && middle_sticks {
+            SlipMode::Stick
+        } else {
+            mode
         };
         let contact = (contacts && (3..=5).contains(&i)).then_some(ContactInit {
             mode,
+            mu,
             mu_rope: mu,
             hold: Some(hold),
         });

@@ -1,10 +1,12 @@
 //! RopeBlock physics tests against independent references (one test binary for build speed).
 
+mod cone;
 mod edge;
 mod friction;
 mod geometry;
 mod hanging;
 mod hard_cases;
 mod jacobian;
+mod reports;
 mod rig;
 mod slings;

@@ -110,7 +110,8 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
                     joints.push((blocks[c.block], edge.a, edge.dir, id));
                     Some(ContactInit {
                         mode: c.mode,
-                        mu_rope: c.mu_rope,
+                        mu: rope.props.friction,
+                        mu_rope: c.mu_rope.min(rope.props.friction),
                         hold: Some(EdgeHold {
                             block: blocks[c.block],
                             point: edge.a,

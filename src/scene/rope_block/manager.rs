@@ -12,9 +12,9 @@ use super::structure::Structure;
 use crate::dae::System;
 use crate::integrator::{SolverError, StepAction, StepHook};
 use crate::math::Vec3;
-use crate::rope::NodeSegments;
-use crate::rope::friction::{ContactFrame, Reaction};
+use crate::rope::friction::{self, ContactFrame, Reaction};
 use crate::rope::shell::detect::{clears_edge, segment_crossing};
+use crate::rope::{NodeSegments, SlipMode};
 use crate::state::State;
 
 /// Settings of contact detection and node management.
@@ -143,8 +143,10 @@ pub struct NodeReport {
     pub u: f64,
     /// Force of the hold along the edge on the node [N].
     pub hold_force: f64,
-    /// The rope's pull on the node split in the contact frame: what the plate must supply for a
-    /// massless node (smooth in time, unlike the index-3 multipliers); the friction law uses it.
+    /// The rope's pull on the node split in the contact frame: what the plate (joint and hold)
+    /// must supply for a massless node (smooth in time, unlike the index-3 multipliers). The
+    /// node's Coulomb cone ([`crate::rope::friction`]) takes its normal and along-rope parts with
+    /// the hold's force along the edge (`hold_force`).
     pub pull: Reaction,
 }
 
@@ -207,10 +209,7 @@ pub fn node_reports(
             p_next: pn,
             u: hold.map(|h| h.u).unwrap_or(0.0),
             hold_force: along,
-            pull: Reaction::new(
-                &-(e_prev * segs[c].t_prev + e_next * segs[c].t_next - kin.rot * edge.dir * along),
-                &frame,
-            ),
+            pull: friction::rope_pull(&frame, &e_prev, &e_next, segs[c].t_prev, segs[c].t_next),
         });
     }
     out
@@ -248,7 +247,8 @@ impl Manager<'_> {
             let Some(ct) = spec.nodes[rep.node].contact else {
                 continue;
             };
-            let mu = spec.props.friction;
+            let o = base + rope.contact_memory_offset(c);
+            let mu = st.memory[o + 6];
             // the friction law works on the rope's pull (see NodeReport::pull)
             let n = rep.pull.normal;
             let mesh = self.structure.blocks[ct.block].mesh.as_ref();
@@ -266,11 +266,11 @@ impl Manager<'_> {
                     continue;
                 }
             }
-            // friction along the edge: the paper's pseudo friction coefficient. While the hold's
-            // force stays within mu N the node sticks (rho = 1); beyond, the node and its anchor
-            // move along the edge by the unbalanced share, |F| - mu N divided by the rope's
-            // stiffness along the edge, so that the next step starts at the friction limit.
-            let o = base + rope.contact_memory_offset(c);
+            // friction along the edge: the node's Coulomb cone gives the edge's load way last
+            // (friction::return_map), so the edge slides once its hold's force exceeds mu N;
+            // then the node and its anchor move along the edge by the unbalanced share divided
+            // by the rope's stiffness along the edge, so that the next step starts at the
+            // friction limit (the hold's force itself is cut to the cone by `enforce_cone`)
             let seg = rep.segments;
             let cap = mu * n.max(0.0);
             st.memory[o + 4] = cap;
@@ -337,6 +337,119 @@ impl Manager<'_> {
                     seg: rep.node + 1,
                 });
             }
+        }
+        if changed {
+            // the slides moved nodes: the rope's stick/slip decisions of the step belong to the
+            // state before them, so they are taken again at the moved state (the return mapping
+            // from the accepted memory), and the reports show the forces that act from there
+            let State {
+                t, q, v, memory, ..
+            } = st;
+            sys.update_memory(*t, q, v, memory);
+        }
+        self.enforce_cone(sys, st) || changed
+    }
+
+    /// The node's Coulomb cone at the state the step and the slides left
+    /// ([`friction::return_map`]): the rope sliding through a node gets the share the edge's
+    /// load leaves ([`friction::rope_share`] as the sharp-edge coefficient of
+    /// [`friction::plane_coefficients`] at this geometry; a few passes, since `N` moves with the
+    /// share), then every hold whose force exceeds what the cone leaves along the edge
+    /// ([`friction::edge_capacity`] of the rope's pull) gets the anchor that makes its force that
+    /// capacity. So `|(F_e, F_r)| <= mu N` holds at the accepted state. Returns whether the
+    /// memory changed.
+    fn enforce_cone(&mut self, sys: &mut System, st: &mut State) -> bool {
+        let rope = &self.map.rope;
+        let base = self.map.rope_memory;
+        let mut changed = false;
+        for _ in 0..4 {
+            let reports = node_reports(sys, self.map, self.structure, st);
+            let mut shares = Vec::new();
+            for rep in &reports {
+                let o = base + rope.contact_memory_offset(rep.slot);
+                let (mode, share, mu) = (
+                    SlipMode::from_code(st.memory[o + 1]),
+                    st.memory[o + 2],
+                    st.memory[o + 6],
+                );
+                let n = rep.pull.normal;
+                // only where the cone is left: a share changed at every step would be a force
+                // discontinuity at every step (BDF's steps collapsed on the default lift)
+                let inside = rep.hold_force.hypot(rep.pull.along_rope) <= mu * n * (1.0 + 1e-12);
+                if mode == SlipMode::Stick || n <= 0.0 || inside {
+                    continue;
+                }
+                let want = friction::rope_share(mu, n, rep.hold_force);
+                let [fwd, bwd] = friction::plane_coefficients(
+                    &rep.frame,
+                    &rep.e_prev,
+                    &rep.e_next,
+                    rep.turn,
+                    want,
+                );
+                let c = if mode == SlipMode::SlipForward {
+                    fwd
+                } else {
+                    bwd
+                }
+                .unwrap_or(want);
+                if (c - share).abs() > 1e-13 * share.max(1e-3) {
+                    shares.push((o + 2, c));
+                }
+            }
+            if shares.is_empty() {
+                break;
+            }
+            if self.energy_before_slides.is_none() {
+                self.energy_before_slides = Some(self.mechanical_energy(sys, st));
+            }
+            for (i, c) in shares {
+                st.memory[i] = c;
+            }
+            changed = true;
+        }
+        let reports = node_reports(sys, self.map, self.structure, st);
+        let ctx = rope_ctx(self.map, sys.kins(), &sys.inputs, st);
+        let mut anchors = Vec::new();
+        for rep in &reports {
+            let c = rep.slot;
+            let cap = friction::edge_capacity(
+                rope.contact_mu(ctx.memory, c),
+                rep.pull.normal,
+                rep.pull.along_rope,
+            );
+            let sticks = rope.contact_state(ctx.memory, c).0 == SlipMode::Stick;
+            if rep.hold_force.abs() > cap
+                && (!sticks
+                    || rep.hold_force.abs()
+                        > rope.contact_mu(ctx.memory, c) * rep.pull.normal.max(0.0))
+                && let Some(u0) = rope.hold_anchor_for(&ctx, c, rep.hold_force.signum() * cap)
+            {
+                anchors.push((base + rope.contact_memory_offset(c) + 3, u0));
+            }
+        }
+        if anchors.is_empty() {
+            return changed;
+        }
+        if self.energy_before_slides.is_none() {
+            self.energy_before_slides = Some(self.mechanical_energy(sys, st));
+        }
+        for (i, u0) in anchors {
+            st.memory[i] = u0;
+        }
+        true
+    }
+
+    /// The node cones at a state no step has managed (just rebuilt): [`Manager::enforce_cone`],
+    /// with the system's memory updated and the energy it removes booked as slide dissipation.
+    /// Returns whether the memory changed (the caller restarts the integrator).
+    pub fn settle_cone(&mut self, sys: &mut System, st: &mut State) -> bool {
+        let changed = self.enforce_cone(sys, st);
+        if changed {
+            sys.memory.copy_from_slice(&st.memory);
+        }
+        if let Some(before) = self.energy_before_slides.take() {
+            *self.slide_dissipation += before - self.mechanical_energy(sys, st);
         }
         changed
     }

@@ -191,6 +191,17 @@ impl RopeBlockSim {
             self.sync();
             apply(&mut self.structure, &edits, &mut self.counters);
             self.rebuild()?;
+            // the rebuilt state has its nodes' cones settled like every accepted step's
+            let mut mgr = Manager::new(
+                &self.structure,
+                &self.map,
+                &self.contact,
+                &mut self.counters,
+                &mut self.slide_dissipation,
+            );
+            if mgr.settle_cone(&mut self.sim.system, &mut self.sim.state) {
+                self.sim.restart().map_err(|e| e.0)?;
+            }
         }
     }
 

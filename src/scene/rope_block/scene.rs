@@ -43,9 +43,11 @@ pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
     for c in 0..n {
         let o = base + sim.map.rope.contact_memory_offset(c);
         let m = &mut sim.sim.state.memory;
-        saved.push((m[o + 1], m[o + 2]));
+        saved.push((m[o + 1], m[o + 2], m[o + 6]));
+        // frictionless sliding: no share along the rope, no cone to re-stick in
         m[o + 1] = SlipMode::SlipForward.code();
         m[o + 2] = 0.0;
+        m[o + 6] = 0.0;
     }
     sim.sim.restart().map_err(|e| e.0)?;
     statics::solve(sim, 1e-9 * weight, 300)?;
@@ -57,11 +59,12 @@ pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
         &sim.sim.state.v.clone(),
         &mut sim.sim.state.memory,
     );
-    for (c, (mode, mu)) in saved.into_iter().enumerate() {
+    for (c, (mode, share, mu)) in saved.into_iter().enumerate() {
         let o = base + sim.map.rope.contact_memory_offset(c);
         let m = &mut sim.sim.state.memory;
         m[o + 1] = mode;
-        m[o + 2] = mu;
+        m[o + 2] = share;
+        m[o + 6] = mu;
     }
     sim.sim.restart().map_err(|e| e.0)
 }
