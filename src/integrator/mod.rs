@@ -80,7 +80,7 @@ pub struct Settings {
     /// moved gen-alpha's energy errors past the stability suite's bounds; RopeBlock turns it on
     /// (long slings: factorizations per step 0.76 -> 0.32 at 5000 segments).
     pub equal_steps: bool,
-    /// Gen-alpha and BDF, adaptive: hold the local error of a step of `h` to `min(h / 1 s, 1)`
+    /// Adaptive gen-alpha, BDF and DOPRI5: hold the local error of a step of `h` to `min(h / 1 s, 1)`
     /// of the tolerance (error per unit step, on by default), so that the errors of many short
     /// steps add up to about the tolerance per second of motion rather than the tolerance per
     /// step (global error proportional to rtol; see `docs/integrator_error_control.md`). Off, each
