@@ -7,6 +7,7 @@ mod geometry;
 mod hanging;
 mod hard_cases;
 mod jacobian;
+mod lift_cone;
 mod reports;
 mod rig;
 mod slings;

@@ -359,9 +359,9 @@ impl Manager<'_> {
     /// capacity. So `|(F_e, F_r)| <= mu N` holds at the accepted state. Returns whether the
     /// memory changed.
     fn enforce_cone(&mut self, sys: &mut System, st: &mut State) -> bool {
+        let mut changed = self.redecide_sticking(sys, st);
         let rope = &self.map.rope;
         let base = self.map.rope_memory;
-        let mut changed = false;
         for _ in 0..4 {
             let reports = node_reports(sys, self.map, self.structure, st);
             let mut shares = Vec::new();
@@ -436,6 +436,90 @@ impl Manager<'_> {
         }
         for (i, u0) in anchors {
             st.memory[i] = u0;
+        }
+        true
+    }
+
+    /// A node the step kept sticking along the rope can sit outside its cone at the accepted
+    /// state: the step was solved on frozen decisions, accepted when the return mapping's
+    /// material coordinates agree with them to the position tolerance, and near the band's edge
+    /// (heavy rope damping, turns under a degree) that leaves friction well above `mu N` (0.167
+    /// against 0.15 in the default lift). Where a sticking node's friction leaves the cone the
+    /// accepted state is decided again by the return mapping (the memory update without frozen
+    /// decisions, warm-started from the step's): the rope slides through the node with its
+    /// share. Returns whether the memory changed.
+    fn redecide_sticking(&mut self, sys: &mut System, st: &mut State) -> bool {
+        let reports = node_reports(sys, self.map, self.structure, st);
+        let rope = &self.map.rope;
+        let mem = &st.memory[self.map.rope_memory..];
+        let outside = reports.iter().any(|rep| {
+            let (mode, _) = rope.contact_state(mem, rep.slot);
+            let mu = rope.contact_mu(mem, rep.slot);
+            let n = rep.pull.normal;
+            mode == SlipMode::Stick
+                && n > 0.0
+                && rep.hold_force.hypot(rep.pull.along_rope) > mu * n * (1.0 + 1e-12)
+        });
+        if !outside {
+            return false;
+        }
+        if self.energy_before_slides.is_none() {
+            self.energy_before_slides = Some(self.mechanical_energy(sys, st));
+        }
+        let State {
+            t, q, v, memory, ..
+        } = st;
+        sys.update_memory(*t, q, v, memory);
+        // Still sticking outside the cone: the tensions include the Kelvin-Voigt damping of the
+        // node's material segments, a sliding chain has none (see `rope::slip`), and on the
+        // elastic tensions alone the slide would run against its friction, so the return mapping
+        // goes back to sticking. The node is then set sliding towards the larger tension with
+        // its share and the material coordinate that branch solves: friction on the cone, the
+        // damping of those two segments dropped (booked as slide dissipation).
+        let base = self.map.rope_memory;
+        let outside = |rep: &NodeReport, mem: &[f64]| {
+            let n = rep.pull.normal;
+            rope.contact_state(mem, rep.slot).0 == SlipMode::Stick
+                && n > 0.0
+                && rep.hold_force.hypot(rep.pull.along_rope)
+                    > rope.contact_mu(mem, rep.slot) * n * (1.0 + 1e-12)
+        };
+        let mut slid = Vec::new();
+        for rep in node_reports(sys, self.map, self.structure, st) {
+            let mem = &st.memory[base..];
+            if !outside(&rep, mem) {
+                continue;
+            }
+            let mu = rope.contact_mu(mem, rep.slot);
+            let share = friction::rope_share(mu, rep.pull.normal, rep.hold_force);
+            let [fwd, bwd] =
+                friction::plane_coefficients(&rep.frame, &rep.e_prev, &rep.e_next, rep.turn, share);
+            let (mode, c) = if rep.segments.t_next > rep.segments.t_prev {
+                (SlipMode::SlipForward, fwd)
+            } else {
+                (SlipMode::SlipBackward, bwd)
+            };
+            slid.push((
+                base + rope.contact_memory_offset(rep.slot),
+                mode,
+                c.unwrap_or(share),
+            ));
+        }
+        for &(o, mode, c) in &slid {
+            st.memory[o + 1] = mode.code();
+            st.memory[o + 2] = c;
+        }
+        if !slid.is_empty() {
+            let reports = node_reports(sys, self.map, self.structure, st);
+            for &(o, _, _) in &slid {
+                if let Some(rep) = reports
+                    .iter()
+                    .find(|r| base + rope.contact_memory_offset(r.slot) == o)
+                {
+                    st.memory[o] = rep.segments.sigma;
+                }
+            }
+            sys.memory.copy_from_slice(&st.memory);
         }
         true
     }
