@@ -3,10 +3,11 @@
 //! with a larger error. Reference: the chain in absolute joint angles (closed-form mass matrix),
 //! classical RK4 at 40,000 steps, checked against 20,000.
 
-use mbcosim::integrator::{IntegratorKind, Settings};
+mod common;
+use common::{planar_distance, simulated_planar_point};
+use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::{Mat3, Vec3};
-use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, Model, ModelBuilder, kinematics};
-use mbcosim::sim::Simulation;
+use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, Model, ModelBuilder};
 use nalgebra::{DMatrix, DVector};
 
 const N: usize = 8;
@@ -99,47 +100,28 @@ fn reference_tip(steps: usize) -> [f64; 2] {
     [x, z]
 }
 
-/// Distance between two points of the plane [m].
-fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
-fn simulated_tip(
-    model: &Model,
-    offset: usize,
-    kind: IntegratorKind,
-    rtol: f64,
-) -> Result<[f64; 2], String> {
-    let s = Settings {
-        rtol,
-        atol: rtol,
-        max_steps: 10_000_000,
-        ..Settings::default()
-    };
-    let mut sim = Simulation::new(model.clone(), kind, s, 0.0).map_err(|e| format!("{e:?}"))?;
-    sim.advance_to(T_END).map_err(|e| format!("{e:?}"))?;
-    let q = &sim.state.q;
-    let tip = Vec3::new(q[offset], q[offset + 1], q[offset + 2])
-        + kinematics::quat_at(q, offset + 3) * Vec3::new(0.5 * LEN, 0.0, 0.0);
-    Ok([tip.x, tip.y])
-}
-
 /// Every integrator; generalized-alpha with its default error per unit step (per step it
 /// returned OK with 8.7 m at rtol 7e-3 here).
 #[test]
 fn eight_link_pendulum_meets_every_tolerance_or_says_why() {
     let reference = reference_tip(40_000);
     let check = reference_tip(20_000);
-    let ref_err = distance(reference, check);
+    let ref_err = planar_distance(reference, check);
     assert!(ref_err < 1e-11, "reference not converged: {ref_err:.2e}");
     let (model, offset) = chain();
     for kind in IntegratorKind::ALL {
         let mut errors = Vec::new();
         for k in 1..=10 {
             let rtol = 10f64.powi(-k);
-            match simulated_tip(&model, offset, kind, rtol) {
+            match simulated_planar_point(
+                &model,
+                (offset, Vec3::new(0.5 * LEN, 0.0, 0.0)),
+                kind,
+                rtol,
+                T_END,
+            ) {
                 Ok(tip) => {
-                    let e = distance(tip, reference);
+                    let e = planar_distance(tip, reference);
                     println!(
                         "{:8} rtol {rtol:.0e}: tip error {e:.2e} m ({:.2} rtol)",
                         kind.name(),

@@ -14,10 +14,11 @@
 //! classical RK4 at 100,000 steps, checked against 50,000. It shares no code with the library
 //! (which works in 3D with quaternions and 20 joint rows, 3 of them dropped as redundant).
 
-use mbcosim::integrator::{IntegratorKind, Settings};
+mod common;
+use common::{planar_distance, simulated_planar_point};
+use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::{Mat3, Quat, Vec3};
-use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, Model, ModelBuilder, kinematics};
-use mbcosim::sim::Simulation;
+use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, Model, ModelBuilder};
 use nalgebra::{DMatrix, DVector};
 
 const G: f64 = 9.81;
@@ -198,35 +199,10 @@ fn four_bar() -> (Model, usize) {
     (model, off)
 }
 
-/// Coupler point [m] at `T_END` by `kind` at `rtol` (atol = rtol), or the failure's message.
-fn simulated_point(
-    model: &Model,
-    off: usize,
-    kind: IntegratorKind,
-    rtol: f64,
-) -> Result<[f64; 2], String> {
-    let s = Settings {
-        rtol,
-        atol: rtol,
-        max_steps: 10_000_000,
-        ..Settings::default()
-    };
-    let mut sim = Simulation::new(model.clone(), kind, s, 0.0).map_err(|e| format!("{e:?}"))?;
-    sim.advance_to(T_END).map_err(|e| format!("{e:?}"))?;
-    let q = &sim.state.q;
-    let p = Vec3::new(q[off], q[off + 1], q[off + 2])
-        + kinematics::quat_at(q, off + 3) * Vec3::new(0.0, P_OFF, 0.0);
-    Ok([p.x, p.y])
-}
-
-fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
 #[test]
 fn four_bar_reference_is_converged() {
     let (fine, coarse) = (reference_point(100_000), reference_point(50_000));
-    let d = distance(fine, coarse);
+    let d = planar_distance(fine, coarse);
     assert!(
         d < 1e-11,
         "RK4 reference not converged: {d:e} m between 50k and 100k steps"
@@ -234,7 +210,7 @@ fn four_bar_reference_is_converged() {
     // the accuracy suite's reference (one-DOF crank-angle ODE, extrapolation) at 6.5e-13 m
     let suite = [0.343161881112, 0.555922057376];
     assert!(
-        distance(fine, suite) < 1e-11,
+        planar_distance(fine, suite) < 1e-11,
         "two independent references differ: {fine:?} against {suite:?}"
     );
 }
@@ -270,9 +246,9 @@ fn within_100_rtol_and_monotone(kind: IntegratorKind, fail_from: f64, message: &
     let mut report = String::new();
     let mut too_large = Vec::new();
     for &rtol in &rtols {
-        match simulated_point(&model, off, kind, rtol) {
+        match simulated_planar_point(&model, (off, Vec3::new(0.0, P_OFF, 0.0)), kind, rtol, T_END) {
             Ok(p) => {
-                let e = distance(p, reference);
+                let e = planar_distance(p, reference);
                 report.push_str(&format!(
                     "rtol {rtol:.0e}: error {e:.2e} m ({:.3} rtol)\n",
                     e / rtol

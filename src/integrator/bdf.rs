@@ -15,6 +15,7 @@
 //! In fixed-step mode (order studies) the first `k - 1` points come from a tight DOPRI5 run.
 //! The history is re-expressed in the chart of the newest point at every step.
 
+use super::ERROR_TIME_UNIT;
 use super::JacobianPoint;
 use super::dopri::Dopri5;
 use super::newton::{DIVERGENCE_RATE, MAX_ITERATIONS, NewtonTest, Progress, Verdict};
@@ -44,14 +45,9 @@ const FIRST_CORRECTION_FACTOR: f64 = 1e4;
 // the failure message names the cap
 const _: () = assert!(MAX_ITERATIONS == 12);
 
-/// Error per unit step: the local error of an adaptive step of `h` is held to
-/// `h / UNIT_TIME` of the tolerance (at most all of it), so the local errors of the steps in one
-/// `UNIT_TIME` add up to at most the tolerance [s].
-const UNIT_TIME: f64 = 1.0;
-
 /// A step's error weights are at least `ROUND_OFF_EPSILONS` machine epsilons of the largest
 /// position scale (positions) and of the largest speed (speeds, at least that position scale
-/// per `UNIT_TIME`): below that the estimate and Newton's stopping test would see round-off.
+/// per `ERROR_TIME_UNIT`): below that the estimate and Newton's stopping test would see round-off.
 const ROUND_OFF_EPSILONS: f64 = 300.0;
 
 /// A Newton iteration that stops contracting with corrections below `NEWTON_ROUND_OFF_EPSILONS`
@@ -83,7 +79,7 @@ pub struct Bdf {
     lin: LinearSolver,
     jac_alpha0: f64,
     jac_valid: bool,
-    /// The current step's weights are `h / UNIT_TIME` of the tolerance (error per unit step:
+    /// The current step's weights are `h / ERROR_TIME_UNIT` of the tolerance (error per unit step:
     /// the estimate is of order `k` in `h`, not `k + 1`).
     per_unit_step: bool,
     /// Round-off of positions [m, rad] and speeds [m/s, rad/s]: machine epsilon times their
@@ -604,8 +600,8 @@ impl Bdf {
     }
 
     /// Scales the error weights `wx`, `wv` (built from rtol/atol at the step's start) to the
-    /// share of the tolerance a step of `h` [s] may use: `h / UNIT_TIME` of it (all of it from
-    /// `UNIT_TIME` on, with fixed steps and with `Settings::error_per_unit_step` off), never
+    /// share of the tolerance a step of `h` [s] may use: `h / ERROR_TIME_UNIT` of it (all of it from
+    /// `ERROR_TIME_UNIT` on, with fixed steps and with `Settings::error_per_unit_step` off), never
     /// below the round-off floor
     /// ([`ROUND_OFF_EPSILONS`]).
     fn scale_weights(&mut self, h: f64) {
@@ -614,11 +610,7 @@ impl Bdf {
             self.round_off = [0.0; 2];
             return;
         }
-        let f = if self.s.error_per_unit_step {
-            (h / UNIT_TIME).min(1.0)
-        } else {
-            1.0
-        };
+        let f = self.s.error_share(h);
         self.per_unit_step = f < 1.0;
         // weights are atol + rtol * scale: recover the largest position scale [m or rad]; a
         // body at the origin still moves by its speed: lengths and speeds scale each other
@@ -629,8 +621,8 @@ impl Bdf {
             .fold(0.0, f64::max);
         let v_max = max_abs(&self.hist[0].v);
         let (x_scale, v_scale) = (
-            x_scale.max(v_max * UNIT_TIME),
-            v_max.max(x_scale / UNIT_TIME),
+            x_scale.max(v_max * ERROR_TIME_UNIT),
+            v_max.max(x_scale / ERROR_TIME_UNIT),
         );
         self.round_off = [f64::EPSILON * x_scale, f64::EPSILON * v_scale];
         let [fx, fv] = self.round_off.map(|r| ROUND_OFF_EPSILONS * r);

@@ -6,6 +6,7 @@
 //! so the drift of the index-1 form never accumulates. For non-stiff scenes: its stability region
 //! bounds the step by the stiffest mode (contact, rope segments).
 
+use super::events::EventLocator;
 use super::init::{
     ProjectionScratch, accelerations, project_positions_reusing, project_velocities_reusing,
 };
@@ -16,7 +17,6 @@ use super::{
 };
 use crate::dae::System;
 use crate::dae::linear::LinearSolver;
-use crate::effect::MemoryChange;
 use crate::math::wrms;
 use crate::state::State;
 
@@ -70,15 +70,13 @@ const E: [f64; 7] = [
     -1.0 / 40.0,
 ];
 
-/// Share of the local error tolerance a step of `h` [s] may use with the error held per unit
-/// step (`Settings::error_per_unit_step`): `h / 1 s`, at least 1e-4 (the estimate of a shorter
-/// step, e.g. one cut to land on a contact event, is round-off at about `eps / rtol` of the
-/// weights: 2e-6 at rtol 1e-10) and at most 1. Per step, every step may leave one tolerance and
-/// the four-bar, which amplifies a speed error 160-fold, ended 31-730 x rtol off; per unit step
-/// the errors of many steps add up to about the tolerance per second of motion.
-fn unit_step_share(h: f64) -> f64 {
-    h.clamp(1e-4, 1.0)
-}
+/// Smallest share of the local error tolerance a step may be held to per unit step
+/// ([`Settings::error_share`]): the estimate of a shorter step, e.g. one cut to land on a contact
+/// event, is round-off at about `eps / rtol` of the weights (2e-6 at rtol 1e-10). Per step,
+/// every step may leave one tolerance and the four-bar, which amplifies a speed error 160-fold,
+/// ended 31-730 x rtol off; per unit step the errors of many steps add up to about the
+/// tolerance per second of motion.
+const MIN_ERROR_SHARE: f64 = 1e-4;
 
 /// Coefficients of the 4th-order continuous extension (dense output) of Dormand-Prince 5(4)
 /// (Shampine 1986, as in Hairer, Norsett and Wanner, Solving ODEs I, sec. II.6): with
@@ -126,11 +124,8 @@ pub struct Dopri5 {
     /// Buffers of the projections.
     projection: ProjectionScratch,
     /// Contact-event location (only for models with contact events, see
-    /// [`System::n_contact_events`]): event functions at the step's start and end and at a
-    /// dense-output point.
-    g0: Vec<f64>,
-    g1: Vec<f64>,
-    gt: Vec<f64>,
+    /// [`System::n_contact_events`]).
+    events: EventLocator,
     /// Dense output: `h sum d_i k_i` of chart positions and speeds, and the interpolated point.
     rx: Vec<f64>,
     rv: Vec<f64>,
@@ -143,12 +138,6 @@ pub struct Dopri5 {
     /// function `> 0` that is `<= 0` at the step's start (`inf`: none): a contact that closes
     /// and opens again within the step, which its ends do not show.
     hidden: f64,
-    /// Events located in a step (index, fraction of the step).
-    roots: Vec<(usize, f64)>,
-    /// Events the step being retaken ends on: recorded after it is accepted.
-    landing: Vec<usize>,
-    /// The state's effect memory before the step hook of a step that lands on events.
-    step_start_memory: Vec<f64>,
     /// Watches the constraint pivots for singular configurations.
     rank: RankMonitor,
     /// Speeds where the current passage through a singular configuration began (empty outside).
@@ -182,17 +171,12 @@ impl Dopri5 {
             wv: Vec::new(),
             k1_valid: false,
             projection: ProjectionScratch::default(),
-            g0: Vec::new(),
-            g1: Vec::new(),
-            gt: Vec::new(),
+            events: EventLocator::default(),
             rx: Vec::new(),
             rv: Vec::new(),
             xd: Vec::new(),
             vd: Vec::new(),
             qd: Vec::new(),
-            roots: Vec::new(),
-            landing: Vec::new(),
-            step_start_memory: Vec::new(),
             watch_stages: false,
             hidden: f64::INFINITY,
             rank: RankMonitor::default(),
@@ -219,9 +203,7 @@ impl Dopri5 {
         self.rhs.resize(nv + nc, 0.0);
         let n_on = sys.n_contact_events();
         if n_on > 0 {
-            for g in [&mut self.g0, &mut self.g1, &mut self.gt] {
-                g.resize(n_on, 0.0);
-            }
+            self.events.resize(n_on);
             for v in [&mut self.rx, &mut self.rv, &mut self.xd, &mut self.vd] {
                 v.resize(nv, 0.0);
             }
@@ -232,45 +214,47 @@ impl Dopri5 {
     /// After stage `i` (at `qs`, `vs`) of a trial step from `st`: notes in `hidden` the stage's
     /// fraction of the step when an event function is positive there but not at the start.
     fn watch_stage(&mut self, sys: &mut System, st: &State, i: usize) {
-        sys.contact_event_functions(st.t, &self.qs, &self.vs, &mut self.gt);
-        if !self.gt.iter().any(|g| *g > 0.0) {
+        let ev = &mut self.events;
+        sys.contact_event_functions(st.t, &self.qs, &self.vs, &mut ev.gt);
+        if !ev.gt.iter().any(|g| *g > 0.0) {
             return;
         }
-        sys.contact_event_functions(st.t, &st.q, &st.v, &mut self.g0);
-        if self
+        sys.contact_event_functions(st.t, &st.q, &st.v, &mut ev.g0);
+        if ev
             .gt
             .iter()
-            .zip(&self.g0)
+            .zip(&ev.g0)
             .any(|(g, g0)| *g > 0.0 && *g0 <= 0.0)
         {
             self.hidden = C[i];
         }
     }
 
-    /// Event function `i` at the fraction `theta` of the trial step of size `h` from `st`, on
-    /// the dense output (`rx`, `rv` prepared by [`Dopri5::events_in_step`]).
-    fn gap_at(&mut self, sys: &mut System, st: &State, h: f64, theta: f64, i: usize) -> f64 {
+    /// The event functions (into `out`) at the fraction `theta` of the trial step of size `h`
+    /// from `st`, on the dense output (`rx`, `rv` prepared by [`Dopri5::events_in_step`]).
+    fn events_at(&mut self, sys: &mut System, st: &State, h: f64, theta: f64, out: &mut [f64]) {
         for k in 0..self.x.len() {
             let (kx1, kx7, kv1, kv7) = (self.kx[0][k], self.kx[6][k], self.kv[0][k], self.kv[6][k]);
             self.xd[k] = dense(theta, 0.0, self.x[k], h * kx1, h * kx7, self.rx[k]);
             self.vd[k] = dense(theta, st.v[k], self.vs[k], h * kv1, h * kv7, self.rv[k]);
         }
         sys.model.retract(&st.q, &self.xd, &mut self.qd);
-        sys.contact_event_functions(st.t + theta * h, &self.qd, &self.vd, &mut self.gt);
-        self.gt[i]
+        sys.contact_event_functions(st.t + theta * h, &self.qd, &self.vd, out);
     }
 
     /// After a trial step of size `h` from `st` that passed the error test (its end in `qs`,
     /// `vs`, its stages in `kx`, `kv`): the earliest contact event (closing or opening) inside
     /// the step, as a fraction of the step, located on the dense output to 1e-12 of the step;
-    /// `landing` then holds the events at that instant. `None`: no contact closes or opens.
+    /// `events.landing` then holds the events at that instant. `None`: no contact closes or
+    /// opens.
     fn events_in_step(&mut self, sys: &mut System, st: &State, h: f64) -> Option<f64> {
-        self.landing.clear();
-        sys.contact_event_functions(st.t + h, &self.qs, &self.vs, &mut self.g1);
-        if !self.g1.iter().any(|g| *g > 0.0) {
+        let mut ev = std::mem::take(&mut self.events);
+        sys.contact_event_functions(st.t + h, &self.qs, &self.vs, &mut ev.g1);
+        if !ev.end_has_event() {
+            ev.landing.clear();
+            self.events = ev;
             return None;
         }
-        sys.contact_event_functions(st.t, &st.q, &st.v, &mut self.g0);
         for k in 0..self.x.len() {
             let (mut sx, mut sv) = (0.0, 0.0);
             for (i, d) in D.iter().enumerate() {
@@ -280,15 +264,8 @@ impl Dopri5 {
             self.rx[k] = h * sx;
             self.rv[k] = h * sv;
         }
-        let (g0, g1) = (std::mem::take(&mut self.g0), std::mem::take(&mut self.g1));
-        let (mut roots, mut landing) = (
-            std::mem::take(&mut self.roots),
-            std::mem::take(&mut self.landing),
-        );
-        let first = super::events::earliest_events(&g0, &g1, &mut roots, &mut landing, |m, i| {
-            self.gap_at(sys, st, h, m, i)
-        });
-        (self.g0, self.g1, self.roots, self.landing) = (g0, g1, roots, landing);
+        let first = ev.locate(sys, st, |sys, m, out| self.events_at(sys, st, h, m, out));
+        self.events = ev;
         first
     }
 
@@ -317,7 +294,7 @@ impl Dopri5 {
 
     /// One trial step of size `h`; returns the weighted error (0 in fixed-step mode).
     /// The step's local error estimate relative to the tolerance (weighted RMS of positions and
-    /// speeds); per unit step the caller divides it by [`unit_step_share`].
+    /// speeds); per unit step the caller divides it by the step's share of the tolerance.
     fn try_step(&mut self, sys: &mut System, st: &State, h: f64) -> Result<f64, String> {
         let nv = sys.n_v();
         self.hidden = f64::INFINITY;
@@ -493,19 +470,19 @@ impl Integrator for Dopri5 {
                 natural
             };
             if !landing_trial {
-                self.landing.clear();
+                self.events.landing.clear();
             }
             let err = match self.try_step(sys, st, h) {
                 Ok(e) if e.is_finite() => e,
                 Ok(_) | Err(_) => f64::INFINITY,
             };
             let (err, exponent) = if adaptive && self.s.error_per_unit_step {
-                (err / unit_step_share(h), -0.25)
+                (err / self.s.error_share(h).max(MIN_ERROR_SHARE), -0.25)
             } else {
                 (err, -0.2)
             };
             if adaptive && err > 1.0 {
-                self.landing.clear();
+                self.events.landing.clear();
                 self.stats.rejected += 1;
                 self.stats.rejected_error += 1;
                 self.h = h * if err.is_finite() {
@@ -547,7 +524,7 @@ impl Integrator for Dopri5 {
                     let h_on = theta * h;
                     if h_on <= time_eps(st.t) {
                         // at the start of the step: nothing to land on
-                        self.landing.clear();
+                        self.events.landing.clear();
                     } else if (1.0 - theta) * h > time_eps(st.t + h) {
                         cut = Some(h_on);
                         continue;
@@ -569,23 +546,12 @@ impl Integrator for Dopri5 {
                     5.0
                 };
             }
-            if !self.landing.is_empty() {
-                self.step_start_memory.clone_from(&st.memory);
-            }
+            self.events.before_hook(st);
             let action = hook.after_step(sys, st)?;
-            // the step ended on located events: the contacts close or open here (after the
-            // hook, whose memory update decides by the sign of a penetration that is zero to
-            // the step's accuracy; the events are those of the memory at the step's start)
-            for &i in &self.landing {
-                let (q, v, mem) = (&st.q, &st.v, &mut st.memory);
-                let start = &self.step_start_memory;
-                if sys.record_contact_event(st.t, q, v, start, mem, i)
-                    == MemoryChange::Discontinuous
-                {
-                    self.k1_valid = false;
-                }
+            // the step ended on located events: the contacts close or open here
+            if self.events.record(sys, st) {
+                self.k1_valid = false;
             }
-            self.landing.clear();
             match action {
                 StepAction::Continue => {}
                 // the first stage (FSAL) was evaluated at the positions before the move

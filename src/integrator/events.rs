@@ -1,5 +1,10 @@
-//! Locating a contact event (a closing or an opening) inside a step, shared by the integrators
-//! that land their steps on events.
+//! Locating a contact event (a closing or an opening) inside a step and recording it once a step
+//! lands on it, shared by the integrators that land their steps on events (DOPRI5 and adaptive
+//! generalized-alpha); each supplies its own interpolant inside the step.
+
+use crate::dae::System;
+use crate::effect::MemoryChange;
+use crate::state::State;
 
 /// Fraction of a step to which an event is located.
 pub const LOCATION_TOLERANCE: f64 = 1e-12;
@@ -49,7 +54,7 @@ pub fn first_crossing(g0: f64, g1: f64, mut f: impl FnMut(f64) -> f64) -> f64 {
 /// integrator's interpolant. Returns that fraction and leaves in `landing` every event located
 /// within 1e-9 of it (a symmetric body landing on several points lands on all at once); `None`
 /// when no function goes from `<= 0` to `> 0`. `roots` is scratch.
-pub fn earliest_events(
+fn earliest_events(
     g0: &[f64],
     g1: &[f64],
     roots: &mut Vec<(usize, f64)>,
@@ -70,6 +75,88 @@ pub fn earliest_events(
     let same = first + 1e-9;
     landing.extend(roots.iter().filter(|r| r.1 <= same).map(|r| r.0));
     Some(first)
+}
+
+/// The buffers and bookkeeping of contact-event location for one integrator (sized only for
+/// models with contact events, see [`System::n_contact_events`]).
+#[derive(Debug, Clone, Default)]
+pub struct EventLocator {
+    /// Event functions at the step's start, at its end and at a trial instant.
+    pub g0: Vec<f64>,
+    pub g1: Vec<f64>,
+    pub gt: Vec<f64>,
+    /// Events located in a step (index, fraction of the step).
+    roots: Vec<(usize, f64)>,
+    /// Events the step being retaken ends on: recorded after it is accepted.
+    pub landing: Vec<usize>,
+    /// The state's effect memory before the step hook of a step that lands on events.
+    step_start_memory: Vec<f64>,
+}
+
+impl EventLocator {
+    /// Sizes the buffers for `n` event functions.
+    pub fn resize(&mut self, n: usize) {
+        for g in [&mut self.g0, &mut self.g1, &mut self.gt] {
+            g.resize(n, 0.0);
+        }
+    }
+
+    /// Whether an event function is positive at the step's end (`g1`, filled by the caller).
+    pub fn end_has_event(&self) -> bool {
+        self.g1.iter().any(|g| *g > 0.0)
+    }
+
+    /// After a step from `st` whose end's event functions are in `g1`: the earliest contact
+    /// closing or opening inside it, as a fraction of the step, located to
+    /// [`LOCATION_TOLERANCE`] of the step; `fill(sys, theta, out)` writes every event function at
+    /// the fraction `theta` on the integrator's interpolant. `landing` then holds the events at
+    /// that instant. `None`: no contact closes or opens.
+    pub fn locate(
+        &mut self,
+        sys: &mut System,
+        st: &State,
+        mut fill: impl FnMut(&mut System, f64, &mut [f64]),
+    ) -> Option<f64> {
+        self.landing.clear();
+        if !self.end_has_event() {
+            return None;
+        }
+        sys.contact_event_functions(st.t, &st.q, &st.v, &mut self.g0);
+        let EventLocator {
+            g0,
+            g1,
+            gt,
+            roots,
+            landing,
+            ..
+        } = self;
+        earliest_events(g0, g1, roots, landing, |m, i| {
+            fill(sys, m, gt);
+            gt[i]
+        })
+    }
+
+    /// Before the step hook of an accepted step: keeps the memory at the step's start, under
+    /// which the events it lands on are defined.
+    pub fn before_hook(&mut self, st: &State) {
+        if !self.landing.is_empty() {
+            self.step_start_memory.clone_from(&st.memory);
+        }
+    }
+
+    /// After the step hook (whose memory update decides by the sign of a penetration that is
+    /// zero to the step's accuracy): records that the events the step landed on happen at `st`,
+    /// and forgets them. Returns whether the forces jump there.
+    pub fn record(&mut self, sys: &mut System, st: &mut State) -> bool {
+        let mut jump = false;
+        for &i in &self.landing {
+            let (q, v, mem) = (&st.q, &st.v, &mut st.memory);
+            jump |= sys.record_contact_event(st.t, q, v, &self.step_start_memory, mem, i)
+                == MemoryChange::Discontinuous;
+        }
+        self.landing.clear();
+        jump
+    }
 }
 
 #[cfg(test)]

@@ -14,6 +14,7 @@
 //! a restored state repeats the original bit for bit.
 
 use super::JacobianPoint;
+use super::events::EventLocator;
 use super::newton::{MAX_ITERATIONS, NewtonTest, Progress, Verdict};
 use super::{
     Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
@@ -21,7 +22,6 @@ use super::{
 };
 use crate::dae::System;
 use crate::dae::linear::LinearSolver;
-use crate::effect::MemoryChange;
 use crate::math::wrms;
 use crate::state::State;
 
@@ -77,19 +77,12 @@ pub struct GenAlpha {
     /// Weights of the error test of a step [m, rad] (adaptive mode).
     werr: Vec<f64>,
     tmp: Vec<f64>,
-    /// Contact-event location (adaptive, models with contact events): event functions at the
-    /// step's start and end and at a trial instant; the interpolated chart increment, speeds and
-    /// positions there; roots found; the events the next step lands on.
-    g0: Vec<f64>,
-    g1: Vec<f64>,
-    gt: Vec<f64>,
+    /// Contact-event location (adaptive, models with contact events), and the interpolated
+    /// chart increment, speeds and positions at a trial instant inside a step.
+    events: EventLocator,
     xd: Vec<f64>,
     vd: Vec<f64>,
     qd: Vec<f64>,
-    roots: Vec<(usize, f64)>,
-    landing: Vec<usize>,
-    /// The state's effect memory before the step hook of a step that lands on events.
-    step_start_memory: Vec<f64>,
 }
 
 /// Whether a Newton matrix formed for step `a` serves step `b`: equal up to the rounding of
@@ -121,13 +114,6 @@ fn fixed_step_newton_weights(sys: &System, q: &[f64], wx: &mut [f64]) -> f64 {
     scale
 }
 
-/// Time over which adaptive generalized-alpha allows one local error tolerance [s]: the local
-/// error of a step of length `h` may be `min(h / ERROR_TIME_UNIT, 1)` of the tolerance (error
-/// per unit step). Per-step control of a second-order method lets the global error grow as
-/// `rtol^(2/3)` times the number of steps (measured: 15-57,000 x rtol, growing as rtol shrank);
-/// per unit step the local errors add up to about `rtol` per second of motion.
-const ERROR_TIME_UNIT: f64 = 1.0;
-
 /// Factor on the local error estimate: per unit step the global error came out 1-20 x rtol on
 /// the open chains and 140-250 x rtol on the four-bar (whose closed loop amplifies errors: BDF
 /// and DOPRI5 were 100-200 x there too); a third of that keeps the accuracy suite within 100 x
@@ -145,16 +131,6 @@ const NOISE_ALLOWANCE: f64 = 2.0 * ERROR_SAFETY;
 /// 2 (0.5), the four-bar at rtol 1e-9 returned 190 x rtol after 337 rejected steps (its share
 /// was 0.14 there); at 0.1 it stops, and the chains still run at 1e-9 (6.5 and 1.4 x rtol).
 const ROUNDOFF_SHARE_LIMIT: f64 = 0.1;
-
-/// Fraction of the local error tolerance a step of `h` [s] may use (see [`ERROR_TIME_UNIT`]);
-/// 1 with `per_unit_step` off (the whole tolerance per step).
-fn unit_step_fraction(h: f64, per_unit_step: bool) -> f64 {
-    if per_unit_step {
-        (h / ERROR_TIME_UNIT).min(1.0)
-    } else {
-        1.0
-    }
-}
 
 /// Factor on the step size from the error `err` (per unit step `O(h^2)`, per step `O(h^3)`) and
 /// the energy gain ratio `gain` (`O(h^3)`), both relative to their tolerances: the smaller of
@@ -243,15 +219,10 @@ impl GenAlpha {
             wn: Vec::new(),
             werr: Vec::new(),
             tmp: Vec::new(),
-            g0: Vec::new(),
-            g1: Vec::new(),
-            gt: Vec::new(),
+            events: EventLocator::default(),
             xd: Vec::new(),
             vd: Vec::new(),
             qd: Vec::new(),
-            roots: Vec::new(),
-            landing: Vec::new(),
-            step_start_memory: Vec::new(),
         }
     }
 
@@ -285,7 +256,7 @@ impl GenAlpha {
     fn adaptive_newton_weights(&mut self, sys: &System, st: &State, h: f64) -> (f64, f64) {
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
         let floor = fixed_step_newton_weights(sys, &st.q, &mut self.wn);
-        let share = unit_step_fraction(h, self.s.error_per_unit_step);
+        let share = self.s.error_share(h);
         let mut scale: f64 = 1e-3;
         for (n, w) in self.wn.iter_mut().zip(&self.wx) {
             // `wn` holds the round-off floor scaled like a weight (see fixed_step_newton_weights)
@@ -309,18 +280,17 @@ impl GenAlpha {
         if n_on == 0 {
             return;
         }
-        for g in [&mut self.g0, &mut self.g1, &mut self.gt] {
-            g.resize(n_on, 0.0);
-        }
+        self.events.resize(n_on);
         self.xd.resize(sys.n_v(), 0.0);
         self.vd.resize(sys.n_v(), 0.0);
         self.qd.resize(sys.n_q(), 0.0);
     }
 
-    /// Event function `i` at the fraction `theta` of the converged step of `h` [s] from `st`,
-    /// on the step's own update formulas evaluated at `theta h` with the step's accelerations
-    /// (exact at both ends, and for motion of constant acceleration before a contact).
-    fn gap_at(&mut self, sys: &mut System, st: &State, h: f64, theta: f64, i: usize) -> f64 {
+    /// The event functions (into `out`) at the fraction `theta` of the converged step of `h` [s]
+    /// from `st`, on the step's own update formulas evaluated at `theta h` with the step's
+    /// accelerations (exact at both ends, and for motion of constant acceleration before a
+    /// contact).
+    fn events_at(&mut self, sys: &mut System, st: &State, h: f64, theta: f64, out: &mut [f64]) {
         let (g, b) = (self.gamma, self.beta);
         let tau = theta * h;
         for k in 0..self.xd.len() {
@@ -329,29 +299,18 @@ impl GenAlpha {
             self.vd[k] = st.v[k] + tau * ((1.0 - g) * a0 + g * a1);
         }
         sys.model.retract(&st.q, &self.xd, &mut self.qd);
-        sys.contact_event_functions(st.t + tau, &self.qd, &self.vd, &mut self.gt);
-        self.gt[i]
+        sys.contact_event_functions(st.t + tau, &self.qd, &self.vd, out);
     }
 
     /// After a converged step of `h` [s] from `st` (its end in `q1`, `v1`): the earliest contact
     /// closing or opening inside it as a fraction of the step, located to 1e-12 of the step;
-    /// `landing` then holds the events at that instant. `None`: no contact closes or opens.
+    /// `events.landing` then holds the events at that instant. `None`: no contact closes or
+    /// opens.
     fn events_in_step(&mut self, sys: &mut System, st: &State, h: f64) -> Option<f64> {
-        self.landing.clear();
-        sys.contact_event_functions(st.t + h, &self.q1, &self.v1, &mut self.g1);
-        if !self.g1.iter().any(|g| *g > 0.0) {
-            return None;
-        }
-        sys.contact_event_functions(st.t, &st.q, &st.v, &mut self.g0);
-        let (g0, g1) = (std::mem::take(&mut self.g0), std::mem::take(&mut self.g1));
-        let (mut roots, mut landing) = (
-            std::mem::take(&mut self.roots),
-            std::mem::take(&mut self.landing),
-        );
-        let first = super::events::earliest_events(&g0, &g1, &mut roots, &mut landing, |m, i| {
-            self.gap_at(sys, st, h, m, i)
-        });
-        (self.g0, self.g1, self.roots, self.landing) = (g0, g1, roots, landing);
+        let mut ev = std::mem::take(&mut self.events);
+        sys.contact_event_functions(st.t + h, &self.q1, &self.v1, &mut ev.g1);
+        let first = ev.locate(sys, st, |sys, m, out| self.events_at(sys, st, h, m, out));
+        self.events = ev;
         first
     }
 
@@ -557,7 +516,7 @@ impl GenAlpha {
                     // the step's share of the tolerance, widened by the round-off: a step
                     // shortened to reach a communication point (down to 1e-12 s in event
                     // location) is not rejected for round-off it cannot remove
-                    let share = unit_step_fraction(h, self.s.error_per_unit_step);
+                    let share = self.s.error_share(h);
                     for (e, w) in self.werr.iter_mut().zip(&self.wx) {
                         *e = share * w + floor;
                     }
@@ -753,7 +712,7 @@ impl Integrator for GenAlpha {
             let remaining = t_end - st.t;
             let landing_trial = cut.is_some();
             if !landing_trial {
-                self.landing.clear();
+                self.events.landing.clear();
             }
             let h = if let Some(h_on) = cut.take() {
                 h_on
@@ -780,7 +739,7 @@ impl Integrator for GenAlpha {
                     // grown from the position error alone that the energy check rejects again
                     let reject = err.max(self.gain_ratio);
                     if adaptive && reject > 1.0 {
-                        self.landing.clear();
+                        self.events.landing.clear();
                         self.stats.rejected += 1;
                         if self.gain_ratio > err {
                             self.stats.rejected_energy += 1;
@@ -824,7 +783,7 @@ impl Integrator for GenAlpha {
                             let h_on = theta * h;
                             if h_on <= time_eps(st.t) {
                                 // at the start of the step: nothing to land on
-                                self.landing.clear();
+                                self.events.landing.clear();
                             } else if (1.0 - theta) * h > time_eps(st.t + h) {
                                 cut = Some(h_on);
                                 continue;
@@ -833,22 +792,10 @@ impl Integrator for GenAlpha {
                         }
                         self.accept(sys, st, h);
                         refreshed = false;
-                        if !self.landing.is_empty() {
-                            self.step_start_memory.clone_from(&st.memory);
-                        }
+                        self.events.before_hook(st);
                         let action = hook.after_step(sys, st)?;
                         // the step ended on located events: the contacts close or open here
-                        // (after the hook, whose memory update decides by the sign of a
-                        // penetration that is zero to the step's accuracy; the events are
-                        // those of the memory at the step's start)
-                        let mut jump = false;
-                        for &i in &self.landing {
-                            let (q, v, mem) = (&st.q, &st.v, &mut st.memory);
-                            let start = &self.step_start_memory;
-                            jump |= sys.record_contact_event(st.t, q, v, start, mem, i)
-                                == MemoryChange::Discontinuous;
-                        }
-                        self.landing.clear();
+                        let jump = self.events.record(sys, st);
                         match action {
                             // the step starts from the state itself (positions, speeds and
                             // the algorithmic accelerations), so a moved state needs nothing

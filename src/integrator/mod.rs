@@ -108,7 +108,23 @@ impl Default for Settings {
     }
 }
 
+/// Time over which the adaptive integrators allow one local error tolerance with
+/// [`Settings::error_per_unit_step`] [s]: a step of `h` may leave `min(h / ERROR_TIME_UNIT, 1)`
+/// of it, so the local errors of the steps in one unit add up to about the tolerance.
+pub const ERROR_TIME_UNIT: f64 = 1.0;
+
 impl Settings {
+    /// Share of the local error tolerance an adaptive step of `h` [s] may use:
+    /// `min(h / ERROR_TIME_UNIT, 1)` with [`Settings::error_per_unit_step`], else 1 (the whole
+    /// tolerance per step).
+    pub fn error_share(&self, h: f64) -> f64 {
+        if self.error_per_unit_step {
+            (h / ERROR_TIME_UNIT).min(1.0)
+        } else {
+            1.0
+        }
+    }
+
     /// Checks the values; `Err` names the offending setting.
     pub fn validate(&self) -> Result<Vec<String>, String> {
         let mut warnings = Vec::new();

@@ -121,3 +121,33 @@ pub fn double_pendulum(a1: f64, a2: f64) -> Model {
     .unwrap();
     b.build().unwrap()
 }
+
+/// Distance [m] between two points of the x-y plane.
+pub fn planar_distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// The x-y position [m] at `t_end` [s] of the point `local` (body frame) of the rigid body whose
+/// coordinates start at `offset` in `q`, simulated by `kind` at `rtol` (atol = rtol), or the
+/// failure's message.
+pub fn simulated_planar_point(
+    model: &Model,
+    (offset, local): (usize, Vec3),
+    kind: mbcosim::integrator::IntegratorKind,
+    rtol: f64,
+    t_end: f64,
+) -> Result<[f64; 2], String> {
+    let s = mbcosim::integrator::Settings {
+        rtol,
+        atol: rtol,
+        max_steps: 10_000_000,
+        ..mbcosim::integrator::Settings::default()
+    };
+    let mut sim =
+        mbcosim::sim::Simulation::new(model.clone(), kind, s, 0.0).map_err(|e| format!("{e:?}"))?;
+    sim.advance_to(t_end).map_err(|e| format!("{e:?}"))?;
+    let q = &sim.state.q;
+    let p = Vec3::new(q[offset], q[offset + 1], q[offset + 2])
+        + mbcosim::model::kinematics::quat_at(q, offset + 3) * local;
+    Ok([p.x, p.y])
+}

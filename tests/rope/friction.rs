@@ -107,13 +107,6 @@ fn single_edge_slip_threshold_is_not_capstan() {
 /// Ramps one end's pull slowly from `t1` and returns T2/T1 (applied forces) when every contact
 /// node of a `k`-edge polygonal wrap of circumradius `r` [m] over 180 degrees slides.
 pub(crate) fn polygon_gross_slip(k: usize, r: f64, t1: f64, hold: Hold, reverse: bool) -> f64 {
-    let d = PI / k as f64;
-    let vertices: Vec<Vec3> = (1..=k)
-        .map(|j| {
-            let a = 0.5 * PI + (k as f64 + 1.0 - 2.0 * j as f64) * 0.5 * d;
-            Vec3::new(r * a.cos(), r * a.sin(), 0.0)
-        })
-        .collect();
     let duration = 2.0;
     let rate = 1.2 * t1 / duration;
     let (f1, f2) = if reverse {
@@ -121,24 +114,7 @@ pub(crate) fn polygon_gross_slip(k: usize, r: f64, t1: f64, hold: Hold, reverse:
     } else {
         (Profile::constant(t1), Profile::linear(t1, rate))
     };
-    let rig = Wrap {
-        mesh: Arc::new(polygon(2 * k, r)),
-        vertices,
-        e1: Vec3::new(0.0, -1.0, 0.0),
-        e2: Vec3::new(0.0, -1.0, 0.0),
-        strand: 1.5,
-        nodes: 2,
-        props: props(),
-        t_init: vec![t1; k + 1],
-        end_mass: 100.0,
-        f1,
-        f2,
-        hold,
-        gravity: None,
-        mode: SlipMode::Stick,
-        grad: [0.0; 2],
-        contact_mass: 1.0,
-    };
+    let rig = Wrap::drum(k, r, t1, props(), (f1, f2), hold);
     let mut sim = rig.sim(settings(1e-3));
     let dt = 1e-3;
     let mut t = 0.0;

@@ -10,12 +10,8 @@
 //! reported as if the rope slid through a node the accepted state has sticking).
 
 use crate::rig::*;
-use mbcosim::math::Vec3;
-use mbcosim::model::Profile;
-use mbcosim::rope::{RopeProps, SlipMode};
+use mbcosim::rope::SlipMode;
 use mbcosim::scene::rope_block::RopeBlockSim;
-use std::f64::consts::PI;
-use std::sync::Arc;
 
 /// Material coordinate [m] of every point of rope 0 at the current state.
 fn sigmas(sim: &RopeBlockSim) -> Vec<f64> {
@@ -36,42 +32,9 @@ fn sigmas(sim: &RopeBlockSim) -> Vec<f64> {
 #[test]
 fn reported_tensions_equal_acting_forces_while_sliding() {
     let k = 32;
-    let r = 0.52;
-    let t1 = 9.81e3;
-    let props = RopeProps {
-        mass_per_length: 6.4,
-        ea: 7.5e7,
-        axial_damping: 0.0,
-        friction: 0.2,
-        ..RopeProps::default()
-    };
-    let d = PI / k as f64;
-    let vertices: Vec<Vec3> = (1..=k)
-        .map(|j| {
-            let a = 0.5 * PI + (k as f64 + 1.0 - 2.0 * j as f64) * 0.5 * d;
-            Vec3::new(r * a.cos(), r * a.sin(), 0.0)
-        })
-        .collect();
-    let rig = Wrap {
-        mesh: Arc::new(polygon(2 * k, r)),
-        vertices,
-        e1: Vec3::new(0.0, -1.0, 0.0),
-        e2: Vec3::new(0.0, -1.0, 0.0),
-        strand: 1.5,
-        nodes: 2,
-        props,
-        t_init: vec![t1; k + 1],
-        end_mass: 100.0,
-        f1: Profile::constant(t1),
-        f2: Profile::constant(2.2 * t1),
-        hold: Hold::Fixed,
-        gravity: None,
-        mode: SlipMode::Stick,
-        grad: [0.0; 2],
-        contact_mass: 1.0,
-    };
+    let rig = sliding_drum(k);
     let mut sim = rig.sim(settings(1e-3));
-    let ea = props.ea;
+    let ea = rig.props.ea;
     let (mut samples, mut bad, mut worst, mut sliding) = (0, 0, 0.0f64, 0);
     for step in 1..=200 {
         let t = 5e-3 * step as f64;
@@ -123,56 +86,4 @@ fn reported_tensions_equal_acting_forces_while_sliding() {
     );
     assert!(sliding > 0, "the rope never slid");
     assert_eq!(bad, 0, "worst relative mismatch {worst:.3e}");
-}
-
-/// Cost per step of the sliding drum against the number of contact nodes (not a check; run with
-/// `cargo test --release --test rope -- --ignored --nocapture cost_per_step`).
-#[test]
-#[ignore]
-fn cost_per_step_against_contact_nodes() {
-    for k in [8, 16, 32, 64] {
-        let r = 0.52;
-        let t1 = 9.81e3;
-        let props = RopeProps {
-            mass_per_length: 6.4,
-            ea: 7.5e7,
-            axial_damping: 0.0,
-            friction: 0.2,
-            ..RopeProps::default()
-        };
-        let d = PI / k as f64;
-        let vertices: Vec<Vec3> = (1..=k)
-            .map(|j| {
-                let a = 0.5 * PI + (k as f64 + 1.0 - 2.0 * j as f64) * 0.5 * d;
-                Vec3::new(r * a.cos(), r * a.sin(), 0.0)
-            })
-            .collect();
-        let rig = Wrap {
-            mesh: Arc::new(polygon(2 * k, r)),
-            vertices,
-            e1: Vec3::new(0.0, -1.0, 0.0),
-            e2: Vec3::new(0.0, -1.0, 0.0),
-            strand: 1.5,
-            nodes: 2,
-            props,
-            t_init: vec![t1; k + 1],
-            end_mass: 100.0,
-            f1: Profile::constant(t1),
-            f2: Profile::constant(2.2 * t1),
-            hold: Hold::Fixed,
-            gravity: None,
-            mode: SlipMode::Stick,
-            grad: [0.0; 2],
-            contact_mass: 1.0,
-        };
-        let mut sim = rig.sim(settings(1e-3));
-        let start = std::time::Instant::now();
-        sim.advance_to(0.3).unwrap();
-        let wall = start.elapsed().as_secs_f64();
-        let steps = sim.sim.stats().steps;
-        println!(
-            "k = {k:3}: {steps} steps in {wall:.3} s, {:.3} ms per step",
-            1e3 * wall / steps as f64
-        );
-    }
 }

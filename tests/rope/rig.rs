@@ -292,6 +292,44 @@ impl Wrap {
         }
     }
 
+    /// A rope wrapped 180 degrees around a `k`-edge half of a regular `2k`-gon of circumradius
+    /// `r` [m] (one contact node per edge), both strands hanging along -y, 1.5 m long with 2
+    /// nodes, 100 kg end loads pulled by `f1`, `f2` [N], every node sticking at `t1` [N] at first.
+    pub fn drum(
+        k: usize,
+        r: f64,
+        t1: f64,
+        props: RopeProps,
+        f: (Profile, Profile),
+        hold: Hold,
+    ) -> Self {
+        let d = std::f64::consts::PI / k as f64;
+        let vertices = (1..=k)
+            .map(|j| {
+                let a = 0.5 * std::f64::consts::PI + (k as f64 + 1.0 - 2.0 * j as f64) * 0.5 * d;
+                Vec3::new(r * a.cos(), r * a.sin(), 0.0)
+            })
+            .collect();
+        Wrap {
+            mesh: Arc::new(polygon(2 * k, r)),
+            vertices,
+            e1: Vec3::new(0.0, -1.0, 0.0),
+            e2: Vec3::new(0.0, -1.0, 0.0),
+            strand: 1.5,
+            nodes: 2,
+            props,
+            t_init: vec![t1; k + 1],
+            end_mass: 100.0,
+            f1: f.0,
+            f2: f.1,
+            hold,
+            gravity: None,
+            mode: SlipMode::Stick,
+            grad: [0.0; 2],
+            contact_mass: 1.0,
+        }
+    }
+
     /// A simulation of the rig (no detection of new crossings).
     pub fn sim(&self, settings: Settings) -> RopeBlockSim {
         RopeBlockSim::new(
@@ -306,6 +344,22 @@ impl Wrap {
         )
         .unwrap()
     }
+}
+
+/// The sliding drum of the report and cost checks, with `k` edges: an
+/// undamped steel rope (EA 7.5e7 N, 6.4 kg/m, mu 0.2), circumradius 0.52 m, pulled at 9.81 kN and
+/// 2.2 times that.
+pub fn sliding_drum(k: usize) -> Wrap {
+    let t1 = 9.81e3;
+    let props = RopeProps {
+        mass_per_length: 6.4,
+        ea: 7.5e7,
+        axial_damping: 0.0,
+        friction: 0.2,
+        ..RopeProps::default()
+    };
+    let pulls = (Profile::constant(t1), Profile::constant(2.2 * t1));
+    Wrap::drum(k, 0.52, t1, props, pulls, Hold::Fixed)
 }
 
 /// Settings for quasi-static rope tests.
