@@ -521,15 +521,10 @@ impl Integrator for Dopri5 {
             // is the one at the onset
             if locate && !landing_trial {
                 if let Some(theta) = self.events_in_step(sys, st, h) {
-                    let h_on = theta * h;
-                    if h_on <= time_eps(st.t) {
-                        // at the start of the step: nothing to land on
-                        self.events.landing.clear();
-                    } else if (1.0 - theta) * h > time_eps(st.t + h) {
+                    if let Some(h_on) = self.events.landing_step(theta, st.t, h) {
                         cut = Some(h_on);
                         continue;
                     }
-                    // else the step ends at the event already
                 } else if self.hidden < 1.0 && self.hidden * h > time_eps(st.t) {
                     // a contact closed within the step and opened again before its end: retry
                     // up to that stage, until the closing shows at a step's end (not counted as a

@@ -2,6 +2,7 @@
 //! lands on it, shared by the integrators that land their steps on events (DOPRI5 and adaptive
 //! generalized-alpha); each supplies its own interpolant inside the step.
 
+use super::time_eps;
 use crate::dae::System;
 use crate::effect::MemoryChange;
 use crate::state::State;
@@ -134,6 +135,22 @@ impl EventLocator {
             fill(sys, m, gt);
             gt[i]
         })
+    }
+
+    /// What a step of `h` [s] from `t` [s] does about an event located at the fraction `theta`
+    /// of it: `Some(h_on)`, the step to take instead so that it ends at the event; `None` when
+    /// the step may stand (the event is at its end, `landing` kept, or at its start, where there
+    /// is nothing to land on: `landing` cleared).
+    pub fn landing_step(&mut self, theta: f64, t: f64, h: f64) -> Option<f64> {
+        let h_on = theta * h;
+        if h_on <= time_eps(t) {
+            self.landing.clear();
+            None
+        } else if (1.0 - theta) * h > time_eps(t + h) {
+            Some(h_on)
+        } else {
+            None
+        }
     }
 
     /// Before the step hook of an accepted step: keeps the memory at the step's start, under

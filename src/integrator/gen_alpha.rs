@@ -779,16 +779,11 @@ impl Integrator for GenAlpha {
                         } else {
                             None
                         };
-                        if let Some(theta) = located {
-                            let h_on = theta * h;
-                            if h_on <= time_eps(st.t) {
-                                // at the start of the step: nothing to land on
-                                self.events.landing.clear();
-                            } else if (1.0 - theta) * h > time_eps(st.t + h) {
-                                cut = Some(h_on);
-                                continue;
-                            }
-                            // else the step ends at the event already
+                        if let Some(h_on) =
+                            located.and_then(|theta| self.events.landing_step(theta, st.t, h))
+                        {
+                            cut = Some(h_on);
+                            continue;
                         }
                         self.accept(sys, st, h);
                         refreshed = false;

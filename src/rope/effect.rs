@@ -922,14 +922,7 @@ impl RopeEffect {
     pub fn contact_segments(&self, ctx: &EvalCtx) -> Vec<NodeSegments> {
         let mut out = vec![NodeSegments::default(); self.contact_point.len()];
         let decided = self.accepted_decisions(ctx);
-        let ctx = &EvalCtx {
-            frozen: if ctx.frozen.is_empty() {
-                &decided
-            } else {
-                ctx.frozen
-            },
-            ..*ctx
-        };
+        let ctx = &with_decisions(ctx, &decided);
         for r in 0..self.runs.len() {
             let ev = self.eval_run(ctx, r);
             for k in 1..ev.points.len() - 1 {
@@ -953,14 +946,7 @@ impl RopeEffect {
     /// [`RopeEffect::contact_segments`]).
     pub fn rope_tensions(&self, ctx: &EvalCtx, r: usize) -> Vec<(f64, f64)> {
         let decided = self.accepted_decisions(ctx);
-        let ctx = &EvalCtx {
-            frozen: if ctx.frozen.is_empty() {
-                &decided
-            } else {
-                ctx.frozen
-            },
-            ..*ctx
-        };
+        let ctx = &with_decisions(ctx, &decided);
         let (first, end) = self.ropes[r];
         let mut out = vec![(0.0, 0.0); end - first - 1];
         for i in first..end - 1 {
@@ -1011,5 +997,18 @@ impl RopeEffect {
             }
         }
         out
+    }
+}
+
+/// `ctx` evaluated on `decided` (the decisions of the last accepted step, see
+/// [`RopeEffect::accepted_decisions`]) unless it carries frozen decisions of its own.
+fn with_decisions<'a>(ctx: &EvalCtx<'a>, decided: &'a [f64]) -> EvalCtx<'a> {
+    EvalCtx {
+        frozen: if ctx.frozen.is_empty() {
+            decided
+        } else {
+            ctx.frozen
+        },
+        ..*ctx
     }
 }
