@@ -18,7 +18,9 @@
 use super::ERROR_TIME_UNIT;
 use super::JacobianPoint;
 use super::dopri::Dopri5;
+use super::events::EventLocator;
 use super::newton::{DIVERGENCE_RATE, MAX_ITERATIONS, NewtonTest, Progress, Verdict};
+use super::step_control::{self, StepPolicy};
 use super::{
     Integrator, IntegratorKind, MemoryHook, Settings, SolverError, Stats, StepAction, StepHook,
     time_eps, weights,
@@ -56,6 +58,13 @@ const NEWTON_ROUND_OFF_EPSILONS: f64 = 30.0;
 
 /// The Newton matrix is formed again when the BDF leading coefficient has moved by more than
 /// this fraction since it was formed (and the serialized matrix point is reused within it).
+/// BDF grows a step by at most 2x, and only by more than 20 % (a new step size costs a Newton
+/// matrix; a higher order is worth more than a slightly longer step).
+const STEP_POLICY: StepPolicy = StepPolicy {
+    max_growth: 2.0,
+    hysteresis: 1.2,
+};
+
 const MATRIX_COEFFICIENT_CHANGE: f64 = 0.15;
 
 /// A step whose Newton iteration contracted by less than this factor per iteration after its
@@ -117,6 +126,12 @@ pub struct Bdf {
     vp: Vec<f64>,
     ex: Vec<f64>,
     ev: Vec<f64>,
+    /// Contact-event location (adaptive mode), and scratch for the interpolant inside a step:
+    /// chart coordinates, speeds and positions at a fraction of it.
+    events: EventLocator,
+    xd: Vec<f64>,
+    vd: Vec<f64>,
+    qd: Vec<f64>,
 }
 
 /// Largest magnitude in `a` (0 when empty).
@@ -232,7 +247,61 @@ impl Bdf {
             vp: Vec::new(),
             ex: Vec::new(),
             ev: Vec::new(),
+            events: EventLocator::default(),
+            xd: Vec::new(),
+            vd: Vec::new(),
+            qd: Vec::new(),
         }
+    }
+
+    /// Sizes the event-location buffers for `sys` (nothing for models without contact events).
+    fn resize_events(&mut self, sys: &System) {
+        let n_on = sys.n_contact_events();
+        if n_on == 0 {
+            return;
+        }
+        self.events.resize(n_on);
+        self.xd.resize(sys.n_v(), 0.0);
+        self.vd.resize(sys.n_v(), 0.0);
+        self.qd.resize(sys.n_q(), 0.0);
+    }
+
+    /// The event functions (into `out`) at the fraction `theta` of the converged step of order
+    /// `k` and size `h` [s] that ends in `x`, `v`: on the step's own polynomial, through its end
+    /// and the `k` newest history points (exact at the step's ends).
+    fn events_at(&mut self, sys: &mut System, k: usize, h: f64, theta: f64, out: &mut [f64]) {
+        let t0 = self.hist[0].t;
+        let mut ts = [0.0; 8];
+        ts[0] = t0 + h;
+        for (slot, p) in ts[1..].iter_mut().zip(self.hist.iter().take(k)) {
+            *slot = p.t;
+        }
+        let mut w = [0.0; 8];
+        let tau = t0 + theta * h;
+        interp_weights(&ts[..k + 1], tau, &mut w[..k + 1]);
+        for i in 0..self.xd.len() {
+            let (mut sx, mut sv) = (w[0] * self.x[i], w[0] * self.v[i]);
+            for j in 0..k {
+                sx += w[j + 1] * self.xs[j][i];
+                sv += w[j + 1] * self.hist[j].v[i];
+            }
+            self.xd[i] = sx;
+            self.vd[i] = sv;
+        }
+        sys.model.retract(&self.hist[0].q, &self.xd, &mut self.qd);
+        sys.contact_event_functions(tau, &self.qd, &self.vd, out);
+    }
+
+    /// After a converged step of order `k` and size `h` [s] from `st` (its end in `q1`, `v`):
+    /// the earliest contact closing or opening inside it as a fraction of the step, located to
+    /// 1e-12 of the step; `events.landing` then holds the events at that instant. `None`: no
+    /// contact closes or opens.
+    fn events_in_step(&mut self, sys: &mut System, st: &State, k: usize, h: f64) -> Option<f64> {
+        let mut ev = std::mem::take(&mut self.events);
+        sys.contact_event_functions(st.t + h, &self.q1, &self.v, &mut ev.g1);
+        let first = ev.locate(sys, st, |sys, m, out| self.events_at(sys, k, h, m, out));
+        self.events = ev;
+        first
     }
 
     fn resize(&mut self, nq: usize, nv: usize, nc: usize) {
@@ -787,6 +856,13 @@ impl Integrator for Bdf {
         if fixed && self.hist.len() == 1 && self.s.max_order > 1 {
             self.bootstrap(sys, st)?;
         }
+        self.resize_events(sys);
+        // contact onset: a step that closes or opens a contact is taken again to end there, so
+        // no step straddles the kink of the contact force and a damped law records the approach
+        // speed at the onset
+        let locate = !fixed && sys.n_contact_events() > 0;
+        // a step cut to end at a located contact event, to be taken next
+        let mut cut: Option<f64> = None;
         let mut steps = 0u64;
         let mut refreshed = false;
         let mut fails = 0;
@@ -804,7 +880,13 @@ impl Integrator for Bdf {
                 self.h.min(self.s.h_max)
             };
             let remaining = t_end - st.t;
-            let h = if natural >= remaining - time_eps(t_end) {
+            let landing_trial = cut.is_some();
+            if !landing_trial {
+                self.events.landing.clear();
+            }
+            let h = if let Some(h_on) = cut.take() {
+                h_on
+            } else if natural >= remaining - time_eps(t_end) {
                 remaining
             } else {
                 natural
@@ -812,25 +894,43 @@ impl Integrator for Bdf {
             let k = self.order.min(self.hist.len());
             match self.try_step(sys, h) {
                 Ok([lo, errk, hi]) => {
-                    if !fixed && errk > 1.0 {
+                    if !fixed && step_control::rejects(errk) {
+                        self.events.landing.clear();
                         self.stats.rejected += 1;
                         self.stats.rejected_error += 1;
                         fails += 1;
-                        let fac = (0.9 * errk.powf(-1.0 / self.estimate_order(k))).clamp(0.1, 0.9);
-                        self.h = h * fac;
+                        self.h = step_control::after_rejection(
+                            h,
+                            step_control::proposal(errk, self.estimate_order(k)),
+                        );
                         if fails >= 3 {
                             self.order = 1;
                             self.steps_at_order = 0;
                         }
                         continue;
                     }
+                    if locate && !landing_trial {
+                        let located = self.events_in_step(sys, st, k, h);
+                        if let Some(h_on) =
+                            located.and_then(|theta| self.events.landing_step(theta, st.t, h))
+                        {
+                            cut = Some(h_on);
+                            continue;
+                        }
+                    }
                     fails = 0;
                     refreshed = false;
                     self.accept(sys, st, h, k);
-                    match hook.after_step(sys, st)? {
-                        StepAction::Continue => {}
-                        StepAction::Moved => self.translate_history(st),
-                        StepAction::Restart => {
+                    self.events.before_hook(st);
+                    let action = hook.after_step(sys, st)?;
+                    // the step ended on located events: the contacts close or open here
+                    let jump = self.events.record(sys, st);
+                    match action {
+                        StepAction::Continue if !jump => {}
+                        StepAction::Moved if !jump => self.translate_history(st),
+                        // forces that jump: the history's polynomial no longer describes the
+                        // motion
+                        StepAction::Continue | StepAction::Moved | StepAction::Restart => {
                             self.restart(sys, st)?;
                             continue;
                         }
@@ -843,15 +943,7 @@ impl Integrator for Bdf {
                     // order and step selection
                     // error per unit step lowers the estimates' order in h by one
                     let shift = if self.per_unit_step { 0.0 } else { 1.0 };
-                    let ratio = |e: f64, ord: usize| {
-                        if e.is_finite() && e > 0.0 {
-                            0.9 * e.powf(-1.0 / (ord as f64 + shift))
-                        } else if e == 0.0 {
-                            2.0
-                        } else {
-                            0.0
-                        }
-                    };
+                    let ratio = |e: f64, ord: usize| step_control::proposal(e, ord as f64 + shift);
                     let mut best = (ratio(errk, k), k);
                     if self.steps_at_order > k {
                         let rl = ratio(lo, k - 1) / 1.3;
@@ -875,11 +967,7 @@ impl Integrator for Bdf {
                         self.order = best.1;
                         self.steps_at_order = 0;
                     }
-                    let fac = best.0.clamp(0.2, 2.0);
-                    // grow only from a full (not truncated) step and by more than 20 %; shrink always
-                    if fac < 1.0 || (h == natural && fac > 1.2) {
-                        self.h = h * fac;
-                    }
+                    self.h = STEP_POLICY.after_acceptance(h, natural, self.h, best.0);
                 }
                 Err(reason) => {
                     self.stats.newton_failures += 1;
@@ -894,10 +982,10 @@ impl Integrator for Bdf {
                             "{reason}; the fixed step {h:.3e} s is too large: reduce it or use adaptive steps"
                         )));
                     }
-                    self.h = 0.25 * h;
+                    self.h = step_control::after_failure(h);
                     self.order = 1;
                     self.steps_at_order = 0;
-                    if self.h < 1e-14 * st.t.abs().max(1.0) {
+                    if step_control::collapsed(self.h, st.t) {
                         return Err(SolverError(format!(
                             "step size fell below {:.1e} s at t = {:.9e} s: {reason} (check parameters, loosen rtol or raise damping)",
                             self.h, st.t

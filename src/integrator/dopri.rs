@@ -11,6 +11,7 @@ use super::init::{
     ProjectionScratch, accelerations, project_positions_reusing, project_velocities_reusing,
 };
 use super::rank::{Passage, RankMonitor};
+use super::step_control::{self, StepPolicy};
 use super::{
     Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, kkt, time_eps,
     weights,
@@ -77,6 +78,12 @@ const E: [f64; 7] = [
 /// ended 31-730 x rtol off; per unit step the errors of many steps add up to about the
 /// tolerance per second of motion.
 const MIN_ERROR_SHARE: f64 = 1e-4;
+
+/// An explicit step costs the same at any size: grow up to 5x at every chance.
+const STEP_POLICY: StepPolicy = StepPolicy {
+    max_growth: 5.0,
+    hysteresis: 1.0,
+};
 
 /// Coefficients of the 4th-order continuous extension (dense output) of Dormand-Prince 5(4)
 /// (Shampine 1986, as in Hairer, Norsett and Wanner, Solving ODEs I, sec. II.6): with
@@ -476,21 +483,17 @@ impl Integrator for Dopri5 {
                 Ok(e) if e.is_finite() => e,
                 Ok(_) | Err(_) => f64::INFINITY,
             };
-            let (err, exponent) = if adaptive && self.s.error_per_unit_step {
-                (err / self.s.error_share(h).max(MIN_ERROR_SHARE), -0.25)
+            let (err, order) = if adaptive && self.s.error_per_unit_step {
+                (err / self.s.error_share(h).max(MIN_ERROR_SHARE), 4.0)
             } else {
-                (err, -0.2)
+                (err, 5.0)
             };
-            if adaptive && err > 1.0 {
+            if adaptive && step_control::rejects(err) {
                 self.events.landing.clear();
                 self.stats.rejected += 1;
                 self.stats.rejected_error += 1;
-                self.h = h * if err.is_finite() {
-                    (0.9 * err.powf(exponent)).clamp(0.1, 0.9)
-                } else {
-                    0.25
-                };
-                if self.h < 1e-14 * st.t.abs().max(1.0) {
+                self.h = step_control::after_rejection(h, step_control::proposal(err, order));
+                if step_control::collapsed(self.h, st.t) {
                     // name what was observed: inside a singular configuration the accelerations
                     // are ill-conditioned and the estimate does not fall with the step
                     if self.rank.inside() {
@@ -534,12 +537,15 @@ impl Integrator for Dopri5 {
                 }
             }
             self.accept(sys, st, h)?;
-            if adaptive && h == natural {
-                self.h = h * if err > 0.0 {
-                    (0.9 * err.powf(exponent)).clamp(0.2, 5.0)
-                } else {
-                    5.0
-                };
+            // a step cut to land on an event proposes nothing: its estimate is mostly round-off
+            // (see MIN_ERROR_SHARE)
+            if adaptive && !landing_trial {
+                self.h = STEP_POLICY.after_acceptance(
+                    h,
+                    natural,
+                    self.h,
+                    step_control::proposal(err, order),
+                );
             }
             self.events.before_hook(st);
             let action = hook.after_step(sys, st)?;

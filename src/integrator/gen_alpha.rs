@@ -16,6 +16,7 @@
 use super::JacobianPoint;
 use super::events::EventLocator;
 use super::newton::{MAX_ITERATIONS, NewtonTest, Progress, Verdict};
+use super::step_control::{self, StepPolicy};
 use super::{
     Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
     weights,
@@ -137,18 +138,13 @@ const ROUNDOFF_SHARE_LIMIT: f64 = 0.1;
 /// the two proposals.
 fn step_factor(err: f64, gain: f64, per_unit_step: bool) -> f64 {
     let order = if per_unit_step { 2.0 } else { 3.0 };
-    let from_err = if err > 0.0 {
-        0.9 * err.powf(-1.0 / order)
-    } else {
-        f64::INFINITY
-    };
-    let from_gain = if gain > 0.0 {
-        0.9 * gain.powf(-1.0 / 3.0)
-    } else {
-        f64::INFINITY
-    };
-    from_err.min(from_gain)
+    step_control::proposal(err, order).min(step_control::proposal(gain, 3.0))
 }
+
+/// Gen-alpha grows a step by at most 3x; a new step size costs a Newton matrix, so with
+/// `Settings::equal_steps` only a growth beyond 20 % replaces the step
+/// ([`GenAlpha::step_policy`]).
+const MAX_GROWTH: f64 = 3.0;
 
 /// Fraction of the step's local error tolerance at which an adaptive step's Newton iteration
 /// has converged.
@@ -253,6 +249,14 @@ impl GenAlpha {
     /// iteration stops at [`NEWTON_FRACTION`] of the step's share of the local error tolerance,
     /// but not below round-off. Returns the constraint violation accepted at convergence and the
     /// largest position scale [m].
+    /// How far an accepted step may grow (see [`MAX_GROWTH`]).
+    fn step_policy(&self) -> StepPolicy {
+        StepPolicy {
+            max_growth: MAX_GROWTH,
+            hysteresis: if self.s.equal_steps { 1.2 } else { 1.0 },
+        }
+    }
+
     fn adaptive_newton_weights(&mut self, sys: &System, st: &State, h: f64) -> (f64, f64) {
         weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
         let floor = fixed_step_newton_weights(sys, &st.q, &mut self.wn);
@@ -738,7 +742,7 @@ impl Integrator for GenAlpha {
                     // estimates (both O(h^3)), so an energy rejection is not followed by a step
                     // grown from the position error alone that the energy check rejects again
                     let reject = err.max(self.gain_ratio);
-                    if adaptive && reject > 1.0 {
+                    if adaptive && step_control::rejects(reject) {
                         self.events.landing.clear();
                         self.stats.rejected += 1;
                         if self.gain_ratio > err {
@@ -746,9 +750,10 @@ impl Integrator for GenAlpha {
                         } else {
                             self.stats.rejected_error += 1;
                         }
-                        self.h = h * step_factor(err, self.gain_ratio, self.s.error_per_unit_step)
-                            .clamp(0.1, 0.9);
-                        let floor = 1e-14 * st.t.abs().max(1.0);
+                        self.h = step_control::after_rejection(
+                            h,
+                            step_factor(err, self.gain_ratio, self.s.error_per_unit_step),
+                        );
                         // inside a singular configuration the positions' round-off grows
                         // with the conditioning for a while: the allowance widens the test
                         // there instead of stopping the run
@@ -756,7 +761,7 @@ impl Integrator for GenAlpha {
                             && self.s.error_per_unit_step
                             && !self.rank.inside()
                             && (self.err_roundoff * h / self.h >= ROUNDOFF_SHARE_LIMIT
-                                || self.h < floor)
+                                || step_control::collapsed(self.h, st.t))
                         {
                             return Err(SolverError(format!(
                                 "rtol {:.1e} / atol {:.1e} is tighter than generalized-alpha resolves here in double precision: at t = {:.9e} s the step this tolerance needs ({:.1e} s) is so small that the round-off of positions takes {:.2} of the tolerance; loosen rtol/atol or use bdf or dopri5",
@@ -767,7 +772,7 @@ impl Integrator for GenAlpha {
                                 self.err_roundoff * h / self.h
                             )));
                         }
-                        if self.gain_ratio > 1.0 && self.h < 1e-14 * st.t.abs().max(1.0) {
+                        if self.gain_ratio > 1.0 && step_control::collapsed(self.h, st.t) {
                             return Err(SolverError(format!(
                                 "step size fell below {:.1e} s at t = {:.9e} s: the steps keep gaining energy ({:.2e} of the allowed 100 rtol of the energy in play) however small: a force whose potential energy disagrees with the force, or a force law too stiff for the solver (check stiffness and damping parameters)",
                                 self.h, st.t, self.gain_ratio
@@ -802,23 +807,12 @@ impl Integrator for GenAlpha {
                             StepAction::Stop => return Ok(()),
                         }
                         if adaptive {
-                            let fac = step_factor(err, self.gain_ratio, self.s.error_per_unit_step)
-                                .clamp(0.2, 3.0);
-                            // grow only by more than 20 % (a new step size costs a new
-                            // Newton matrix); shrink whenever the error asks for it
-                            let proposed = h * fac;
-                            let grow = if self.s.equal_steps {
-                                proposed > 1.2 * natural
-                            } else {
-                                h == natural
-                            };
-                            if fac < 1.0 || grow {
-                                self.h = proposed;
-                            } else if !self.s.equal_steps {
-                                // a step shortened to reach t_end may still show that a longer
-                                // one is allowed
-                                self.h = self.h.max(proposed);
-                            }
+                            self.h = self.step_policy().after_acceptance(
+                                h,
+                                natural,
+                                self.h,
+                                step_factor(err, self.gain_ratio, self.s.error_per_unit_step),
+                            );
                         }
                     }
                 }
@@ -835,8 +829,8 @@ impl Integrator for GenAlpha {
                             "{reason}; the fixed step {h:.3e} s is too large for this problem: reduce it or use an adaptive integrator"
                         )));
                     }
-                    self.h = 0.25 * h;
-                    if self.h < 1e-14 * st.t.abs().max(1.0) {
+                    self.h = step_control::after_failure(h);
+                    if step_control::collapsed(self.h, st.t) {
                         return Err(SolverError(format!(
                             "step size fell below {:.1e} s at t = {:.9e} s: {reason}; {}",
                             self.h,

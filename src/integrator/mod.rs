@@ -17,6 +17,7 @@ pub mod init;
 mod kkt;
 pub mod newton;
 pub mod rank;
+pub mod step_control;
 
 use crate::dae::System;
 use crate::state::State;
