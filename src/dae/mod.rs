@@ -13,6 +13,7 @@
 //! carry modal columns (module `dae::rows`). `M(a)` in [`System::mass_mul`] is that of the last
 //! kinematics update (every integrator calls it right after `forces` at the same state).
 
+pub mod conditioning;
 pub mod dense_lu;
 pub mod linear;
 mod modal;

@@ -58,6 +58,10 @@ const NEWTON_ROUND_OFF_EPSILONS: f64 = 30.0;
 
 /// The Newton matrix is formed again when the BDF leading coefficient has moved by more than
 /// this fraction since it was formed (and the serialized matrix point is reused within it).
+/// Conditioning of a closed loop's constraint rows, relative to the start, below which a
+/// failure is blamed on a singular configuration.
+const SINGULAR_NEAR: f64 = 0.1;
+
 /// BDF grows a step by at most 2x, and only by more than 20 % (a new step size costs a Newton
 /// matrix; a higher order is worth more than a slightly longer step).
 const STEP_POLICY: StepPolicy = StepPolicy {
@@ -105,6 +109,10 @@ pub struct Bdf {
     stats: Stats,
     /// Watches the constraint pivots of the Newton matrices for singular configurations.
     rank: super::rank::RankMonitor,
+    /// Conditioning of the loop rows of `G` at the first start (models with closed loops; not
+    /// serialized): the baseline against which a failure checks for a singular configuration
+    /// when the sparse Newton matrix hides the pivots.
+    loop_baseline: Option<f64>,
     // scratch: chart coordinates of history points (newest first), unknowns, residuals
     xs: Vec<Vec<f64>>,
     x: Vec<f64>,
@@ -228,6 +236,7 @@ impl Bdf {
             pending: None,
             stats: Stats::default(),
             rank: super::rank::RankMonitor::default(),
+            loop_baseline: None,
             xs: Vec::new(),
             x: Vec::new(),
             v: Vec::new(),
@@ -790,6 +799,26 @@ impl Bdf {
         self.stats.last_step = h;
     }
 
+    /// When the run fails near a singular configuration of a closed loop (the loop rows of `G`
+    /// conditioned [`SINGULAR_NEAR`] times worse than at the start, or the rank monitor inside a
+    /// passage): what to say about it.
+    fn singular_cause(&self, sys: &mut System, st: &State) -> Option<String> {
+        let base = self.loop_baseline?;
+        sys.eval_constraints(st.t, &st.q, &st.v);
+        let now = sys.loop_conditioning()?;
+        if !(self.rank.inside() || now.ratio < SINGULAR_NEAR * base) {
+            return None;
+        }
+        let joint = sys
+            .joint_of_active_row(now.row)
+            .and_then(|j| sys.model.joints.get(j))
+            .map_or_else(|| "?".to_string(), |j| format!("'{}'", j.name));
+        Some(format!(
+            "the mechanism is at a singular configuration (joint {joint}: the loop constraints' conditioning fell to {:.1e} of its value at the start), where bdf's Newton iteration does not converge; use gen-alpha or dopri5, which pass singular configurations",
+            now.ratio / base
+        ))
+    }
+
     /// Fixed-step start: fills the history with `order - 1` points from a tight DOPRI5 run.
     fn bootstrap(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
         let h = self.s.fixed_step;
@@ -838,6 +867,10 @@ impl Integrator for Bdf {
         };
         self.jac_valid = false;
         self.pending = None;
+        if self.loop_baseline.is_none() && sys.has_loops() {
+            sys.eval_constraints(st.t, &st.q, &st.v);
+            self.loop_baseline = sys.loop_conditioning().map(|c| c.ratio);
+        }
         Ok(())
     }
 
@@ -986,6 +1019,12 @@ impl Integrator for Bdf {
                     self.order = 1;
                     self.steps_at_order = 0;
                     if step_control::collapsed(self.h, st.t) {
+                        if let Some(cause) = self.singular_cause(sys, st) {
+                            return Err(SolverError(format!(
+                                "step size fell below {:.1e} s at t = {:.9e} s: {reason}; {cause}",
+                                self.h, st.t
+                            )));
+                        }
                         return Err(SolverError(format!(
                             "step size fell below {:.1e} s at t = {:.9e} s: {reason} (check parameters, loosen rtol or raise damping)",
                             self.h, st.t

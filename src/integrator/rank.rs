@@ -55,6 +55,11 @@ pub struct RankMonitor {
     last: Option<(Vec<usize>, f64)>,
     /// Smallest pivot ratio of the last observation (1 before the first).
     smallest: f64,
+    /// Largest watched pivot magnitude of the last observation's first block (0 before the
+    /// first): the scale of the constraint block's Schur complement `G M^-1 G^T`.
+    scale: f64,
+    /// Loop rows grouped by component, for observations without pivots (computed once).
+    groups: Option<Vec<Vec<usize>>>,
 }
 
 impl RankMonitor {
@@ -62,6 +67,7 @@ impl RankMonitor {
     pub fn reset(&mut self) {
         self.baseline.clear();
         self.inside = false;
+        self.groups = None;
     }
 
     /// Whether the last observation was inside a passage through a singular configuration.
@@ -77,6 +83,12 @@ impl RankMonitor {
         } else {
             1.0
         }
+    }
+
+    /// Largest watched pivot magnitude of the last observation (the scale of `G M^-1 G^T` in
+    /// the first block; 0 before the first observation).
+    pub fn pivot_scale(&self) -> f64 {
+        self.scale
     }
 
     /// Joints (names) and time of the last singular configuration seen, for messages.
@@ -118,8 +130,40 @@ impl RankMonitor {
             if !(big > 0.0 && big.is_finite()) {
                 return Passage::None;
             }
+            if b == 0 {
+                self.scale = big;
+            }
             self.now[at..].iter_mut().for_each(|p| *p /= big);
         }
+        self.decide(sys, nc, t, stats)
+    }
+
+    /// As [`RankMonitor::observe`] for a factorization that does not show its pivots (sparse
+    /// LU): observes the constraint rows evaluated last directly, by the pivots of `G G^T` of
+    /// each closed loop's rows ([`System::loop_row_pivots`], a small dense Cholesky per loop).
+    /// The scale for [`RankMonitor::pivot_scale`] is then the largest `|G_r|^2` over the mass of
+    /// the heaviest body (an estimate of `G M^-1 G^T`'s within a few times).
+    pub fn observe_rows(&mut self, sys: &mut System, t: f64, stats: &mut Stats) -> Passage {
+        if !sys.has_loops() {
+            return Passage::None;
+        }
+        let groups = self.groups.get_or_insert_with(|| sys.loop_row_groups());
+        let mut now = std::mem::take(&mut self.now);
+        let g2 = sys.loop_row_pivots(groups, &mut now);
+        self.now = now;
+        let heaviest = sys
+            .model
+            .bodies
+            .iter()
+            .map(|b| b.kind.mass())
+            .fold(0.0, f64::max);
+        self.scale = if heaviest > 0.0 { g2 / heaviest } else { g2 };
+        let nc = sys.n_c();
+        self.decide(sys, nc, t, stats)
+    }
+
+    /// The passage state machine on the normalized observation in `now` (blocks of `nc` rows).
+    fn decide(&mut self, sys: &mut System, nc: usize, t: f64, stats: &mut Stats) -> Passage {
         if self.baseline.len() != self.now.len() {
             self.baseline.clone_from(&self.now);
             return Passage::None;
