@@ -15,6 +15,8 @@ pub mod run;
 pub mod segment;
 pub mod shell;
 pub mod slip;
+#[cfg(test)]
+mod slip_dense;
 
 pub use effect::{CONTACT_MEM, HOOK_MEM, NodeSegments, RopeEffect};
 pub use layout::{ContactInit, EdgeHold, HookInit, LayoutPoint, LayoutRope, PointAt, SlipMode};
