@@ -215,14 +215,20 @@ pub fn node_reports(
     out
 }
 
-/// Multiplier rows of each contact slot's line joint.
+/// Multiplier rows of each contact slot's line joint (its first two active rows, ascending),
+/// from one pass over the active rows: a search of all rows per slot made every accepted step
+/// cost O(k^2) in the number k of contact nodes.
 pub fn contact_rows(sys: &System, map: &BuildMap) -> Vec<[usize; 2]> {
+    let joints = map.contacts.iter().map(|c| c.2 + 1).max().unwrap_or(0);
+    let mut rows = vec![Vec::with_capacity(2); joints];
+    for r in 0..sys.n_c() {
+        if let Some(list) = sys.joint_of_active_row(r).and_then(|j| rows.get_mut(j)) {
+            list.push(r);
+        }
+    }
     map.contacts
         .iter()
-        .map(|&(_, _, j)| {
-            let r = sys.joint_multiplier_rows(j);
-            [r[0], r[1]]
-        })
+        .map(|&(_, _, j)| [rows[j][0], rows[j][1]])
         .collect()
 }
 
