@@ -15,9 +15,10 @@
 //! points of fixed material coordinate; a chain of one segment follows the plain law, a longer one
 //! (whose interior nodes all slide) the friction-limited sliding of [`super::slip`]. The forces are
 //! thus a continuous, piecewise smooth function of the positions and the memory, and a node can
-//! never slide against its friction. Every pair of the run's points gets a Jacobian block at every
-//! evaluation (zero where uncoupled), so the sparsity pattern only changes when nodes are inserted
-//! or removed.
+//! never slide against its friction. The Jacobian has the blocks the modes couple (see [`emit`]):
+//! the sparsity pattern changes when a node starts or stops sliding (before, every pair of the
+//! run's points got a block, zero where uncoupled, so a run of 256 sticking nodes had a dense
+//! Newton matrix).
 //!
 //! Within a step's Newton iteration the integrator may freeze the modes (`ctx.frozen`, one code
 //! per contact slot, see [`RopeEffect`]'s `freeze`): the run is then evaluated on that smooth
@@ -317,9 +318,24 @@ fn eval_modes(
     ev
 }
 
-/// Emits every block of an evaluated run.
+/// Emits the blocks of an evaluated run that its slip modes couple: the points of one chain
+/// (between sticking nodes or the run's ends, which belong to both chains they bound) with each
+/// other, and neighbours. A run of sticking nodes is thus block-tridiagonal, and only a sliding
+/// chain fills its square; the pattern changes when a node starts or stops sliding (the linear
+/// solver then analyses it anew).
 pub fn emit(e: &RopeEffect, ctx: &EvalCtx, ev: &RunEval, sink: &mut dyn JacobianSink) {
     let np = ev.points.len();
+    // sticks[i]: sticking contact nodes (interior points) among the points before i
+    let mut sticks = vec![0usize; np + 1];
+    for j in 0..np {
+        let stick = j > 0 && j < np - 1 && ev.modes[j] == SlipMode::Stick;
+        sticks[j + 1] = sticks[j] + usize::from(stick);
+    }
+    // points x < y are coupled when no sticking node lies strictly between them
+    let coupled = |x: usize, y: usize| {
+        let (a, b) = (x.min(y), x.max(y));
+        b <= a + 1 || sticks[b] == sticks[a + 1]
+    };
     let refs: Vec<PointRef> = ev
         .points
         .iter()
@@ -330,6 +346,9 @@ pub fn emit(e: &RopeEffect, ctx: &EvalCtx, ev: &RunEval, sink: &mut dyn Jacobian
         .collect();
     for x in 0..np {
         for y in 0..np {
+            if !coupled(x, y) {
+                continue;
+            }
             let fa = (x == y).then_some(&ev.force[x]);
             add_pair(
                 &refs[x],
