@@ -4,6 +4,7 @@
 
 pub mod assemble;
 pub mod bending;
+pub mod cone;
 pub mod drag;
 pub mod edge_hold;
 pub mod effect;

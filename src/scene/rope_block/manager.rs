@@ -12,9 +12,10 @@ use super::structure::Structure;
 use crate::dae::System;
 use crate::integrator::{SolverError, StepAction, StepHook};
 use crate::math::Vec3;
+use crate::rope::cone::NodeCone;
 use crate::rope::friction::{self, ContactFrame, Reaction};
 use crate::rope::shell::detect::{clears_edge, segment_crossing};
-use crate::rope::{NodeSegments, SlipMode};
+use crate::rope::{NodeSegments, RopeEffect};
 use crate::state::State;
 
 /// Settings of contact detection and node management.
@@ -232,6 +233,22 @@ pub fn contact_rows(sys: &System, map: &BuildMap) -> Vec<[usize; 2]> {
         .collect()
 }
 
+/// The cone settlement's view ([`NodeCone`]) of a reported node, with the rope's memory `mem`.
+fn node_cone<'a>(rope: &RopeEffect, rep: &'a NodeReport, mem: &[f64]) -> NodeCone<'a> {
+    NodeCone {
+        mu: rope.contact_mu(mem, rep.slot),
+        mode: rope.contact_state(mem, rep.slot).0,
+        pull: &rep.pull,
+        hold_force: rep.hold_force,
+        frame: &rep.frame,
+        e_prev: &rep.e_prev,
+        e_next: &rep.e_next,
+        turn: rep.turn,
+        t_prev: rep.segments.t_prev,
+        t_next: rep.segments.t_next,
+    }
+}
+
 impl Manager<'_> {
     /// Kinetic plus potential energy [J] of the system at the state `st`.
     fn mechanical_energy(&mut self, sys: &mut System, st: &State) -> f64 {
@@ -391,32 +408,10 @@ impl Manager<'_> {
             let mut shares = Vec::new();
             for rep in &reports {
                 let o = base + rope.contact_memory_offset(rep.slot);
-                let (mode, share, mu) = (
-                    SlipMode::from_code(st.memory[o + 1]),
-                    st.memory[o + 2],
-                    st.memory[o + 6],
-                );
-                let n = rep.pull.normal;
-                // only where the cone is left: a share changed at every step would be a force
-                // discontinuity at every step (BDF's steps collapsed on the default lift)
-                let inside = rep.hold_force.hypot(rep.pull.along_rope) <= mu * n * (1.0 + 1e-12);
-                if mode == SlipMode::Stick || n <= 0.0 || inside {
+                let share = st.memory[o + 2];
+                let Some(c) = node_cone(rope, rep, &st.memory[base..]).settled_share() else {
                     continue;
-                }
-                let want = friction::rope_share(mu, n, rep.hold_force);
-                let [fwd, bwd] = friction::plane_coefficients(
-                    &rep.frame,
-                    &rep.e_prev,
-                    &rep.e_next,
-                    rep.turn,
-                    want,
-                );
-                let c = if mode == SlipMode::SlipForward {
-                    fwd
-                } else {
-                    bwd
-                }
-                .unwrap_or(want);
+                };
                 if (c - share).abs() > 1e-13 * share.max(1e-3) {
                     shares.push((o + 2, c));
                 }
@@ -446,17 +441,8 @@ impl Manager<'_> {
         let mut anchors = Vec::new();
         for rep in &reports {
             let c = rep.slot;
-            let cap = friction::edge_capacity(
-                rope.contact_mu(ctx.memory, c),
-                rep.pull.normal,
-                rep.pull.along_rope,
-            );
-            let sticks = rope.contact_state(ctx.memory, c).0 == SlipMode::Stick;
-            if rep.hold_force.abs() > cap
-                && (!sticks
-                    || rep.hold_force.abs()
-                        > rope.contact_mu(ctx.memory, c) * rep.pull.normal.max(0.0))
-                && let Some(u0) = rope.hold_anchor_for(&ctx, c, rep.hold_force.signum() * cap)
+            if let Some(force) = node_cone(rope, rep, ctx.memory).clipped_hold()
+                && let Some(u0) = rope.hold_anchor_for(&ctx, c, force)
             {
                 anchors.push((base + rope.contact_memory_offset(c) + 3, u0));
             }
@@ -485,14 +471,9 @@ impl Manager<'_> {
         let reports = node_reports(sys, self.map, self.structure, st);
         let rope = &self.map.rope;
         let mem = &st.memory[self.map.rope_memory..];
-        let outside = reports.iter().any(|rep| {
-            let (mode, _) = rope.contact_state(mem, rep.slot);
-            let mu = rope.contact_mu(mem, rep.slot);
-            let n = rep.pull.normal;
-            mode == SlipMode::Stick
-                && n > 0.0
-                && rep.hold_force.hypot(rep.pull.along_rope) > mu * n * (1.0 + 1e-12)
-        });
+        let outside = reports
+            .iter()
+            .any(|rep| node_cone(rope, rep, mem).sticks_outside());
         if !outside {
             return false;
         }
@@ -532,33 +513,11 @@ impl Manager<'_> {
     fn slide_outside_pass(&mut self, sys: &mut System, st: &mut State) -> bool {
         let rope = &self.map.rope;
         let base = self.map.rope_memory;
-        let outside = |rep: &NodeReport, mem: &[f64]| {
-            let n = rep.pull.normal;
-            rope.contact_state(mem, rep.slot).0 == SlipMode::Stick
-                && n > 0.0
-                && rep.hold_force.hypot(rep.pull.along_rope)
-                    > rope.contact_mu(mem, rep.slot) * n * (1.0 + 1e-12)
-        };
         let mut slid = Vec::new();
         for rep in node_reports(sys, self.map, self.structure, st) {
-            let mem = &st.memory[base..];
-            if !outside(&rep, mem) {
-                continue;
+            if let Some((mode, c)) = node_cone(rope, &rep, &st.memory[base..]).slide_out() {
+                slid.push((base + rope.contact_memory_offset(rep.slot), mode, c));
             }
-            let mu = rope.contact_mu(mem, rep.slot);
-            let share = friction::rope_share(mu, rep.pull.normal, rep.hold_force);
-            let [fwd, bwd] =
-                friction::plane_coefficients(&rep.frame, &rep.e_prev, &rep.e_next, rep.turn, share);
-            let (mode, c) = if rep.segments.t_next > rep.segments.t_prev {
-                (SlipMode::SlipForward, fwd)
-            } else {
-                (SlipMode::SlipBackward, bwd)
-            };
-            slid.push((
-                base + rope.contact_memory_offset(rep.slot),
-                mode,
-                c.unwrap_or(share),
-            ));
         }
         if slid.is_empty() {
             return false;
