@@ -561,9 +561,9 @@ impl RopeEffect {
         )
     }
 
-    /// Evaluates run `r` (its points, forces, derivative blocks, tensions and material flow).
+    /// Evaluates run `r` (its points, forces, tensions and material flow; no derivative blocks).
     pub(crate) fn eval_run(&self, ctx: &EvalCtx, r: usize) -> RunEval {
-        run::eval(self, ctx, self.runs[r])
+        run::eval(self, ctx, self.runs[r], false)
     }
 }
 
@@ -660,7 +660,7 @@ impl ForceEffect for RopeEffect {
             .add_jacobian(sink);
         }
         for r in 0..self.runs.len() {
-            let ev = self.eval_run(ctx, r);
+            let ev = run::eval(self, ctx, self.runs[r], true);
             run::emit(self, ctx, &ev, sink);
         }
         for &(i, k) in &self.bend {

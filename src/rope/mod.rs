@@ -4,6 +4,7 @@
 
 pub mod assemble;
 pub mod bending;
+pub mod cone;
 pub mod drag;
 pub mod edge_hold;
 pub mod effect;
@@ -15,6 +16,8 @@ pub mod run;
 pub mod segment;
 pub mod shell;
 pub mod slip;
+#[cfg(test)]
+mod slip_dense;
 
 pub use effect::{CONTACT_MEM, HOOK_MEM, NodeSegments, RopeEffect};
 pub use layout::{ContactInit, EdgeHold, HookInit, LayoutPoint, LayoutRope, PointAt, SlipMode};

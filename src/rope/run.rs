@@ -15,9 +15,10 @@
 //! points of fixed material coordinate; a chain of one segment follows the plain law, a longer one
 //! (whose interior nodes all slide) the friction-limited sliding of [`super::slip`]. The forces are
 //! thus a continuous, piecewise smooth function of the positions and the memory, and a node can
-//! never slide against its friction. Every pair of the run's points gets a Jacobian block at every
-//! evaluation (zero where uncoupled), so the sparsity pattern only changes when nodes are inserted
-//! or removed.
+//! never slide against its friction. The Jacobian has the blocks the modes couple (see [`emit`]):
+//! the sparsity pattern changes when a node starts or stops sliding (before, every pair of the
+//! run's points got a block, zero where uncoupled, so a run of 256 sticking nodes had a dense
+//! Newton matrix).
 //!
 //! Within a step's Newton iteration the integrator may freeze the modes (`ctx.frozen`, one code
 //! per contact slot, see [`RopeEffect`]'s `freeze`): the run is then evaluated on that smooth
@@ -61,8 +62,10 @@ pub struct RunEval {
 }
 
 /// Evaluates the run whose contact nodes are the points `first ..= last`, settling which nodes
-/// slide (see the module documentation).
-pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32)) -> RunEval {
+/// slide (see the module documentation). The derivative blocks (`RunEval::jac`, `damp`) are
+/// formed only `with_jac` (they are `(m + 1)^2` for a run of `m + 1` points; everything else
+/// costs O(m) per pass of the return mapping), else left empty.
+pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32), with_jac: bool) -> RunEval {
     let (a, b) = (first as usize - 1, last as usize + 1);
     let np = b - a + 1;
     let mut pos = Vec::with_capacity(np);
@@ -84,12 +87,12 @@ pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32)) -> RunEval
             modes[k] = SlipMode::from_code(ctx.frozen[2 * c]);
             share[k] = ctx.frozen[2 * c + 1];
         }
-        return eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share);
+        return eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, with_jac);
     }
     for k in 1..np - 1 {
         (modes[k], share[k]) = e.contact_state(ctx.memory, e.contact[a + k] as usize);
     }
-    let mut ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share);
+    let mut ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, false);
     for _ in 0..4 * np {
         let mut changed = false;
         for k in 1..np - 1 {
@@ -116,7 +119,11 @@ pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32)) -> RunEval
         if !changed {
             break;
         }
-        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share);
+        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, false);
+    }
+    if with_jac {
+        // the settled modes again, now with the derivative blocks (same forces)
+        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, true);
     }
     ev
 }
@@ -188,7 +195,8 @@ fn turn_angle(p0: &Vec3, p1: &Vec3, p2: &Vec3) -> f64 {
     (u.dot(&w) / d).clamp(-1.0, 1.0).acos()
 }
 
-/// Evaluates the run for given slip modes of its nodes and shares of the sliding ones.
+/// Evaluates the run for given slip modes of its nodes and shares of the sliding ones (the
+/// derivative blocks only `with_jac`).
 #[allow(clippy::too_many_arguments)]
 fn eval_modes(
     e: &RopeEffect,
@@ -199,14 +207,16 @@ fn eval_modes(
     sigma_mem: &[f64],
     modes: &[SlipMode],
     share: &[f64],
+    with_jac: bool,
 ) -> RunEval {
     let np = pos.len();
+    let blocks = if with_jac { np * np } else { 0 };
     let props = &e.props[e.rope_of[a] as usize];
     let mut ev = RunEval {
         points: (a..a + np).collect(),
         force: vec![Vec3::zeros(); np],
-        jac: vec![Mat3::zeros(); np * np],
-        damp: vec![Mat3::zeros(); np * np],
+        jac: vec![Mat3::zeros(); blocks],
+        damp: vec![Mat3::zeros(); blocks],
         tension: vec![0.0; np - 1],
         rest: vec![0.0; np - 1],
         sigma: vec![0.0; np],
@@ -252,6 +262,9 @@ fn eval_modes(
             ev.damping_power += (s.law.t - s.elastic) * s.ldot;
             ev.force[k0] += s.force;
             ev.force[k1] -= s.force;
+            if !with_jac {
+                continue;
+            }
             ev.jac[k0 * np + k0] -= s.kd;
             ev.jac[k0 * np + k1] += s.kd;
             ev.jac[k1 * np + k0] += s.kd;
@@ -268,7 +281,14 @@ fn eval_modes(
                 mu: share[k],
             })
             .collect();
-        let ch = eval_chain(&pos[k0..=k1], &vel[k0..=k1], &nodes, s1 - s0, props.ea);
+        let ch = eval_chain(
+            &pos[k0..=k1],
+            &vel[k0..=k1],
+            &nodes,
+            s1 - s0,
+            props.ea,
+            with_jac,
+        );
         let m = k1 - k0;
         let mut sig = s0;
         let mut sdot = sdot0;
@@ -287,6 +307,9 @@ fn eval_modes(
         let mp = m + 1;
         for x in 0..mp {
             ev.force[k0 + x] += ch.force[x];
+            if !with_jac {
+                continue;
+            }
             for y in 0..mp {
                 ev.jac[(k0 + x) * np + k0 + y] += ch.jac[x * mp + y];
             }
@@ -295,9 +318,24 @@ fn eval_modes(
     ev
 }
 
-/// Emits every block of an evaluated run.
+/// Emits the blocks of an evaluated run that its slip modes couple: the points of one chain
+/// (between sticking nodes or the run's ends, which belong to both chains they bound) with each
+/// other, and neighbours. A run of sticking nodes is thus block-tridiagonal, and only a sliding
+/// chain fills its square; the pattern changes when a node starts or stops sliding (the linear
+/// solver then analyses it anew).
 pub fn emit(e: &RopeEffect, ctx: &EvalCtx, ev: &RunEval, sink: &mut dyn JacobianSink) {
     let np = ev.points.len();
+    // sticks[i]: sticking contact nodes (interior points) among the points before i
+    let mut sticks = vec![0usize; np + 1];
+    for j in 0..np {
+        let stick = j > 0 && j < np - 1 && ev.modes[j] == SlipMode::Stick;
+        sticks[j + 1] = sticks[j] + usize::from(stick);
+    }
+    // points x < y are coupled when no sticking node lies strictly between them
+    let coupled = |x: usize, y: usize| {
+        let (a, b) = (x.min(y), x.max(y));
+        b <= a + 1 || sticks[b] == sticks[a + 1]
+    };
     let refs: Vec<PointRef> = ev
         .points
         .iter()
@@ -308,6 +346,9 @@ pub fn emit(e: &RopeEffect, ctx: &EvalCtx, ev: &RunEval, sink: &mut dyn Jacobian
         .collect();
     for x in 0..np {
         for y in 0..np {
+            if !coupled(x, y) {
+                continue;
+            }
             let fa = (x == y).then_some(&ev.force[x]);
             add_pair(
                 &refs[x],

@@ -22,7 +22,9 @@
 //!
 //! Every derivative with respect to the point positions (through the lengths, the directions and
 //! the turning angles) is exact, so the Newton matrices of implicit integrators see the true
-//! Jacobian.
+//! Jacobian. The forces, rest lengths and material flow cost O(m) ([`eval_chain`]); the Jacobian
+//! couples every pair of the chain's points (a pull anywhere changes `T_0`), so it has `(m + 1)^2`
+//! blocks, each formed in O(1) and only when asked for.
 
 use crate::math::{Mat3, Vec3};
 
@@ -75,26 +77,34 @@ pub fn edge_ratio(mu: f64, theta: f64) -> (f64, f64) {
 
 /// Evaluates a chain of `m = pos.len() - 1 >= 2` segments with the slipping interior nodes
 /// `nodes` (length `m - 1`), total rest length `rest_total` [m] and axial stiffness `ea` [N].
-/// `vel` are the point velocities [m/s] (for the rate of material flow).
+/// `vel` are the point velocities [m/s] (for the rate of material flow). The Jacobian
+/// (`ChainEval::jac`) is filled only `with_jac`, else left empty.
+///
+/// Cost O(m) without the Jacobian: every tension is `T_j = c_j T_0`, so its gradient is
+/// `c_j (G + T_0 sum_{i<=j} d lam_i)` with one shared gradient `G = dT_0/dp` (built once from the
+/// lengths and the log-ratios, each touching two or three points) and prefix sums of the
+/// log-ratio gradients (each touching three points); the material flow uses the same sums
+/// contracted with the velocities. With the Jacobian every one of its `(m + 1)^2` blocks is
+/// formed in O(1) from those factors.
 pub fn eval_chain(
     pos: &[Vec3],
     vel: &[Vec3],
     nodes: &[SlipNode],
     rest_total: f64,
     ea: f64,
+    with_jac: bool,
 ) -> ChainEval {
     let np = pos.len();
     let m = np - 1;
     debug_assert!(m >= 2 && nodes.len() == m - 1 && vel.len() == np);
     let mut u = vec![Vec3::zeros(); m];
     let mut l = vec![0.0; m];
-    let mut proj = vec![Mat3::zeros(); m];
     for j in 0..m {
         let d = pos[j + 1] - pos[j];
         l[j] = d.norm().max(1e-12);
         u[j] = d / l[j];
-        proj[j] = Mat3::identity() - u[j] * u[j].transpose();
     }
+    let proj = |j: usize| Mat3::identity() - u[j] * u[j].transpose();
     // log-ratios and their gradients w.r.t. the three points around each node
     let mut lam = vec![0.0; m]; // lam[i] for node i (index 0 unused)
     let mut dlam: Vec<[Vec3; 3]> = vec![[Vec3::zeros(); 3]; m];
@@ -107,8 +117,8 @@ pub fn eval_chain(
         let sin = (1.0 - c * c).max(0.0).sqrt();
         if sin > 1e-9 && dlnr != 0.0 {
             let k = nd.direction * dlnr * (-1.0 / sin);
-            let g1 = proj[i - 1] * u[i] / l[i - 1];
-            let g2 = proj[i] * u[i - 1] / l[i];
+            let g1 = proj(i - 1) * u[i] / l[i - 1];
+            let g2 = proj(i) * u[i - 1] / l[i];
             dlam[i] = [-g1 * k, (g1 - g2) * k, g2 * k];
         }
     }
@@ -123,7 +133,11 @@ pub fn eval_chain(
         length: l.clone(),
         rest_rate: vec![0.0; m],
         force: vec![Vec3::zeros(); np],
-        jac: vec![Mat3::zeros(); np * np],
+        jac: if with_jac {
+            vec![Mat3::zeros(); np * np]
+        } else {
+            Vec::new()
+        },
         ..Default::default()
     };
     if sum_l <= rest_total {
@@ -151,66 +165,92 @@ pub fn eval_chain(
     }
     let w: Vec<f64> = (0..m).map(|j| 1.0 / (1.0 + cj[j] * t0 / ea)).collect();
     let dd: f64 = (0..m).map(|j| l[j] * cj[j] * w[j] * w[j] / ea).sum();
-    // dT0/dlam_i = -(sum_{j>=i} l_j c_j w_j^2 T0/EA) / Dd
+    // dT0/dlam_i = -(sum_{j>=i} l_j c_j w_j^2 T0/EA) / Dd, a suffix sum
     let mut dt0_dlam = vec![0.0; m];
     let mut acc = 0.0;
     for i in (1..m).rev() {
         acc += l[i] * cj[i] * w[i] * w[i] * t0 / ea;
         dt0_dlam[i] = -acc / dd;
     }
-    // gradients of the elastic tensions and rest lengths w.r.t. the points
-    let mut dte = vec![Vec3::zeros(); m * np];
-    for j in 0..m {
-        for i in 0..m {
-            let g = cj[j] * w[i] / dd;
-            dte[j * np + i + 1] += u[i] * g;
-            dte[j * np + i] -= u[i] * g;
-        }
-        for i in 1..m {
-            let g = cj[j] * (dt0_dlam[i] + if i <= j { t0 } else { 0.0 });
-            if g != 0.0 {
-                for (k, a) in [i - 1, i, i + 1].into_iter().enumerate() {
-                    dte[j * np + a] += dlam[i][k] * g;
-                }
-            }
+    // G_a = dT0/dp_a: through each length (dT0/dl_i = w_i / Dd) and each log-ratio
+    let mut g = vec![Vec3::zeros(); np];
+    for i in 0..m {
+        let s = u[i] * (w[i] / dd);
+        g[i + 1] += s;
+        g[i] -= s;
+    }
+    for i in 1..m {
+        for k in 0..3 {
+            g[i - 1 + k] += dlam[i][k] * dt0_dlam[i];
         }
     }
+    // rates: dT0/dt = G . v, d lam_i/dt = dlam_i . v (prefix-summed along the chain)
+    let t0_rate: f64 = g.iter().zip(vel).map(|(a, b)| a.dot(b)).sum();
+    let mut lam_rate_sum = 0.0;
     for j in 0..m {
+        if j > 0 {
+            lam_rate_sum += (0..3).map(|k| dlam[j][k].dot(&vel[j - 1 + k])).sum::<f64>();
+        }
         let te = cj[j] * t0;
         let rest = l[j] * w[j];
         out.rest[j] = rest;
         let eps = l[j] / rest - 1.0;
         out.energy += 0.5 * ea * eps * eps * rest;
-        // dL_j/dp_a = w_j dl_j/dp_a - l_j w_j^2 / EA dTe_j/dp_a
-        let mut lrate = 0.0;
-        for a in 0..np {
-            let mut g = -dte[j * np + a] * (l[j] * w[j] * w[j] / ea);
-            if a == j + 1 {
-                g += u[j] * w[j];
-            } else if a == j {
-                g -= u[j] * w[j];
-            }
-            lrate += g.dot(&vel[a]);
-        }
+        // dL_j/dt = w_j dl_j/dt - l_j w_j^2 / EA dTe_j/dt
+        let te_rate = cj[j] * (t0_rate + t0 * lam_rate_sum);
+        let lrate = w[j] * u[j].dot(&(vel[j + 1] - vel[j])) - l[j] * w[j] * w[j] / ea * te_rate;
         out.rest_rate[j] = lrate;
         out.friction_power += te * (1.0 + 0.5 * eps) * lrate;
-        let t = te;
+        if te <= 0.0 {
+            continue;
+        }
+        out.tension[j] = te;
+        out.force[j] += u[j] * te;
+        out.force[j + 1] -= u[j] * te;
+    }
+    if with_jac {
+        fill_jacobian(&mut out, &u, &l, &cj, t0, &g, &dlam);
+    }
+    out
+}
+
+/// Fills the Jacobian `dF_a/dp_b` of an evaluated, taut chain: for each taut segment `j` the
+/// blocks `u_j (dT_j/dp_b)^T` on its two ends, `dT_j/dp_b = c_j (G_b + T_0 sum_{1<=i<=j}
+/// dlam_i/dp_b)` (only `i` in `b-1 ..= b+1` touch `p_b`), and the geometric stiffness `T_j P_j /
+/// l_j`.
+fn fill_jacobian(
+    out: &mut ChainEval,
+    u: &[Vec3],
+    l: &[f64],
+    cj: &[f64],
+    t0: f64,
+    g: &[Vec3],
+    dlam: &[[Vec3; 3]],
+) {
+    let m = u.len();
+    let np = m + 1;
+    for j in 0..m {
+        let t = out.tension[j];
         if t <= 0.0 {
             continue;
         }
-        out.tension[j] = t;
-        for a in 0..np {
-            let blk = u[j] * dte[j * np + a].transpose();
-            out.jac[j * np + a] += blk;
-            out.jac[(j + 1) * np + a] -= blk;
+        for b in 0..np {
+            // sum over i in max(1, b-1) ..= min(j, b+1, m-1) of dlam_i w.r.t. p_b
+            let mut h = Vec3::zeros();
+            let lo = b.saturating_sub(1).max(1);
+            let hi = j.min(b + 1).min(m - 1);
+            for i in lo..=hi {
+                h += dlam[i][b + 1 - i];
+            }
+            let d = (g[b] + h * t0) * cj[j];
+            let blk = u[j] * d.transpose();
+            out.jac[j * np + b] += blk;
+            out.jac[(j + 1) * np + b] -= blk;
         }
-        let geo = proj[j] * (t / l[j]);
+        let geo = (Mat3::identity() - u[j] * u[j].transpose()) * (t / l[j]);
         out.jac[j * np + j + 1] += geo;
         out.jac[j * np + j] -= geo;
         out.jac[(j + 1) * np + j + 1] -= geo;
         out.jac[(j + 1) * np + j] += geo;
-        out.force[j] += u[j] * t;
-        out.force[j + 1] -= u[j] * t;
     }
-    out
 }

@@ -1,0 +1,226 @@
+//! Many contact nodes at once (issue #19): a rope around a polygonal drum of 64 and 256 edges
+//! (wrap 180 degrees, circumradius 0.52 m), and around a rounded 90 degree corner (a square block
+//! whose corner is a 16-facet arc), pulled at one end slowly from T1 until the rope runs through
+//! every contact node. The applied T2/T1 at gross slip must equal the polygon law, the product
+//! of the sharp-edge ratios `(1 + mu tan(theta_i/2)) / (1 - mu tan(theta_i/2))` over the turns
+//! `theta_i` of the rig's geometry, within 0.5 % (for the drums it also lies within 0.5 % of the
+//! capstan law `exp(mu pi)`), both ways round the corner; and at every contact node and every
+//! output point the friction (hold along the edge and the rope's pull along the rope) stays
+//! inside the cone, `|(F_e, F_r)| <= mu N` to 1e-9 relative. Steel rope EA 7.5e7 N, 6.4 kg/m,
+//! mu 0.2, at 9.81 kN and 981 kN (the 256-edge drum at 981 kN only, for run time). Before the
+//! cone settlement slid sticking nodes again until none is left outside, the 64-edge drum at
+//! 9.81 kN had a sticking node at friction / (mu N) = 1 + 4.4e-9.
+
+use crate::rig::*;
+use mbcosim::math::Vec3;
+use mbcosim::model::Profile;
+use mbcosim::rope::{RopeProps, SlipMode};
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+const MU: f64 = 0.2;
+
+fn props() -> RopeProps {
+    RopeProps {
+        mass_per_length: 6.4,
+        ea: 7.5e7,
+        axial_damping: 7.5e3,
+        friction: MU,
+        ..RopeProps::default()
+    }
+}
+
+/// The polygon law of a rig: the product of the sharp-edge ratios over the turns at its
+/// vertices (strand 1 in, chords, strand 2 out), from the geometry alone.
+fn polygon_law(rig: &Wrap) -> f64 {
+    let mut dirs = vec![-rig.e1];
+    dirs.extend(rig.vertices.windows(2).map(|v| (v[1] - v[0]).normalize()));
+    dirs.push(rig.e2);
+    dirs.windows(2)
+        .map(|d| {
+            let theta = d[0].dot(&d[1]).clamp(-1.0, 1.0).acos();
+            let x = MU * (0.5 * theta).tan();
+            (1.0 + x) / (1.0 - x)
+        })
+        .product()
+}
+
+/// What a ramp to gross slip measured.
+struct GrossSlip {
+    /// Applied T2/T1 when every node first slid.
+    ratio: f64,
+    /// Largest friction / (mu N) at any node and output point.
+    worst_cone: f64,
+    /// First output point with friction outside the cone.
+    first_bad: Option<String>,
+}
+
+/// Ramps the pull of end 2 (end 1 with `reverse`) of `rig` from `t1` [N] by `1.2 t1` over
+/// `duration` [s], the other end held at `t1`, checking the cone at every contact node every
+/// `dt` [s], until every node slides the way it is pulled.
+fn ramp_to_gross_slip(mut rig: Wrap, t1: f64, reverse: bool, duration: f64, dt: f64) -> GrossSlip {
+    let rate = 1.2 * t1 / duration;
+    (rig.f1, rig.f2) = if reverse {
+        (Profile::linear(t1, rate), Profile::constant(t1))
+    } else {
+        (Profile::constant(t1), Profile::linear(t1, rate))
+    };
+    let want = if reverse {
+        SlipMode::SlipBackward
+    } else {
+        SlipMode::SlipForward
+    };
+    let mut sim = rig.sim(settings(1e-3));
+    let mut out = GrossSlip {
+        ratio: f64::NAN,
+        worst_cone: 0.0,
+        first_bad: None,
+    };
+    let steps = (duration / dt).round() as usize;
+    for s in 1..=steps {
+        let t = dt * s as f64;
+        sim.advance_to(t).unwrap();
+        let modes = sim.slip_modes();
+        for rep in sim.contact_reports() {
+            let n = rep.pull.normal;
+            let f = rep.hold_force.hypot(rep.pull.along_rope);
+            out.worst_cone = out.worst_cone.max(f / (MU * n));
+            if !(n > 0.0 && f <= MU * n * (1.0 + 1e-9)) && out.first_bad.is_none() {
+                out.first_bad = Some(format!(
+                    "t = {t:.3} s, node {} ({:?}): friction {f:.9e} N = {:.12} mu N (F_e {:.3e} N, F_r {:.6e} N), T {:.6e} / {:.6e} N, turn {:.3e} rad",
+                    rep.node,
+                    modes[rep.slot],
+                    f / (MU * n),
+                    rep.hold_force,
+                    rep.pull.along_rope,
+                    rep.segments.t_prev,
+                    rep.segments.t_next,
+                    rep.turn,
+                ));
+            }
+        }
+        if modes.iter().all(|m| *m == want) {
+            let (a, b) = (rig.f1.eval(t, &[]).0, rig.f2.eval(t, &[]).0);
+            out.ratio = b / a;
+            return out;
+        }
+    }
+    out
+}
+
+/// Checks one ramp against the polygon law; returns failures.
+fn check(name: &str, rig: Wrap, t1: f64, reverse: bool, dt: f64) -> Vec<String> {
+    let law = polygon_law(&rig);
+    let want = if reverse { 1.0 / law } else { law };
+    let start = std::time::Instant::now();
+    let g = ramp_to_gross_slip(rig, t1, reverse, 2.0, dt);
+    let rel = g.ratio / want - 1.0;
+    println!(
+        "{name}, T1 {t1:.3e} N, reverse {reverse}: T2/T1 at gross slip {:.5} (polygon law {want:.5}, {rel:+.1e}), max friction / (mu N) {:.12}, {:.1} s",
+        g.ratio,
+        g.worst_cone,
+        start.elapsed().as_secs_f64()
+    );
+    let mut failures = Vec::new();
+    if rel.is_nan() || rel.abs() >= 0.005 {
+        failures.push(format!(
+            "{name}, T1 {t1}, reverse {reverse}: {} vs {want}",
+            g.ratio
+        ));
+    }
+    failures.extend(
+        g.first_bad
+            .map(|b| format!("{name}, T1 {t1}, reverse {reverse}: {b}")),
+    );
+    failures
+}
+
+/// The drum of `k` edges with end loads of `end_mass` [kg].
+fn drum(k: usize, t1: f64, end_mass: f64) -> Wrap {
+    let pull = (Profile::constant(t1), Profile::constant(t1));
+    Wrap {
+        end_mass,
+        ..Wrap::drum(k, 0.52, t1, props(), pull, Hold::Fixed)
+    }
+}
+
+#[test]
+fn drum_of_64_contact_nodes_follows_the_polygon_law_inside_the_cone() {
+    let capstan = (MU * PI).exp();
+    let law = polygon_law(&drum(64, 1.0, 1.0));
+    println!("k = 64: polygon law {law:.6}, capstan {capstan:.6}");
+    assert!((law / capstan - 1.0).abs() < 0.005);
+    let mut failures = Vec::new();
+    // end loads of 100 kg per 9.81 kN of T1
+    for t1 in [9.81e3, 9.81e5] {
+        for reverse in [false, true] {
+            let rig = drum(64, t1, 100.0 * t1 / 9.81e3);
+            failures.extend(check("drum k = 64", rig, t1, reverse, 1e-3));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+#[test]
+fn drum_of_256_contact_nodes_follows_the_polygon_law_inside_the_cone() {
+    let capstan = (MU * PI).exp();
+    let law = polygon_law(&drum(256, 1.0, 1.0));
+    println!("k = 256: polygon law {law:.6}, capstan {capstan:.6}");
+    assert!((law / capstan - 1.0).abs() < 0.005);
+    let mut failures = Vec::new();
+    // at 981 kN only (10 t end loads): at 9.81 kN the ramp passes as well (T2/T1 -7.8e-4 off
+    // the law, friction / (mu N) 1 + 1e-12) but takes over three minutes on this machine, the
+    // stick band of a 0.7 degree turn being 2e-9 m of stretch there, far below the position
+    // tolerance (see docs/rope_friction.md); the 9.81 kN level is checked at 64 nodes
+    let t1 = 9.81e5;
+    failures.extend(check("drum k = 256", drum(256, t1, 1e4), t1, false, 1e-3));
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// A 2 m square block (a prism along z) whose corner at (+1, +1) is rounded with radius 0.25 m
+/// by `n` facets; the rope wraps the arc's `n + 1` vertices, both strands leaving 2 degrees off
+/// the block's faces (strand 1 down along x = 1, strand 2 along y = 1 towards -x).
+fn rounded_corner(n: usize, t1: f64) -> Wrap {
+    let rho = 0.25;
+    let c = (1.0 - rho, 1.0 - rho);
+    let arc: Vec<(f64, f64)> = (0..=n)
+        .map(|j| {
+            let a = 0.5 * PI * j as f64 / n as f64;
+            (c.0 + rho * a.cos(), c.1 + rho * a.sin())
+        })
+        .collect();
+    let mut section = vec![(-1.0, -1.0), (1.0, -1.0)];
+    section.extend(&arc);
+    section.push((-1.0, 1.0));
+    let off = 2f64.to_radians();
+    let vertices = arc.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
+    let pull = (Profile::constant(t1), Profile::constant(t1));
+    let mut rig = Wrap {
+        end_mass: 100.0 * t1 / 9.81e3,
+        ..Wrap::drum(2, 0.5, t1, props(), pull, Hold::Fixed)
+    };
+    rig.mesh = Arc::new(prism(&section, 1.0));
+    rig.vertices = vertices;
+    rig.e1 = Vec3::new(off.sin(), -off.cos(), 0.0);
+    rig.e2 = Vec3::new(-off.cos(), off.sin(), 0.0);
+    rig.strand = 1.0;
+    rig.t_init = vec![t1; n + 2];
+    rig
+}
+
+#[test]
+fn rope_pulled_around_a_rounded_corner_both_ways() {
+    let n = 16;
+    let turn = 0.5 * PI - 2.0 * 2f64.to_radians();
+    let capstan = (MU * turn).exp();
+    let law = polygon_law(&rounded_corner(n, 1.0));
+    println!("rounded corner, {n} facets: polygon law {law:.6}, capstan {capstan:.6}");
+    let mut failures = Vec::new();
+    for t1 in [9.81e3, 9.81e5] {
+        for reverse in [false, true] {
+            let rig = rounded_corner(n, t1);
+            failures.extend(check("rounded corner", rig, t1, reverse, 1e-3));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
