@@ -247,6 +247,7 @@ class Run:
         self.violations = []
         self.refused = False  # a clean refusal (Error/Discard with a logged message) happened
         self.calls = 0
+        self.text = ""
 
     def call(self, inst, what, fn, *args, initialized=False):
         before = len(inst.log)
@@ -287,10 +288,12 @@ class Run:
 
 
 def forge(m, rng, index):
-    """One forged state through deserialize, set state and steps."""
-    base_name, data, fields = m.bases[index // len(MODELS) % len(m.bases)]
-    field_no = (index // (len(MODELS) * len(m.bases))) % len(fields)
-    field = fields[field_no]
+    """One forged state through deserialize, set state and steps (`index`: this model's
+    sequence number, which picks the field)."""
+    flat = [(b, f) for b in range(len(m.bases)) for f in range(len(m.bases[b][2]))]
+    b, f = flat[index % len(flat)]  # every field of every base state in turn
+    base_name, data, fields = m.bases[b]
+    field = fields[f]
     forged, how = mutate(rng, data, field)
     run = Run(m)
     inst = m.new(logging_on=rng.random() < 0.3)
@@ -343,7 +346,7 @@ def envelope(m, rng, index):
     """One parameter (or a random combination) at an envelope value; initialize and step."""
     tunable = m.params
     if rng.random() < 0.7:
-        v = tunable[(index // len(MODELS)) % len(tunable)]
+        v = tunable[index % len(tunable)]  # every parameter in turn
         edges, pick = m.envelope_values(v)
         which = rng.choice(["min", "max", "random"])
         value = edges[0] if which == "min" else edges[-1] if which == "max" else pick(rng)
@@ -355,8 +358,15 @@ def envelope(m, rng, index):
             edges, pick = m.envelope_values(v)
             chosen[v.name] = rng.choice(edges + [pick(rng)] * 2)
         label = "combination " + ", ".join(f"{k}={x!r}" for k, x in chosen.items())
+    run, steps = run_values(m, chosen, label, logging_on=rng.random() < 0.3)
+    return run, {"case": label, "steps": steps}
+
+
+def run_values(m, chosen, label, logging_on=False, steps_max=3):
+    """Sets `chosen` (over the baseline), initializes and takes up to `steps_max` steps; a
+    refusal must name one of the chosen parameters. Returns the Run and the steps taken."""
     run = Run(m)
-    inst = m.new(logging_on=rng.random() < 0.3)
+    inst = m.new(logging_on=logging_on)
     run.call(inst, "fmi2SetupExperiment", inst.setup, 0.0, 10.0)
     values = {**BASELINE.get(m.id, {}), **chosen}
     for name, value in values.items():
@@ -367,7 +377,7 @@ def envelope(m, rng, index):
         run.call(inst, "fmi2ExitInitializationMode", inst.exit, initialized=True)
     t = 0.0
     steps = 0
-    while not run.refused and steps < 3:
+    while not run.refused and steps < steps_max:
         run.call(inst, "fmi2DoStep", inst.do_step, t, m.h, initialized=True)
         steps += 1
         t += m.h
@@ -375,9 +385,10 @@ def envelope(m, rng, index):
         text = " ".join(run.messages(inst))
         if not any(re.search(rf"(?<![\w.]){re.escape(name)}(?![\w])", text) for name in chosen):
             run.violations.append(("unnamed-parameter", f"{label}: refused without naming {sorted(chosen)}: {text[:400]}"))
+    run.text = " ".join(run.messages(inst))
     inst.free()
     R.LOGS.pop(inst.env, None)
-    return run, {"case": label, "steps": steps}
+    return run, steps
 
 
 def calls(m, rng, index):
@@ -451,7 +462,7 @@ def sequence(models, kinds, seed, index):
     rng = random.Random(f"{seed}:{index}")
     m = models[index % len(models)]
     kind = rng.choices(kinds, weights=[KIND_WEIGHTS[KINDS.index(k)] for k in kinds])[0]
-    run, info = RUNNERS[kind](m, rng, index)
+    run, info = RUNNERS[kind](m, rng, index // len(models))  # the index among this model's sequences
     outcome = "violation" if run.violations else "refused" if run.refused else "completed"
     return {"i": index, "model": m.id, "kind": kind, "outcome": outcome, "violations": run.violations, **info}
 
@@ -612,11 +623,23 @@ def main():
     ap.add_argument("--inline", action="store_true", help="no fork: run in this process (replay, valgrind)")
     ap.add_argument("--progress", type=int, default=0, help="print the counts every N sequences")
     ap.add_argument("--json", help="write the summary here")
+    ap.add_argument("--values", nargs="*", help="one envelope case instead: name=value ... of --models' model")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory(prefix="adversarial-fmus-") as work:
         models = [Model(a.dist, mid, work, a.bin) for mid in a.models.split(",")]
         kinds = a.kinds.split(",")
-        if a.inline:
+        if a.values is not None:
+            m = models[0]
+            chosen = {}
+            for item in a.values:
+                name, text = item.split("=", 1)
+                t = m.vars[name].type
+                chosen[name] = float(text) if t == "Real" else int(text) if t in ("Integer", "Enumeration") else \
+                    text in ("1", "true", "True") if t == "Boolean" else text
+            run, steps = run_values(m, chosen, " ".join(a.values))
+            summary = {"case": a.values, "refused": run.refused, "steps": steps, "violations": run.violations,
+                       "messages": run.text}
+        elif a.inline:
             results = [sequence(models, kinds, a.seed, i) for i in range(a.first, a.first + a.count)]
             summary = {"tried": len(results), "results": results,
                        "violations": sum(len(r["violations"]) for r in results)}
