@@ -134,3 +134,64 @@ def test_valgrind_memcheck_of_a_short_sequence_set(tmp_path):
     assert "ERROR SUMMARY: 0 errors" in text, text[-4000:]
     s = json.loads((tmp_path / "s.json").read_text())
     assert s["tried"] == 24
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf])
+def test_forged_parameter_outside_its_rules_is_refused_at_restore(models, bad):
+    """Regression (found by the harness, seed 2 sequence 1383): a PidController state with
+    u_max = NaN restored with fmi2OK; fmi2ExitInitializationMode then panicked in the output clamp
+    ("min > max, or either was NaN", fmi2Fatal). Parameters and inputs in a state now obey the
+    rules of their setters: fmi2DeSerializeFMUstate refuses the state and names the parameter."""
+    m = models["PidController"]
+    name, data, fields = m.bases[0]  # instantiated: outputs are not checked there
+    field = next(f for f in fields if f["what"] == "value of `u_max`" and f["kind"] == "f64")
+    off = field["spans"][0]["offset"]
+    forged = R.reseal(data[:off] + struct.pack("<d", bad) + data[off + 8:-8])
+    inst = m.new()
+    s, handle = inst.deserialize(forged)
+    if s == R.OK:  # before the fix: restore, initialize and see the panic
+        s = max(inst.set_state(handle), inst.init(stop=10.0))
+    assert s == R.ERROR, (R.STATUS_NAMES[s], inst.messages())
+    assert any("`u_max`" in msg for msg in inst.messages()), inst.messages()
+    inst.free()
+
+
+# Regressions (found by the harness's parameter envelope): each case used to fail without
+# naming the parameter (the message it gave is in the comment), or to run for minutes.
+ENVELOPE_CASES = [
+    # "body 'yoke': inertia tensor has non-finite entries"
+    ("PanelLock", ["panel_width=1e300"], "panel_width"),
+    # "PanelLock solver failed: step size fell below 9.5e-15 s ... singular Newton matrix"
+    ("PanelLock", ["yoke_mass=1e300"], "yoke_mass"),
+    # "linear solve produced non-finite values (singular Newton matrix)"
+    ("PanelLock", ["hinge_mass=6.768156305329782e+84"], "hinge_mass"),
+    # fmi2ExitInitializationMode OK with potential_energy = inf, then a non-finite Newton residual
+    ("PanelLock", ["root_spring_preload=1e300"], "root_spring_preload"),
+    # "latch of hinge 0: invalid contact parameter groove width w_g = 0.012: expected >= 2 r_p"
+    ("PanelLock", ["pin_radius=0.01"], "pin_radius"),
+    # "latch of hinge 0: invalid contact parameter groove depth d_g = 0.131: expected < cam radius R_c"
+    ("PanelLock", ["groove_depth=0.13099587966577175"], "groove_depth"),
+    # "panel hinge travel 3.1416 rad must be below pi (stow the panels a little open)"
+    ("PanelLock", ["panel_stowed_angle=0.0"], "panel_stowed_angle"),
+    # "RopeBlock could not be set up: mesh '/dev/null': ... unknown format (expected .obj or .stl)"
+    ("RopeBlock", ["mesh_file=/dev/null"], "mesh_file"),
+    # dopri5 at 263 segments: one 0.05 s step took 193 s CPU (a hang under any CPU bound)
+    ("RopeBlock", ["integrator=3", "segments=263"], "segments"),
+]
+
+
+@pytest.mark.parametrize("model,values,named", ENVELOPE_CASES, ids=[" ".join(c[1]) for c in ENVELOPE_CASES])
+def test_envelope_refusals_name_the_parameter(model, values, named, tmp_path):
+    packed(model)
+    out = tmp_path / "case.json"
+    try:
+        r = subprocess.run([sys.executable, str(HERE / "adversarial.py"), "--dist", str(DIST), "--bin", mbcosim(),
+                            "--models", model, "--json", str(out), "--values", *values],
+                           capture_output=True, text=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        pytest.fail(f"{model} {values}: no answer within 60 s")
+    assert r.returncode == 0, r.stderr[-2000:]
+    case = json.loads(out.read_text())
+    assert case["refused"], case
+    assert not case["violations"], case["violations"]
+    assert re.search(rf"\b{named}\b", case["messages"]), case["messages"]
