@@ -113,27 +113,52 @@ def test_forged_non_finite_numbers_never_pass_as_ok(model, models):
     assert checked > 10
 
 
-def test_valgrind_memcheck_of_a_short_sequence_set(tmp_path):
-    """A short inline sequence set under valgrind memcheck: no invalid access, no use of
-    uninitialised values, no definite leak in the FMU library (suppressions and their reasons:
-    tests/python/valgrind.supp, docs/adversarial_harness.md)."""
+VALGRIND_HEADER = re.compile(r"^==\d+== (Invalid |Conditional jump|Use of uninitialised|Syscall param|Mismatched|"
+                             r"Source and destination|Argument |[\d,]+ (\([\d,]+ direct, [\d,]+ indirect\) )?bytes in )")
+
+
+def valgrind_records(text):
+    """The error and leak records of a memcheck log, each as its lines (with origin stacks)."""
+    records, cur = [], None
+    for line in text.splitlines():
+        if VALGRIND_HEADER.match(line):
+            cur = [line]
+            records.append(cur)
+        elif re.match(r"^==\d+== (LEAK|HEAP|ERROR) SUMMARY", line):
+            cur = None
+        elif cur is not None:
+            cur.append(line)
+    return records
+
+
+def test_valgrind_memcheck_of_a_short_sequence_set(tmp_path, capsys):
+    """A short inline sequence set (every model, forged states, envelopes, call sequences)
+    under valgrind memcheck with origin tracking and full leak checking. It fails on any error
+    or definite leak with a frame in the FMU's library (the error's stack, the origin of an
+    uninitialised value or the allocation of a leaked block). Noise of the interpreter is
+    tolerated and counted; suppressed: tests/python/valgrind.supp (docs/adversarial_harness.md)."""
     valgrind = shutil.which("valgrind")
     assert valgrind, "valgrind is missing: tests/setup_env.sh installs it"
     for m in A.MODELS:
         packed(m)
     log = tmp_path / "memcheck.log"
     env = {**os.environ, "PYTHONMALLOC": "malloc"}
-    cmd = [valgrind, "--tool=memcheck", "--error-exitcode=99", "--leak-check=full",
-           "--errors-for-leak-kinds=definite", "--show-leak-kinds=definite",
-           f"--suppressions={HERE / 'valgrind.supp'}", f"--log-file={log}",
+    cmd = [valgrind, "--tool=memcheck", "--track-origins=yes", "--leak-check=full", "--show-leak-kinds=definite",
+           "--num-callers=30", f"--suppressions={HERE / 'valgrind.supp'}", f"--log-file={log}",
            sys.executable, str(HERE / "adversarial.py"), "--dist", str(DIST), "--bin", mbcosim(),
-           "--seed", SEED, "--count", 24, "--inline", "--json", str(tmp_path / "s.json")]
+           "--seed", SEED, "--count", 9, "--inline", "--json", str(tmp_path / "s.json")]
     r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=600, env=env)
+    assert r.returncode == 0, r.stderr[-3000:]
     text = log.read_text()
-    assert r.returncode == 0, text[-4000:]
-    assert "ERROR SUMMARY: 0 errors" in text, text[-4000:]
+    assert "ERROR SUMMARY" in text, text[-3000:]
     s = json.loads((tmp_path / "s.json").read_text())
-    assert s["tried"] == 24
+    assert s["tried"] == 9 and {x["model"] for x in s["results"]} == set(A.MODELS)
+    assert s["violations"] == 0, [x for x in s["results"] if x["violations"]]
+    records = valgrind_records(text)
+    ours = [rec for rec in records if any("/binaries/linux64/" in line or "mbcosim" in line for line in rec)]
+    assert not ours, "\n\n".join("\n".join(rec[:40]) for rec in ours[:3])
+    with capsys.disabled():
+        print(f"\n[memcheck] {len(records)} records outside the FMU (interpreter), 0 in the FMU")
 
 
 @pytest.mark.parametrize("bad", [math.nan, math.inf])
@@ -175,6 +200,9 @@ ENVELOPE_CASES = [
     ("PanelLock", ["panel_stowed_angle=0.0"], "panel_stowed_angle"),
     # "RopeBlock could not be set up: mesh '/dev/null': ... unknown format (expected .obj or .stl)"
     ("RopeBlock", ["mesh_file=/dev/null"], "mesh_file"),
+    # "no static equilibrium within the slings' strength: sling 0 carries 6.9047e9 N at rest ...
+    # (block_mass too heavy for the slings: lower block_mass or use stronger slings, rope_ea)"
+    ("RopeBlock", ["ground_contact=1", "ground_height=1000"], "ground_height"),
     # dopri5 at 263 segments: one 0.05 s step took 193 s CPU (a hang under any CPU bound)
     ("RopeBlock", ["integrator=3", "segments=263"], "segments"),
 ]
