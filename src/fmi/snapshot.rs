@@ -152,9 +152,9 @@ pub fn decode(
     Ok(snap)
 }
 
-/// Every field of a serialized FMU state, in reading order: the envelope above and the model's
-/// own fields (read by restoring `bytes` into a fresh instance of the model the state names,
-/// which looks for data files in `resources`). The checksum is the last span. Used by the
+/// Every field of a serialized FMU state, by offset: the envelope above and the model's own
+/// fields (read by restoring `bytes` into a fresh instance of the model the state names, which
+/// looks for data files in `resources`). The checksum is the last span. Used by the
 /// adversarial harness (`mbcosim state-fields`) to forge states field by field.
 pub fn field_map(bytes: &[u8], resources: Option<&Path>) -> Result<Vec<FieldSpan>, ModelError> {
     let mut r = ByteReader::new(bytes);
@@ -170,8 +170,9 @@ pub fn field_map(bytes: &[u8], resources: Option<&Path>) -> Result<Vec<FieldSpan
         }
         m
     };
-    let (res, spans) = trace_fields(bytes, || decode(bytes, &make));
+    let (res, mut spans) = trace_fields(bytes, || decode(bytes, &make));
     res?;
+    spans.sort_by_key(|s| s.offset); // the checksum is read before the model's payload
     Ok(spans)
 }
 

@@ -223,3 +223,26 @@ def test_envelope_refusals_name_the_parameter(model, values, named, tmp_path):
     assert case["refused"], case
     assert not case["violations"], case["violations"]
     assert re.search(rf"\b{named}\b", case["messages"]), case["messages"]
+
+
+@pytest.mark.parametrize("known", A.KNOWN_FAILURES, ids=[" ".join(k["reproducer"]) for k in A.KNOWN_FAILURES])
+def test_known_failures_still_fail(known, tmp_path):
+    """Each known failure (docs/adversarial_harness.md) still fails as listed: its reproducer
+    exceeds the CPU bound (killed by SIGXCPU under RLIMIT_CPU), and the listed message matches
+    the pattern the slice accepts. A fixed one fails here: take it off KNOWN_FAILURES."""
+    import resource
+    import signal
+
+    packed(known["model"])
+    assert known["cls"] == "hang", "only hangs are listed so far"
+    assert A.known_failure(known["model"], known["cls"], known["message"]), known
+    limit = int(CPU_LIMIT)
+
+    def cpu_bound():
+        resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 1))
+
+    r = subprocess.run([sys.executable, str(HERE / "adversarial.py"), "--dist", str(DIST), "--bin", mbcosim(),
+                        "--models", known["model"], "--values", *known["reproducer"]],
+                       capture_output=True, text=True, timeout=20 * limit, preexec_fn=cpu_bound)
+    assert r.returncode in (-signal.SIGXCPU, -signal.SIGKILL), \
+        f"{known['reproducer']} finished within {limit} s CPU (exit {r.returncode}): {r.stdout[-1500:]}"
