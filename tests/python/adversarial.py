@@ -262,8 +262,12 @@ class Run:
         self.refused = False  # a clean refusal (Error/Discard with a logged message) happened
         self.calls = 0
         self.text = ""
+        self.trail = None  # a list: every call is announced to the watchdog (call sequences)
 
     def call(self, inst, what, fn, *args, initialized=False):
+        if self.trail is not None:
+            self.trail.append(what)
+            ANNOUNCE[0]("calls " + " | ".join(self.trail[-15:]))
         before = len(inst.log)
         out = fn(*args)
         status = out[0] if isinstance(out, tuple) else out
@@ -410,6 +414,7 @@ def run_values(m, chosen, label, logging_on=False, steps_max=3):
 def calls(m, rng, index):
     """A random call sequence (life cycle, values, states, forged states)."""
     run = Run(m)
+    run.trail = []
     inst = m.new(logging_on=rng.random() < 0.3)
     live = False
     t = 0.0
@@ -433,7 +438,8 @@ def calls(m, rng, index):
         elif op == 5:
             v = rng.choice(m.params)
             edges, pick = m.envelope_values(v)
-            run.call(inst, f"set {v.name}", m.set_value, inst, v.name, rng.choice(edges + [pick(rng)]))
+            x = rng.choice(edges + [pick(rng)])
+            run.call(inst, f"set {v.name}={x!r}", m.set_value, inst, v.name, x)
         elif op == 6:
             s, h = run.call(inst, "fmi2GetFMUstate", inst.get_state)
             if s == R.OK:

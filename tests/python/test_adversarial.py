@@ -203,6 +203,12 @@ ENVELOPE_CASES = [
     # "no static equilibrium within the slings' strength: sling 0 carries 6.9047e9 N at rest ...
     # (block_mass too heavy for the slings: lower block_mass or use stronger slings, rope_ea)"
     ("RopeBlock", ["ground_contact=1", "ground_height=1000"], "ground_height"),
+    # "no static equilibrium found in 300 iterations: largest force imbalance 1.381e-2 N (... e.g.
+    # block_mass against rope_ea, or too few segments, also ends here)" (benchmark seed 1, 35000)
+    ("RopeBlock", ["ground_contact=1", "ground_stiffness=1e13"], "ground_stiffness"),
+    # h_max at its floor: a 0.01 s step is 1e6 integrator steps; it failed after 200,000 of them
+    # ("more than 200000 steps in one call"), 5-15 s CPU per doStep (benchmark seed 1, 3484)
+    ("PanelLock", ["h_max=1e-8", "integrator=3"], "h_max"),
     # dopri5 at 263 segments: one 0.05 s step took 193 s CPU (a hang under any CPU bound)
     ("RopeBlock", ["integrator=3", "segments=263"], "segments"),
 ]
@@ -210,15 +216,22 @@ ENVELOPE_CASES = [
 
 @pytest.mark.parametrize("model,values,named", ENVELOPE_CASES, ids=[" ".join(c[1]) for c in ENVELOPE_CASES])
 def test_envelope_refusals_name_the_parameter(model, values, named, tmp_path):
+    """Each case is refused naming the parameter, within 2 s CPU for the whole process."""
+    import resource
+
     packed(model)
     out = tmp_path / "case.json"
+
+    def cpu_bound():
+        resource.setrlimit(resource.RLIMIT_CPU, (2, 3))
+
     try:
         r = subprocess.run([sys.executable, str(HERE / "adversarial.py"), "--dist", str(DIST), "--bin", mbcosim(),
                             "--models", model, "--json", str(out), "--values", *values],
-                           capture_output=True, text=True, timeout=60)
+                           capture_output=True, text=True, timeout=60, preexec_fn=cpu_bound)
     except subprocess.TimeoutExpired:
         pytest.fail(f"{model} {values}: no answer within 60 s")
-    assert r.returncode == 0, r.stderr[-2000:]
+    assert r.returncode == 0, f"exit {r.returncode} (killed over 2 s CPU?): {r.stderr[-2000:]}"
     case = json.loads(out.read_text())
     assert case["refused"], case
     assert not case["violations"], case["violations"]
@@ -246,3 +259,27 @@ def test_known_failures_still_fail(known, tmp_path):
                        capture_output=True, text=True, timeout=20 * limit, preexec_fn=cpu_bound)
     assert r.returncode in (-signal.SIGXCPU, -signal.SIGKILL), \
         f"{known['reproducer']} finished within {limit} s CPU (exit {r.returncode}): {r.stdout[-1500:]}"
+
+
+@pytest.mark.parametrize("model,base,what,value", [
+    ("PanelLock", 2, "elapsed time", 20000.0),
+    ("PanelLock", 1, "state time", 20000.0),
+    ("RopeBlock", 1, "elapsed time", 20000.0),
+    ("RopeBlock", 1, "state time", 20000.0),
+    ("PidController", 1, "elapsed time", 20000.0),
+])
+def test_forged_times_that_disagree_are_refused(models, model, base, what, value):
+    """Regression (benchmark seed 1, sequences 8743 and 77005): a PanelLock state whose clock's
+    elapsed time was forged to 20000 s (the importer's time still 0.02 s) restored with fmi2OK, and
+    the next 0.01 s step integrated for 16 s CPU until max_steps. The clock's start + elapsed
+    must match its time, and the scene's time its clock, or the state is refused."""
+    m = models[model]
+    name, data, fields = m.bases[base]
+    field = next(f for f in fields if f["what"] == what and f["kind"] == "f64")
+    off = field["spans"][0]["offset"]
+    forged = R.reseal(data[:off] + struct.pack("<d", value) + data[off + 8:-8])
+    inst = m.new()
+    s, handle = inst.deserialize(forged)
+    assert s == R.ERROR, (name, what, R.STATUS_NAMES[s])
+    assert any("time" in msg and "match" in msg for msg in inst.messages()), inst.messages()
+    inst.free()
