@@ -75,11 +75,12 @@ BASE_STATES = {
 # model, violation class, a pattern of the finding's text. test_adversarial.py accepts these
 # and nothing else; test_known_failures_still_fail replays each reproducer and checks its exact
 # message, so a fixed one must be taken off the list.
+GRAVITY_OFF = r"(gravity_on=(False|0)\b|gravity=0(\.0)?\b)"
+MANY_SEGMENTS = r"segments=([5-9]\d|[1-9]\d\d)\b"
 KNOWN_FAILURES = [
     dict(model="RopeBlock", cls="hang",
-         # any sequence that switches gravity off with many segments per sling
-         pattern=r"(gravity_on=(False|0)\b|gravity=0(\.0)?\b).*segments=([2-9]\d\d|1[5-9]\d)\b|"
-                 r"segments=([2-9]\d\d|1[5-9]\d)\b.*(gravity_on=(False|0)\b|gravity=0(\.0)?\b)",
+         # gravity switched off with more than ~50 segments per sling (slack slings)
+         pattern=rf"{GRAVITY_OFF}.*{MANY_SEGMENTS}|{MANY_SEGMENTS}.*{GRAVITY_OFF}",
          reproducer=["segments=200", "gravity_on=0"],
          message="envelope segments=200 gravity_on=0: killed after 5.0 s CPU"),
     dict(model="RopeBlock", cls="hang",
@@ -89,6 +90,22 @@ KNOWN_FAILURES = [
                      "ground_slip_speed=1e-6", "contact=0"],
          message="envelope segments=4 gravity=20 integrator=3 atol=1e-12 ground_contact=1 ground_slip_speed=1e-6 "
                  "contact=0: killed after 5.0 s CPU"),
+    dict(model="RopeBlock", cls="hang",
+         # rope_damping at its maximum 1e9 N s (DOPRI5: explicit steps on the damping time scale)
+         pattern=r"rope_damping=(1e9|1e\+09|1000000000(\.0)?)\b",
+         reproducer=["segments=4", "rope_damping=1e9", "integrator=3"],
+         message="envelope segments=4 rope_damping=1e9 integrator=3: killed after 5.0 s CPU"),
+    dict(model="RopeBlock", cls="hang",
+         # BDF at rtol near its floor 1e-10
+         pattern=r"integrator=2\b.*rtol=1e-10\b|rtol=1e-10\b.*integrator=2\b",
+         reproducer=["segments=4", "integrator=2", "rtol=1e-10", "scenario=1", "atol=4e-10"],
+         message="envelope segments=4 integrator=2 rtol=1e-10 scenario=1 atol=4e-10: killed after 5.0 s CPU"),
+    # a forged step size in DOPRI5's memory (0, -0, subnormal) restores: its restore_memory
+    # (src/integrator) takes it as it is and the next step crawls to max_steps
+    dict(model="PanelLock", cls="hang", pattern=r"^forge [a-z0-9_]+: integrator memory \(f64\)",
+         forge=["2", "integrator memory", "0.0"],
+         message="forge bdf_one_panel: integrator memory (f64) at 2092: 000000000000943f -> 0000000000000000: "
+                 "killed after 5.0 s CPU"),
 ]
 
 
@@ -313,7 +330,8 @@ def forge(m, rng, index):
     base_name, data, fields = m.bases[b]
     field = fields[f]
     forged, how = mutate(rng, data, field)
-    ANNOUNCE[0](f"forge {base_name}: {how}")
+    key = f"{base_name}/{f}:{field['what']}/{field['kind']}"
+    ANNOUNCE[0](f"forge {base_name}: {how}", key)
     run = Run(m)
     inst = m.new(logging_on=rng.random() < 0.3)
     init_first = rng.random() < 0.5
@@ -346,7 +364,28 @@ def forge(m, rng, index):
         run.call(inst, "fmi2FreeFMUstate", inst.free_state, handle)
     inst.free()
     R.LOGS.pop(inst.env, None)
-    return run, {"field": f"{base_name}/{field['what']}/{field['kind']}", "mutation": how, "stepped": stepped}
+    return run, {"field": key, "mutation": how, "stepped": stepped}
+
+
+def forge_one(m, base, what, value):
+    """One forged state: the first item of f64 field `what` of base state `base` set to `value`,
+    restored into a fresh instance and stepped 3 times (a known failure's reproducer)."""
+    name, data, fields = m.bases[base]
+    field = next(f for f in fields if f["what"] == what and f["kind"] == "f64")
+    off = field["spans"][0]["offset"]
+    forged = R.reseal(data[:off] + struct.pack("<d", value) + data[off + 8:-8])
+    run = Run(m)
+    inst = m.new()
+    s, handle = run.call(inst, "fmi2DeSerializeFMUstate", inst.deserialize, forged)
+    steps = 0
+    if s == R.OK and run.call(inst, "fmi2SetFMUstate", inst.set_state, handle) == R.OK:
+        _, t = inst.real_status()
+        while steps < 3 and run.call(inst, "fmi2DoStep", inst.do_step, t, m.h, initialized=True) == R.OK:
+            steps, t = steps + 1, t + m.h
+    text = " ".join(run.messages(inst))
+    inst.free()
+    return {"forge": [name, what, value], "refused": run.refused, "steps": steps, "violations": run.violations,
+            "messages": text}
 
 
 def state_code(data):
@@ -480,7 +519,7 @@ def calls(m, rng, index):
 RUNNERS = {"forge": forge, "envelope": envelope, "calls": calls}
 # Tells the watchdog what the current sequence is doing (a forked worker sets it), so that a
 # hang or a crash is reported with its case.
-ANNOUNCE = [lambda text: None]
+ANNOUNCE = [lambda text, field=None: None]
 
 
 def sequence(models, kinds, seed, index):
@@ -521,7 +560,7 @@ class Worker:
             os.close(r)
             os.dup2(self.errfile.fileno(), 2)
             out = os.fdopen(w, "w", buffering=1)
-            ANNOUNCE[0] = lambda text: out.write(json.dumps({"doing": text[:600]}) + "\n")
+            ANNOUNCE[0] = lambda text, field=None: out.write(json.dumps({"doing": text[:600], "field": field}) + "\n")
             code = 0
             try:
                 for i in self.indices:
@@ -543,6 +582,7 @@ class Worker:
         self.buf = ""
         self.current = None
         self.case = ""
+        self.field = None
         self.cpu0 = self.wall0 = 0.0
 
     def lines(self):
@@ -589,6 +629,8 @@ def run_all(models, kinds, seed, first, count, workers, cpu_limit, progress=None
         i = wk.current
         totals["tried"] += 1
         totals["crashes" if what == "crash" else "hangs"] += 1
+        if wk.field:  # a forged field whose run hung or crashed was visited too
+            fields.add(f"{models[i % len(models)].id}/{wk.field}")
         findings.append({"i": i, "model": models[i % len(models)].id, "case": wk.case,
                          "violations": [[what, f"{wk.case}: {wk.stderr_tail()}"]]})
         rest = wk.indices[wk.indices.index(i) + 1:]
@@ -614,9 +656,9 @@ def run_all(models, kinds, seed, first, count, workers, cpu_limit, progress=None
                 else:
                     for msg in lines:
                         if "doing" in msg:
-                            wk.case = msg["doing"]
+                            wk.case, wk.field = msg["doing"], msg["field"]
                         elif "start" in msg:
-                            wk.current, wk.case = msg["start"], "calls"
+                            wk.current, wk.case, wk.field = msg["start"], "calls", None
                             wk.cpu0, wk.wall0 = cpu_seconds(wk.pid), time.time()
                         elif "harness_error" in msg:
                             raise RuntimeError(f"harness error in sequence {wk.current}: {msg['harness_error']}")
@@ -637,7 +679,8 @@ def run_all(models, kinds, seed, first, count, workers, cpu_limit, progress=None
             if replacement is not None:
                 nxt.append(replacement)
         live = nxt
-    all_fields = {f"{m.id}/{b}/{f['what']}/{f['kind']}" for m in models for (b, _, fs) in m.bases for f in fs}
+    all_fields = {f"{m.id}/{b}/{k}:{f['what']}/{f['kind']}" for m in models for (b, _, fs) in m.bases
+                  for k, f in enumerate(fs)}
     return {"seed": seed, "first": first, "count": count, "workers": workers, "cpu_limit": cpu_limit,
             "seconds": round(time.time() - t_start, 1), **totals, "by_kind": by_kind,
             "fields_visited": len(fields & all_fields), "fields_total": len(all_fields),
@@ -660,6 +703,8 @@ def main():
     ap.add_argument("--progress", type=int, default=0, help="print the counts every N sequences")
     ap.add_argument("--json", help="write the summary here")
     ap.add_argument("--values", nargs="*", help="one envelope case instead: name=value ... of --models' model")
+    ap.add_argument("--forge", nargs=3, metavar=("BASE", "FIELD", "VALUE"),
+                    help="one forged state instead: base state number, f64 field name, value of its first item")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory(prefix="adversarial-fmus-") as work:
         models = [Model(a.dist, mid, work, a.bin) for mid in a.models.split(",")]
@@ -675,6 +720,8 @@ def main():
             run, steps = run_values(m, chosen, " ".join(a.values))
             summary = {"case": a.values, "refused": run.refused, "steps": steps, "violations": run.violations,
                        "messages": run.text}
+        elif a.forge is not None:
+            summary = forge_one(models[0], int(a.forge[0]), a.forge[1], float(a.forge[2]))
         elif a.inline:
             results = [sequence(models, kinds, a.seed, i) for i in range(a.first, a.first + a.count)]
             summary = {"tried": len(results), "results": results,

@@ -77,8 +77,8 @@ def test_every_field_of_the_state_format_is_forged(model, tmp_path, models):
     s = harness(tmp_path, "--seed", SEED, "--models", model, "--kinds", "forge", "--count", total,
                 "--workers", 2, "--cpu-limit", CPU_LIMIT)
     assert s["fields_visited"] == s["fields_total"] == total, s["fields_missed"]
-    assert s["crashes"] == s["hangs"] == s["nan_with_ok"] == 0, unexpected(s)[:5]
-    assert not unexpected(s), unexpected(s)[:5]
+    assert s["crashes"] == s["nan_with_ok"] == 0, unexpected(s)[:5]
+    assert not unexpected(s), unexpected(s)[:5]  # hangs only as listed in KNOWN_FAILURES
     # the model-level checks are reached: refusals name fields past the envelope's header
     assert s["refused_with_message"] > total // 2, s
 
@@ -238,7 +238,12 @@ def test_envelope_refusals_name_the_parameter(model, values, named, tmp_path):
     assert re.search(rf"\b{named}\b", case["messages"]), case["messages"]
 
 
-@pytest.mark.parametrize("known", A.KNOWN_FAILURES, ids=[" ".join(k["reproducer"]) for k in A.KNOWN_FAILURES])
+def _reproducer(k):
+    return ["--values", *k["reproducer"]] if "reproducer" in k else ["--forge", *k["forge"]]
+
+
+@pytest.mark.parametrize("known", A.KNOWN_FAILURES, ids=[f"{k['model']} " + " ".join(_reproducer(k)[1:])
+                                                         for k in A.KNOWN_FAILURES])
 def test_known_failures_still_fail(known, tmp_path):
     """Each known failure (docs/adversarial_harness.md) still fails as listed: its reproducer
     exceeds the CPU bound (killed by SIGXCPU under RLIMIT_CPU), and the listed message matches
@@ -255,10 +260,10 @@ def test_known_failures_still_fail(known, tmp_path):
         resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 1))
 
     r = subprocess.run([sys.executable, str(HERE / "adversarial.py"), "--dist", str(DIST), "--bin", mbcosim(),
-                        "--models", known["model"], "--values", *known["reproducer"]],
+                        "--models", known["model"], *_reproducer(known)],
                        capture_output=True, text=True, timeout=20 * limit, preexec_fn=cpu_bound)
     assert r.returncode in (-signal.SIGXCPU, -signal.SIGKILL), \
-        f"{known['reproducer']} finished within {limit} s CPU (exit {r.returncode}): {r.stdout[-1500:]}"
+        f"{_reproducer(known)} finished within {limit} s CPU (exit {r.returncode}): {r.stdout[-1500:]}"
 
 
 @pytest.mark.parametrize("model,base,what,value", [
