@@ -23,6 +23,7 @@ import adversarial as A
 import fmi2raw as R
 
 SEED = 25
+SLICE = 6000  # ~22 s on 2 shared cores (one known hang of 5 s CPU among them)
 CPU_LIMIT = 5.0
 
 
@@ -55,8 +56,8 @@ def models(tmp_path_factory):
 
 
 def test_seeded_slice_has_no_crash_hang_or_nan_with_ok(tmp_path, capsys):
-    s = harness(tmp_path, "--seed", SEED, "--count", 1500, "--workers", 2, "--cpu-limit", CPU_LIMIT)
-    assert s["tried"] == 1500
+    s = harness(tmp_path, "--seed", SEED, "--count", SLICE, "--workers", 2, "--cpu-limit", CPU_LIMIT)
+    assert s["tried"] == SLICE
     for key in ("crashes", "hangs", "nan_with_ok", "other_violations"):
         known = sum(1 for f in s["findings"] for cls, text in f["violations"]
                     if A.known_failure(f["model"], cls, text) and A.count_class(cls) == key)
@@ -65,7 +66,7 @@ def test_seeded_slice_has_no_crash_hang_or_nan_with_ok(tmp_path, capsys):
     # every model and kind ran, and the refusals are a real share (the checks are exercised)
     assert {k.split("/")[0] for k in s["by_kind"]} == set(A.MODELS)
     assert {k.split("/")[1] for k in s["by_kind"]} == set(A.KINDS)
-    assert s["refused_with_message"] > 100 and s["completed"] > 100, s
+    assert s["refused_with_message"] > SLICE // 4 and s["completed"] > SLICE // 10, s
     with capsys.disabled():
         print(f"\n[adversarial slice] {A.counts_line(s)} in {s['seconds']} s")
 
