@@ -2,7 +2,8 @@
 # Sourced by tests/run_all.sh and benches/work_precision.sh: installs what the tests and the report
 # need, idempotently, on a fresh Debian machine:
 #   - apt: libclang-dev (bindgen for the fmi-sys/fmi dev-dependencies), python3-venv, libtbb12
-#     (ecospy's libecosc.so links libtbb.so.12); only if missing
+#     (ecospy's libecosc.so links libtbb.so.12), valgrind (the adversarial harness's memcheck run,
+#     tests/python/test_adversarial.py); only if missing
 #   - a Python venv in .venv with the pinned tools of tests/python/requirements.txt
 # Expects the repository root as the current directory.
 
@@ -20,11 +21,12 @@ missing=()
 dpkg -s libclang-dev >/dev/null 2>&1 || missing+=(libclang-dev)
 python3 -c 'import ensurepip, venv' >/dev/null 2>&1 || missing+=(python3-venv)
 dpkg -s libtbb12 >/dev/null 2>&1 || missing+=(libtbb12)
+command -v valgrind >/dev/null 2>&1 || missing+=(valgrind)
 if [ ${#missing[@]} -gt 0 ]; then
     echo "installing: ${missing[*]}"
     apt_install "${missing[@]}"
 else
-    echo "libclang-dev, python3-venv and libtbb12 present"
+    echo "libclang-dev, python3-venv, libtbb12 and valgrind present"
 fi
 
 log "python venv (.venv)"

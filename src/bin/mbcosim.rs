@@ -12,6 +12,9 @@
 //!                              CSV, SVG plots and a markdown table into DIR (default docs/)
 //! mbcosim simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv] [--timing]
 //!                              native run of one model; CSV of its outputs (stdout by default)
+//! mbcosim state-fields <state-file> [--resources DIR]
+//!                              every field of a serialized FMU state, one JSON object a line
+//!                              (offset, len, kind, what): the adversarial harness's field map
 //! ```
 //!
 //! Packing needs a fresh cdylib, which `cargo run --bin mbcosim` does not build, so `pack` and
@@ -318,7 +321,26 @@ fn table1(args: &[String]) -> Result<(), String> {
     Ok(())
 }
 
-const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | report [--quick] [--only NAME] [--skip NAME] [--out DIR] | table1 [--out DIR] [--stop T] [--step H] [--modes N] [--rigid] [--set name=value]... | simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv] [--timing]>";
+const USAGE: &str = "usage: mbcosim <pack | model-descriptions [--check] | demo | report [--quick] [--only NAME] [--skip NAME] [--out DIR] | table1 [--out DIR] [--stop T] [--step H] [--modes N] [--rigid] [--set name=value]... | simulate <Model> [--stop T] [--step H] [--scene file.toml] [--set name=value]... [--out file.csv] [--timing] | state-fields <state-file> [--resources DIR]>";
+
+/// `state-fields <state-file> [--resources DIR]`: the field map of a serialized FMU state.
+fn state_fields(args: &[String]) -> Result<(), String> {
+    let (file, resources) = match args {
+        [file] => (file, None),
+        [file, flag, dir] if flag == "--resources" => (file, Some(PathBuf::from(dir))),
+        _ => return Err(USAGE.to_string()),
+    };
+    let bytes = std::fs::read(file).map_err(|e| format!("cannot read {file}: {e}"))?;
+    let spans = mbcosim::fmi::snapshot::field_map(&bytes, resources.as_deref())
+        .map_err(|e| format!("{file}: {e}"))?;
+    for s in spans {
+        println!(
+            "{{\"offset\": {}, \"len\": {}, \"kind\": \"{}\", \"what\": {:?}}}",
+            s.offset, s.len, s.kind, s.what
+        );
+    }
+    Ok(())
+}
 
 fn run(args: &[String]) -> Result<(), String> {
     match args.first().map(String::as_str) {
@@ -332,6 +354,7 @@ fn run(args: &[String]) -> Result<(), String> {
         Some("simulate") => simulate(&args[1..]),
         Some("report") => report(&args[1..]),
         Some("table1") => table1(&args[1..]),
+        Some("state-fields") => state_fields(&args[1..]),
         Some("help" | "--help" | "-h") => {
             println!("{USAGE}");
             Ok(())

@@ -429,6 +429,8 @@ impl Instance {
                     self.machine.start_time
                 )
             })?;
+        finite_outputs(self.model.as_ref())
+            .map_err(|e| format!("initialization at t = {} s {e}", self.machine.start_time))?;
         self.machine.state = State::StepComplete;
         self.machine.last_successful_time = self.model.time();
         Ok(fmi2OK)
@@ -468,6 +470,8 @@ impl Instance {
         self.model
             .do_step(t, h)
             .map_err(|e| format!("step from t = {t} s with h = {h} s failed: {e}"))?;
+        finite_outputs(self.model.as_ref())
+            .map_err(|e| format!("the step from t = {t} s with h = {h} s {e}"))?;
         self.machine.last_successful_time = self.model.time();
         Ok(fmi2OK)
     }
@@ -504,6 +508,10 @@ impl Instance {
     pub fn set_fmu_state(&mut self, handle: usize) -> Outcome {
         let snap = self.snapshot(handle)?;
         let (machine, model) = (snap.machine, snap.model.clone_box());
+        if has_outputs(machine.state) {
+            finite_outputs(model.as_ref())
+                .map_err(|e| format!("state refused: the restored FMU state {e}"))?;
+        }
         self.machine = machine;
         self.model = model;
         self.preview = None;
@@ -559,6 +567,10 @@ impl Instance {
             m
         };
         let snap = snapshot::decode(bytes, &make).map_err(|e| format!("state refused: {e}"))?;
+        if has_outputs(snap.machine.state) {
+            finite_outputs(snap.model.as_ref())
+                .map_err(|e| format!("state refused: the serialized FMU state {e}"))?;
+        }
         if existing != 0 {
             *self.snapshot(existing)? = snap;
             return Ok(existing);
@@ -599,6 +611,36 @@ impl Instance {
     pub fn get_string_status(&mut self, kind: fmi2StatusKind) -> Outcome {
         self.discard("fmi2GetStringStatus", &unavailable_status(kind))
     }
+}
+
+/// True when the model's outputs have been computed in this instance state (after
+/// initialization; in initialization mode the getters answer from a preview).
+fn has_outputs(state: State) -> bool {
+    !matches!(
+        state,
+        State::Instantiated | State::InitializationMode | State::Fatal
+    )
+}
+
+/// Every real output of `model` is finite; otherwise the outputs that are not, by name (a call
+/// that would return OK with NaN or infinite outputs returns fmi2Error instead, issue #25).
+/// Allocates nothing when every output is finite (the step loop stays allocation-free).
+fn finite_outputs(model: &dyn CoSimModel) -> Outcome<()> {
+    let bad: Vec<String> = model
+        .info()
+        .ports
+        .iter()
+        .filter(|p| p.causality == Causality::Output && p.ty.base() == BaseType::Real)
+        .filter_map(|p| match model.get_real(p.vr) {
+            Ok(v) if v.is_finite() => None,
+            Ok(v) => Some(format!("`{}` = {v}", p.name)),
+            Err(e) => Some(format!("`{}` unreadable ({e})", p.name)),
+        })
+        .collect();
+    if bad.is_empty() {
+        return Ok(());
+    }
+    Err(format!("gives non-finite outputs: {}", bad.join(", ")))
 }
 
 fn not_ours(handle: usize) -> String {

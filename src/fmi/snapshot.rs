@@ -18,8 +18,10 @@
 //! refused with a message saying which; no pointer is ever stored.
 
 use super::machine::{Machine, State};
-use crate::scene::bytes::{ByteReader, ByteWriter, checksum64};
-use crate::scene::{CoSimModel, ModelError};
+use std::path::Path;
+
+use crate::scene::bytes::{ByteReader, ByteWriter, FieldSpan, checksum64, trace_fields};
+use crate::scene::{CoSimModel, ModelError, find_by_identifier};
 
 /// Leading bytes of every serialized FMU state.
 pub const MAGIC: &[u8; 8] = b"MBCSFMU2";
@@ -150,6 +152,30 @@ pub fn decode(
     Ok(snap)
 }
 
+/// Every field of a serialized FMU state, by offset: the envelope above and the model's own
+/// fields (read by restoring `bytes` into a fresh instance of the model the state names, which
+/// looks for data files in `resources`). The checksum is the last span. Used by the
+/// adversarial harness (`mbcosim state-fields`) to forge states field by field.
+pub fn field_map(bytes: &[u8], resources: Option<&Path>) -> Result<Vec<FieldSpan>, ModelError> {
+    let mut r = ByteReader::new(bytes);
+    r.expect_raw(MAGIC, "magic bytes (not an mbcosim FMU state)")?;
+    r.u32("format version")?;
+    let ident = r.str("model identifier")?;
+    let entry = find_by_identifier(ident)
+        .ok_or_else(|| ModelError::BadState(format!("no model `{}`", ident.escape_debug())))?;
+    let make = || {
+        let mut m = (entry.create)();
+        if let Some(dir) = resources {
+            let _ = m.set_resource_dir(dir);
+        }
+        m
+    };
+    let (res, mut spans) = trace_fields(bytes, || decode(bytes, &make));
+    res?;
+    spans.sort_by_key(|s| s.offset); // the checksum is read before the model's payload
+    Ok(spans)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -193,5 +219,21 @@ mod tests {
         assert!(decode(&longer, &pid::create).is_err());
         let e = decode(b"garbage!", &pid::create).err().unwrap().to_string();
         assert!(e.contains("magic"), "{e}");
+    }
+
+    #[test]
+    fn field_map_tiles_the_whole_state() {
+        let bytes = sample();
+        let spans = field_map(&bytes, None).unwrap();
+        let mut at = 0;
+        for s in &spans {
+            assert_eq!(s.offset, at, "{s:?}");
+            at += s.len;
+        }
+        assert_eq!(at, bytes.len());
+        assert_eq!(spans[0].kind, "magic");
+        let last = spans.last().unwrap();
+        assert_eq!((last.kind, last.what.as_str()), ("u64", "checksum"));
+        assert!(spans.iter().any(|s| s.what == "model tag"), "{spans:?}");
     }
 }

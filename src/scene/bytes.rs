@@ -11,7 +11,43 @@
 //! A model's bytes should start with [`ByteWriter::header`] (the model's tag and a format
 //! version) so that a state from another model or a newer format is refused with a clear message.
 
+use std::cell::RefCell;
+
 use super::ModelError;
+
+/// One field read by a [`ByteReader`] while [`trace_fields`] records (the adversarial harness
+/// mutates each of them in turn: tests/python/adversarial.py).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FieldSpan {
+    /// Offset of the field's first byte in the traced buffer.
+    pub offset: usize,
+    /// Length [bytes].
+    pub len: usize,
+    /// `magic`, `u8`, `bool`, `u32`, `i32`, `u64`, `f64`, `len` (a length prefix) or `str`.
+    pub kind: &'static str,
+    /// The reader's name for the field.
+    pub what: String,
+}
+
+thread_local! {
+    /// Fields read on this thread while [`trace_fields`] runs: (buffer start, spans).
+    static TRACE: RefCell<Option<(usize, Vec<FieldSpan>)>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` and returns what it returned with every field that any [`ByteReader`] over `buffer`
+/// (or a slice of it) read meanwhile on this thread, in reading order, offsets relative to the
+/// start of `buffer`. Reads of other buffers are not recorded.
+pub fn trace_fields<T>(buffer: &[u8], f: impl FnOnce() -> T) -> (T, Vec<FieldSpan>) {
+    TRACE.with(|t| *t.borrow_mut() = Some((buffer.as_ptr() as usize, Vec::new())));
+    let out = f();
+    let (base, mut spans) = TRACE.with(|t| t.borrow_mut().take()).unwrap_or_default();
+    let end = base + buffer.len();
+    spans.retain(|s| s.offset >= base && s.offset + s.len <= end);
+    for s in &mut spans {
+        s.offset -= base;
+    }
+    (out, spans)
+}
 
 /// Appends values to a growing byte buffer.
 #[derive(Debug, Default, Clone)]
@@ -143,9 +179,28 @@ impl<'a> ByteReader<'a> {
         Ok(out)
     }
 
-    fn array<const N: usize>(&mut self, what: &str) -> Result<[u8; N], ModelError> {
+    /// Records the field just read (`len` bytes ending at the current position) when tracing.
+    fn record(&self, len: usize, kind: &'static str, what: &str) {
+        TRACE.with(|t| {
+            if let Some((_, spans)) = t.borrow_mut().as_mut() {
+                spans.push(FieldSpan {
+                    offset: self.bytes.as_ptr() as usize + self.pos - len,
+                    len,
+                    kind,
+                    what: what.to_string(),
+                });
+            }
+        });
+    }
+
+    fn array<const N: usize>(
+        &mut self,
+        kind: &'static str,
+        what: &str,
+    ) -> Result<[u8; N], ModelError> {
         let mut out = [0u8; N];
         out.copy_from_slice(self.take(N, what)?);
+        self.record(N, kind, what);
         Ok(out)
     }
 
@@ -173,6 +228,7 @@ impl<'a> ByteReader<'a> {
     /// Checks that the next bytes equal `expected` (a magic number).
     pub fn expect_raw(&mut self, expected: &[u8], what: &str) -> Result<(), ModelError> {
         let found = self.take(expected.len(), what)?;
+        self.record(expected.len(), "magic", what);
         if found != expected {
             return Err(ModelError::BadState(format!(
                 "{what} mismatch at offset {}: expected {expected:02x?}, found {found:02x?}",
@@ -184,27 +240,27 @@ impl<'a> ByteReader<'a> {
 
     /// One byte.
     pub fn u8(&mut self, what: &str) -> Result<u8, ModelError> {
-        Ok(self.array::<1>(what)?[0])
+        Ok(self.array::<1>("u8", what)?[0])
     }
 
     /// Four bytes, little-endian.
     pub fn u32(&mut self, what: &str) -> Result<u32, ModelError> {
-        Ok(u32::from_le_bytes(self.array(what)?))
+        Ok(u32::from_le_bytes(self.array("u32", what)?))
     }
 
     /// Eight bytes, little-endian.
     pub fn u64(&mut self, what: &str) -> Result<u64, ModelError> {
-        Ok(u64::from_le_bytes(self.array(what)?))
+        Ok(u64::from_le_bytes(self.array("u64", what)?))
     }
 
     /// Four bytes, little-endian two's complement.
     pub fn i32(&mut self, what: &str) -> Result<i32, ModelError> {
-        Ok(i32::from_le_bytes(self.array(what)?))
+        Ok(i32::from_le_bytes(self.array("i32", what)?))
     }
 
     /// An `f64` from its eight IEEE-754 bytes.
     pub fn f64(&mut self, what: &str) -> Result<f64, ModelError> {
-        Ok(f64::from_bits(self.u64(what)?))
+        Ok(f64::from_bits(u64::from_le_bytes(self.array("f64", what)?)))
     }
 
     /// A finite `f64`; NaN and infinities are refused (for values that must be finite).
@@ -223,7 +279,7 @@ impl<'a> ByteReader<'a> {
     /// One byte that must be 0 or 1.
     pub fn bool(&mut self, what: &str) -> Result<bool, ModelError> {
         let at = self.pos;
-        match self.u8(what)? {
+        match self.array::<1>("bool", what)?[0] {
             0 => Ok(false),
             1 => Ok(true),
             b => Err(ModelError::BadState(format!(
@@ -235,7 +291,7 @@ impl<'a> ByteReader<'a> {
     /// A length prefix, checked against the bytes left (each item `item_size` bytes).
     fn len_prefix(&mut self, item_size: usize, what: &str) -> Result<usize, ModelError> {
         let at = self.pos;
-        let n = self.u64(what)?;
+        let n = u64::from_le_bytes(self.array("len", what)?);
         let fits = usize::try_from(n)
             .ok()
             .and_then(|n| n.checked_mul(item_size))
@@ -259,6 +315,7 @@ impl<'a> ByteReader<'a> {
     pub fn str(&mut self, what: &str) -> Result<&'a str, ModelError> {
         let at = self.pos;
         let b = self.bytes(what)?;
+        self.record(b.len(), "str", what);
         std::str::from_utf8(b).map_err(|e| {
             ModelError::BadState(format!(
                 "corrupt state: {what} at offset {at} is not UTF-8 ({e})"
@@ -345,6 +402,63 @@ mod tests {
         assert_eq!(r.f64s_exact(3, "i").unwrap(), vec![1.5, -2.25, 1e300]);
         assert_eq!(r.bytes("j").unwrap(), &[1, 2, 3]);
         r.finish().unwrap();
+    }
+
+    #[test]
+    fn traced_fields_cover_every_byte_in_order() {
+        let bytes = sample();
+        let other = sample();
+        let (res, spans) = trace_fields(&bytes, || {
+            let mut r = ByteReader::new(&bytes);
+            r.header("Demo", 2)?;
+            ByteReader::new(&other).header("Demo", 2)?; // another buffer: not recorded
+            r.u8("a")?;
+            r.u32("b")?;
+            r.u64("c")?;
+            r.i32("d")?;
+            r.f64("e")?;
+            r.f64("f")?;
+            r.bool("g")?;
+            r.str("h")?;
+            r.f64s("i")?;
+            let blob = r.bytes("j")?;
+            ByteReader::new(blob).u8("j0")?; // a nested reader over a slice of the buffer
+            r.finish()
+        });
+        res.unwrap();
+        let kinds: Vec<_> = spans.iter().map(|s| (s.kind, s.what.as_str())).collect();
+        assert_eq!(
+            kinds,
+            [
+                ("len", "model tag"),
+                ("str", "model tag"),
+                ("u32", "format version"),
+                ("u8", "a"),
+                ("u32", "b"),
+                ("u64", "c"),
+                ("i32", "d"),
+                ("f64", "e"),
+                ("f64", "f"),
+                ("bool", "g"),
+                ("len", "h"),
+                ("str", "h"),
+                ("len", "i"),
+                ("f64", "i"),
+                ("f64", "i"),
+                ("f64", "i"),
+                ("len", "j"),
+                ("u8", "j0"),
+            ]
+        );
+        let mut at = 0;
+        for s in &spans {
+            assert_eq!(s.offset, at, "{s:?}");
+            at += s.len;
+        }
+        assert_eq!(at + 2, bytes.len()); // the two blob bytes the nested reader did not read
+        // not tracing: nothing is recorded
+        ByteReader::new(&bytes).header("Demo", 2).unwrap();
+        assert!(TRACE.with(|t| t.borrow().is_none()));
     }
 
     #[test]

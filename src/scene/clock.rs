@@ -63,6 +63,13 @@ impl Clock {
                 "clock start {start} s / elapsed {elapsed} s / time {now} s is not a valid time"
             )));
         }
+        // the importer's time and the scene's own axis differ by rounding only (a forged
+        // elapsed time of 20000 s at t = 0.02 s made the next step integrate for 16 s CPU)
+        if !same_time(start + elapsed, now) {
+            return Err(ModelError::BadState(format!(
+                "clock start {start} s + elapsed {elapsed} s does not match the time {now} s"
+            )));
+        }
         Ok(Clock {
             start,
             elapsed,
@@ -132,6 +139,15 @@ impl Clock {
         self.elapsed = step.end;
         self.now = step.time;
     }
+}
+
+/// Relative tolerance of [`same_time`]: far above the rounding of importer time grids against
+/// the accumulated elapsed time, far below any meaningful difference.
+pub const TIME_CONSISTENCY_RTOL: f64 = 1e-6;
+
+/// Two times [s] that agree within [`TIME_CONSISTENCY_RTOL`] relative to `max(1 s, |a|, |b|)`.
+pub fn same_time(a: f64, b: f64) -> bool {
+    (a - b).abs() <= TIME_CONSISTENCY_RTOL * 1f64.max(a.abs()).max(b.abs())
 }
 
 #[cfg(test)]

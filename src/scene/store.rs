@@ -412,6 +412,16 @@ impl PortStore {
                     p.ty.base().name()
                 )));
             }
+            // parameters and inputs obey the rules of their setters (a forged NaN limit used to
+            // reach the model and panic in a clamp: issue #25)
+            if matches!(p.causality, Causality::Parameter | Causality::Input) {
+                let checked = match &v {
+                    Value::Real(x) => check_real(p, *x),
+                    Value::Integer(x) => check_integer(p, *x),
+                    _ => Ok(()),
+                };
+                checked.map_err(|e| ModelError::BadState(format!("corrupt state: {what}: {e}")))?;
+            }
             values.push(v);
         }
         Ok(PortStore {

@@ -187,6 +187,15 @@ impl CoSimModel for PanelLockModel {
         let step = self.clock.step(t, h)?;
         let before = self.lock_times();
         let scene = self.scene()?;
+        // a communication step h_max cannot cover within max_steps fails only after minutes of
+        // CPU (h_max at its floor 1e-8 s and a 0.01 s step: 1e6 steps): refuse it at once
+        let settings = &scene.params.settings;
+        if step.h / settings.h_max > settings.max_steps as f64 {
+            return Err(ModelError::InvalidValue(format!(
+                "the step from t = {t} s with h = {h} s needs more than max_steps = {} integrator steps of h_max = {} s: raise h_max or shorten the communication step",
+                settings.max_steps, settings.h_max
+            )));
+        }
         scene
             .advance_to(step.end)
             .map_err(|e| ModelError::SolverFailure(format!("PanelLock solver failed: {e}")))?;
@@ -260,8 +269,15 @@ impl CoSimModel for PanelLockModel {
             log: Vec::new(),
         };
         if r.bool("initialized scene")? {
+            let t = r.finite_f64("state time")?;
+            if !crate::scene::clock::same_time(t, restored.clock.elapsed()) {
+                return Err(ModelError::BadState(format!(
+                    "corrupt state: scene time {t} s does not match the clock's elapsed time {} s",
+                    restored.clock.elapsed()
+                )));
+            }
             let state = State {
-                t: r.finite_f64("state time")?,
+                t,
                 q: r.f64s("positions")?,
                 v: r.f64s("speeds")?,
                 vdot: r.f64s("accelerations")?,

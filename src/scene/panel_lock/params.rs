@@ -274,6 +274,40 @@ impl PanelLockParams {
         Ok(())
     }
 
+    /// The latch geometry in the parameters' names (the latch itself checks the same in its
+    /// symbols, `w_g`, `r_p`, ..., when it is built).
+    fn validate_latch(&self) -> Result<(), String> {
+        let (r_c, w_g, d_g, r_p) = (
+            self.cam_radius,
+            self.groove_width,
+            self.groove_depth,
+            self.pin_radius,
+        );
+        if w_g < 2.0 * r_p {
+            return Err(format!(
+                "groove_width = {w_g} m must be >= 2 pin_radius = {} m (the pin must fit into the groove)",
+                2.0 * r_p
+            ));
+        }
+        if d_g < r_p {
+            return Err(format!(
+                "groove_depth = {d_g} m must be >= pin_radius = {r_p} m (a shallower groove lets the walls cam the pin out)"
+            ));
+        }
+        if d_g >= r_c {
+            return Err(format!(
+                "groove_depth = {d_g} m must be < cam_radius = {r_c} m"
+            ));
+        }
+        if 0.5 * w_g >= r_c - d_g {
+            return Err(format!(
+                "groove_width = {w_g} m must be < 2 (cam_radius - groove_depth) = {} m (a groove narrow compared with its floor radius)",
+                2.0 * (r_c - d_g)
+            ));
+        }
+        Ok(())
+    }
+
     /// Number of hinges (root hinge plus one per panel).
     pub fn n_hinges(&self) -> usize {
         self.n_panels + 1
@@ -312,6 +346,31 @@ impl PanelLockParams {
                 return Err(format!("{name} must be finite and > 0, got {v}"));
             }
         }
+        // The envelope (issue #25, docs/adversarial_harness.md): six decades either side of the
+        // default. Beyond it mass and stiffness ratios overflow the inertia tensors or make the
+        // Newton matrix singular, and the failure could not name the parameter.
+        let d = Self::default();
+        let defaults = [
+            d.panel_length,
+            d.panel_width,
+            d.panel_areal_density,
+            d.panel_thickness,
+            d.yoke_length,
+            d.yoke_mass,
+            d.hinge_mass,
+            d.hinge_gyration_radius,
+            d.cam_radius,
+            d.groove_width,
+            d.groove_depth,
+            d.pin_radius,
+            d.contact_stiffness,
+            d.contact_exponent,
+            d.restitution,
+            d.satellite_mass,
+        ];
+        for ((name, v), d) in positive.iter().zip(defaults) {
+            envelope(name, *v, d, true)?;
+        }
         let non_negative = [
             ("root_spring_preload", self.root_spring_preload),
             ("root_spring_stiffness", self.root_spring_stiffness),
@@ -327,6 +386,23 @@ impl PanelLockParams {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(format!("{name} must be finite and >= 0, got {v}"));
             }
+        }
+        let defaults = [
+            d.root_spring_preload,
+            d.root_spring_stiffness,
+            d.panel_spring_preload,
+            d.panel_spring_stiffness,
+            d.hinge_damping,
+            d.cable_stiffness,
+            d.cable_damping,
+            d.stop_stiffness,
+            d.stop_damping,
+        ];
+        for ((name, v), d) in non_negative.iter().zip(defaults) {
+            envelope(name, *v, d, false)?;
+        }
+        if self.latches {
+            self.validate_latch()?;
         }
         if self.restitution > 1.0 {
             return Err(format!(
@@ -354,13 +430,16 @@ impl PanelLockParams {
             }
             if lock - stow >= std::f64::consts::PI - 1e-3 {
                 return Err(format!(
-                    "{name} hinge travel {:.4} rad must be below pi (stow the panels a little open)",
+                    "{name} hinge travel {name}_lock_angle - {name}_stowed_angle = {:.4} rad must be below pi (stow the panels a little open)",
                     lock - stow
                 ));
             }
         }
         if let Some(g) = self.gravity.filter(|g| !g.is_finite()) {
             return Err(format!("gravity must be finite, got {g}"));
+        }
+        if let Some(g) = self.gravity {
+            envelope("gravity", g.abs(), 9.81, false)?;
         }
         if self
             .satellite_inertia
@@ -377,4 +456,24 @@ impl PanelLockParams {
         self.validate_flexible()?;
         self.settings.validate().map(|_| ())
     }
+}
+
+/// Decades either side of a parameter's default that [`PanelLockParams::validate`] accepts.
+pub const ENVELOPE_DECADES: i32 = 6;
+
+/// `v` within [`ENVELOPE_DECADES`] of `default` (above only unless `both_sides`; a zero default
+/// has no envelope).
+fn envelope(name: &str, v: f64, default: f64, both_sides: bool) -> Result<(), String> {
+    let k = 10f64.powi(ENVELOPE_DECADES);
+    if default <= 0.0 {
+        return Ok(());
+    }
+    if v > default * k || (both_sides && v < default / k) {
+        return Err(format!(
+            "{name} = {v} is outside the model's envelope [{}, {}] ({ENVELOPE_DECADES} decades around the default {default}; beyond it the mass and stiffness ratios make the equations singular)",
+            if both_sides { default / k } else { 0.0 },
+            default * k
+        ));
+    }
+    Ok(())
 }

@@ -482,6 +482,13 @@ impl CoSimModel for RopeBlockModel {
                 }
             }
             let sim = read_sim(&mut r, &params, version)?;
+            let t = sim.sim.state.t;
+            if !crate::scene::clock::same_time(t, restored.clock.elapsed()) {
+                return Err(ModelError::BadState(format!(
+                    "corrupt state: scene time {t} s does not match the clock's elapsed time {} s",
+                    restored.clock.elapsed()
+                )));
+            }
             let scene = RopeBlockScene::from_sim(params, sim).map_err(ModelError::BadState)?;
             restored.targets = Self::map_targets(&scene);
             restored.scene = Some(scene);

@@ -81,7 +81,7 @@ fn check_breaking_loads(sim: &mut RopeBlockSim) -> Result<(), String> {
             .fold(0.0f64, |a, &(t, _)| a.max(t));
         if peak > limit {
             return Err(format!(
-                "no static equilibrium within the slings' strength: sling {r} carries {peak:.4e} N at rest, above its breaking load {limit:.4e} N (block_mass too heavy for the slings: lower block_mass or use stronger slings, rope_ea)"
+                "no static equilibrium within the slings' strength: sling {r} carries {peak:.4e} N at rest, above its breaking load {limit:.4e} N (block_mass too heavy for the slings: lower block_mass or use stronger slings, rope_ea; with ground_contact on, a ground_height above the hanging block pushes it into the slings)"
             ));
         }
     }

@@ -135,6 +135,6 @@ fn solve_inner(
         }
     }
     Err(format!(
-        "no static equilibrium found in {max_iter} iterations: largest force imbalance {fmax:.3e} N (is the scene statically stable? free bodies need supports; a load far beyond the slings' strength, e.g. block_mass against rope_ea, or too few segments, also ends here)"
+        "no static equilibrium found in {max_iter} iterations: largest force imbalance {fmax:.3e} N (is the scene statically stable? free bodies need supports; a load far beyond the slings' strength, e.g. block_mass against rope_ea, or too few segments, also ends here; with ground_contact on, so does a ground_stiffness or ground_height the slings cannot balance)"
     ))
 }
