@@ -267,6 +267,7 @@ def report(out_dir, repeats):
 
 
 def main():
+    global DAMP
     ap = argparse.ArgumentParser()
     ap.add_argument("--dt", type=float, nargs="+", default=[1e-5])
     ap.add_argument("--damp", type=float, default=DAMP, help="axial damping [N s]")
@@ -276,7 +277,6 @@ def main():
     a = ap.parse_args()
     if a.report:
         return report(a.report, None)
-    global DAMP
     DAMP = a.damp
     for dt in a.dt:
         out = run(dt, not a.timed)

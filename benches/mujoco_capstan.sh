@@ -34,9 +34,10 @@ mkdir -p "$OUT"
 : > "$OUT/sweep.jsonl"
 : > "$OUT/ours.txt"
 : > "$OUT/mujoco_timed.jsonl"
+: > "$OUT/mujoco_stderr.log"  # MuJoCo warnings and errors
 for c in $CASES; do
     echo "MuJoCo sampled run, dt ${c%%:*} s, damping ${c##*:} N s" >&2
-    "$PY" benches/mujoco_capstan.py --json --dt "${c%%:*}" --damp "${c##*:}" 2>/dev/null \
+    "$PY" benches/mujoco_capstan.py --json --dt "${c%%:*}" --damp "${c##*:}" 2>>"$OUT/mujoco_stderr.log" \
         | tee -a "$OUT/sweep.jsonl" >&2
 done
 STABLE=$("$PY" -c "
@@ -47,7 +48,7 @@ for i in $(seq 1 "$REPEATS"); do
     echo "round $i of $REPEATS" >&2
     "$OURS" 32 | tee -a "$OUT/ours.txt" >&2
     for dt in $STABLE; do
-        "$PY" benches/mujoco_capstan.py --json --timed --dt "$dt" --damp "$TIMED_DAMP" 2>/dev/null \
+        "$PY" benches/mujoco_capstan.py --json --timed --dt "$dt" --damp "$TIMED_DAMP" 2>>"$OUT/mujoco_stderr.log" \
             | tee -a "$OUT/mujoco_timed.jsonl" >&2
     done
 done
