@@ -5,7 +5,8 @@ undamped, wrapped 180 degrees over a fixed drum of radius 0.52 m (no gravity), s
 1.5 m hanging along -y to 100 kg end loads pulled along -y by 9.81 kN (end 1) and 2.2 x 9.81 kN
 (end 2), rope starting at rest at 9.81 kN everywhere; 0.3 s of mj_step.
 
-Modelling choices (MuJoCo has no rope element with axial elasticity and capstan friction):
+Modelling choices (MuJoCo's cable joins capsules by ball joints, bending and twist but no axial
+stretch, so the rope is built from basic parts):
   * the rope is a chain of point masses (small spheres, radius 5 mm, on two slide joints each:
     the problem is planar, as ours stays) joined by spatial tendons with `stiffness` EA / L0
     and `springlength` L0 (a linear axial spring, tension only where stretched; no bending);
@@ -39,7 +40,9 @@ rope carries its inertia round the drum: an accelerating rope (a about 11 m/s^2,
 m/s) obeys dT/dtheta = mu (T - rho v^2) + rho R a, not the static law; the script therefore
 also reports the error against that dynamic capstan law, with v and a of the end-2 load.
 
-Usage: python mujoco_capstan.py [--dt 1e-5 5e-6 ...] [--repeats N] [--json]
+Usage: python mujoco_capstan.py [--dt 1e-5 5e-6 ...] [--damp N_s] [--timed] [--json]
+       python mujoco_capstan.py --report out/mujoco_capstan   (after benches/mujoco_capstan.sh)
+Normally run through benches/mujoco_capstan.sh (venv, our example, interleaving, table).
 """
 
 import argparse
