@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 MUJOCO_VERSION=4.0.0
 NUMPY_VERSION=2.4.6
 REPEATS="${REPEATS:-3}"
-CASES="${CASES:-1e-5:0 1e-5:200 1e-5:1000 5e-6:200 2.5e-6:200}"
+CASES="${CASES:-1e-5:0 1e-5:200 1e-5:1000 5e-6:50 5e-6:200 2.5e-6:200}"
 TIMED_DAMP="${TIMED_DAMP:-200}"
 VENV=benches/.venv-mujoco
 OUT=out/mujoco_capstan
