@@ -253,17 +253,26 @@ def report(out_dir, repeats):
             f"| {cpu / ours['cpu_s']:.1f}x |"
         )
     stable = [s for s in sweep if s.get("stable")]
-    reach = [s for s in stable if abs(s["err_mean_polygon"]) <= ours_err]
+    ours_worst = ours["worst_err_polygon_0.15_0.3"]
     lines.append("")
-    if reach:
-        best = max(reach, key=lambda s: s["dt"])
-        lines.append(f"MuJoCo reaches our accuracy ({ours_err:.1e}) at dt = {best['dt']:g} s.")
-    elif stable:
-        best = min(stable, key=lambda s: abs(s["err_mean_polygon"]))
-        lines.append(
-            f"MuJoCo does not reach our accuracy ({ours_err:.1e} vs the polygon law) at any "
-            f"stable dt tried; its best is {best['err_mean_polygon']:+.1e} at dt = {best['dt']:g} s."
-        )
+    for name, key, mine in (
+        ("mean", "err_mean_polygon", ours_err),
+        ("worst sample", "worst_err_polygon", ours_worst),
+    ):
+        reach = [s for s in stable if abs(s[key]) <= mine]
+        if reach:
+            best = max(reach, key=lambda s: s["dt"])
+            lines.append(
+                f"{name} T2/T1 vs the polygon law: MuJoCo reaches ours ({mine:.1e}) at dt = "
+                f"{best['dt']:g} s, damping {best['damp']:g} N s ({best[key]:+.1e})."
+            )
+        elif stable:
+            best = min(stable, key=lambda s: abs(s[key]))
+            lines.append(
+                f"{name} T2/T1 vs the polygon law: MuJoCo does not reach ours ({mine:.1e}) at "
+                f"any stable case tried; its best is {best[key]:+.1e} at dt = {best['dt']:g} s, "
+                f"damping {best['damp']:g} N s."
+            )
     text = "\n".join(lines)
     print(text)
     open(f"{out_dir}/report.md", "w").write(text + "\n")
