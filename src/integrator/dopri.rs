@@ -233,13 +233,11 @@ impl Dopri5 {
         }
         self.qs.resize(nq, 0.0);
         self.rhs.resize(nv + nc, 0.0);
-        let n_on = sys.n_contact_events();
-        if n_on > 0 {
-            self.events.resize(n_on);
-            for v in [&mut self.rx, &mut self.rv, &mut self.xd, &mut self.vd] {
-                v.resize(nv, 0.0);
-            }
-            self.qd.resize(nq, 0.0);
+        self.events
+            .size_for(sys, &mut self.xd, &mut self.vd, &mut self.qd);
+        if sys.n_contact_events() > 0 {
+            self.rx.resize(nv, 0.0);
+            self.rv.resize(nv, 0.0);
         }
     }
 
@@ -411,6 +409,14 @@ fn energy_balance(sys: &mut System, st: &State) -> (f64, f64) {
 }
 
 impl Dopri5 {
+    /// Joints and start time [s] of the last passage through a singular configuration (for
+    /// messages; `t` when none was seen).
+    fn passage(&self, sys: &System, t: f64) -> (String, f64) {
+        self.rank
+            .last_passage(sys)
+            .unwrap_or_else(|| ("in a closed loop".into(), t))
+    }
+
     /// Watches the factorization just made at the accepted state for a singular configuration
     /// and checks velocity continuity across each passage: the projection after every step
     /// lands on the nearest branch, which near the singular configuration may be another one.
@@ -447,10 +453,7 @@ impl Dopri5 {
                 self.ex = tmp;
                 let cos = c / (n0 * n1).sqrt();
                 if n0 > 0.0 && n1 > 0.0 && cos < BRANCH_COS {
-                    let (joints, t) = self
-                        .rank
-                        .last_passage(sys)
-                        .unwrap_or_else(|| ("in a closed loop".into(), st.t));
+                    let (joints, t) = self.passage(sys, st.t);
                     return Err(SolverError(format!(
                         "singular configuration at t = {t:.9e} s (joints {joints}): the solution left it on another branch of the mechanism (the direction of motion turned by {:.0} degrees within the passage, up to t = {:.9e} s); dopri5's projection onto the constraints cannot keep the branch there: use gen-alpha, or loosen rtol so the steps pass the singular configuration",
                         cos.clamp(-1.0, 1.0).acos().to_degrees(),
@@ -461,10 +464,7 @@ impl Dopri5 {
                 let (e1, t1) = energy_balance(sys, st);
                 let allowed = PASSAGE_ENERGY_RTOLS * self.s.rtol * t0.max(t1);
                 if (e1 - e0).abs() > allowed {
-                    let (joints, t) = self
-                        .rank
-                        .last_passage(sys)
-                        .unwrap_or_else(|| ("in a closed loop".into(), st.t));
+                    let (joints, t) = self.passage(sys, st.t);
                     return Err(SolverError(format!(
                         "singular configuration at t = {t:.9e} s (joints {joints}): the energy balance changed by {:.3e} J within the passage (up to t = {:.9e} s; allowed {allowed:.3e} J, 100 rtol of the kinetic energy): the accelerations there are too ill-conditioned for dopri5 at this tolerance; use gen-alpha, or loosen rtol",
                         e1 - e0,

@@ -95,6 +95,26 @@ pub struct EventLocator {
 }
 
 impl EventLocator {
+    /// Sizes the buffers for the event functions of `sys`, and an integrator's scratch for its
+    /// interpolant inside a step (chart coordinates and speeds of `n_v`, positions of `n_q`):
+    /// nothing for models without contact events.
+    pub fn size_for(
+        &mut self,
+        sys: &System,
+        xd: &mut Vec<f64>,
+        vd: &mut Vec<f64>,
+        qd: &mut Vec<f64>,
+    ) {
+        let n_on = sys.n_contact_events();
+        if n_on == 0 {
+            return;
+        }
+        self.resize(n_on);
+        xd.resize(sys.n_v(), 0.0);
+        vd.resize(sys.n_v(), 0.0);
+        qd.resize(sys.n_q(), 0.0);
+    }
+
     /// Sizes the buffers for `n` event functions.
     pub fn resize(&mut self, n: usize) {
         for g in [&mut self.g0, &mut self.g1, &mut self.gt] {

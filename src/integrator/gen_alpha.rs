@@ -293,14 +293,8 @@ impl GenAlpha {
 
     /// Sizes the event-location buffers for `sys` (nothing for models without contact events).
     fn resize_events(&mut self, sys: &System) {
-        let n_on = sys.n_contact_events();
-        if n_on == 0 {
-            return;
-        }
-        self.events.resize(n_on);
-        self.xd.resize(sys.n_v(), 0.0);
-        self.vd.resize(sys.n_v(), 0.0);
-        self.qd.resize(sys.n_q(), 0.0);
+        self.events
+            .size_for(sys, &mut self.xd, &mut self.vd, &mut self.qd);
     }
 
     /// The event functions (into `out`) at the fraction `theta` of the converged step of `h` [s]
