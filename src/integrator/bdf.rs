@@ -793,6 +793,20 @@ impl Bdf {
         self.stats.last_step = h;
     }
 
+    /// The first step [s] from `st`: `h_init`, or the time in which the speeds or accelerations
+    /// move by 1e-3 of their tolerance, within `[MIN_H_MAX, h_max]`.
+    fn initial_step(&mut self, sys: &System, st: &State) -> f64 {
+        weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
+        let acc = wrms(&st.vdot, &self.wv)
+            .max(wrms(&st.v, &self.wx))
+            .max(1e-12);
+        if self.s.h_init > 0.0 {
+            self.s.h_init
+        } else {
+            (0.001 / acc).clamp(super::MIN_H_MAX.min(self.s.h_max), self.s.h_max)
+        }
+    }
+
     /// When the run fails near a singular configuration of a closed loop (the loop rows of `G`
     /// conditioned [`SINGULAR_NEAR`] times worse than at the start, or the rank monitor inside a
     /// passage): what to say about it.
@@ -850,15 +864,7 @@ impl Integrator for Bdf {
         self.order = 1;
         self.steps_at_order = 0;
         self.since_start = 0;
-        weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
-        let acc = wrms(&st.vdot, &self.wv)
-            .max(wrms(&st.v, &self.wx))
-            .max(1e-12);
-        self.h = if self.s.h_init > 0.0 {
-            self.s.h_init
-        } else {
-            (0.001 / acc).clamp(super::MIN_H_MAX.min(self.s.h_max), self.s.h_max)
-        };
+        self.h = self.initial_step(sys, st);
         self.jac_valid = false;
         self.pending = None;
         if self.loop_baseline.is_none() && sys.has_loops() {
@@ -880,6 +886,10 @@ impl Integrator for Bdf {
             return Err(SolverError("bdf: advance_to before start".into()));
         }
         let fixed = self.s.fixed_step > 0.0;
+        // a step size that cannot advance (a forged state) is chosen afresh, as at the start
+        if !fixed && step_control::collapsed(self.h, st.t) {
+            self.h = self.initial_step(sys, st);
+        }
         if fixed && self.hist.len() == 1 && self.s.max_order > 1 {
             self.bootstrap(sys, st)?;
         }

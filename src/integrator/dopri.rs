@@ -508,6 +508,11 @@ impl Integrator for Dopri5 {
         // inputs may have changed at this communication point: recompute the first stage
         self.k1_valid = false;
         let adaptive = self.s.fixed_step == 0.0;
+        // a step size that cannot advance (a state saved before the start, or a forged one)
+        // is chosen afresh, as at the start
+        if adaptive && step_control::collapsed(self.h, st.t) {
+            self.start(sys, st)?;
+        }
         let locate = adaptive && sys.n_contact_events() > 0;
         // a step cut to end at a located contact event, to be taken next
         let mut cut: Option<f64> = None;
@@ -646,8 +651,12 @@ impl Integrator for Dopri5 {
     }
 
     fn restore_memory(&mut self, m: &[f64]) -> Result<(), String> {
+        let h = *m.first().ok_or("dopri5 memory is empty")?;
+        if !(h.is_finite() && h >= 0.0) {
+            return Err(format!("dopri5 memory is corrupt: step size {h:e} s"));
+        }
         self.k1_valid = false;
-        self.h = *m.first().ok_or("dopri5 memory is empty")?;
+        self.h = h;
         Ok(())
     }
 }

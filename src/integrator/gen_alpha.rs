@@ -262,6 +262,18 @@ impl GenAlpha {
     /// iteration stops at [`NEWTON_FRACTION`] of the step's share of the local error tolerance,
     /// but not below round-off. Returns the constraint violation accepted at convergence and the
     /// largest position scale [m].
+    /// The first step [s] from `st`: `h_init`, or half the time in which the accelerations
+    /// move the positions by their tolerance.
+    fn initial_step(&mut self, sys: &System, st: &State) -> f64 {
+        weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
+        let acc = wrms(&st.vdot, &self.wx).max(1e-12);
+        if self.s.h_init > 0.0 {
+            self.s.h_init
+        } else {
+            (0.5 * (2.0 / acc).sqrt()).min(self.s.h_max)
+        }
+    }
+
     /// How far an accepted step may grow (see [`MAX_GROWTH`]).
     fn step_policy(&self) -> StepPolicy {
         StepPolicy {
@@ -672,13 +684,7 @@ impl Integrator for GenAlpha {
     fn start(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
         self.a.copy_from_slice(&st.vdot);
-        weights(sys, &st.q, &st.v, &self.s, &mut self.wx, &mut self.wv);
-        let acc = wrms(&st.vdot, &self.wx).max(1e-12);
-        self.h = if self.s.h_init > 0.0 {
-            self.s.h_init
-        } else {
-            (0.5 * (2.0 / acc).sqrt()).min(self.s.h_max)
-        };
+        self.h = self.initial_step(sys, st);
         sys.eval_constraints(st.t, &st.q, &st.v);
         let drive = sys.drive_power(&st.lambda);
         let (pd, pi) = sys.powers(st.t, &st.q, &st.v);
@@ -700,6 +706,10 @@ impl Integrator for GenAlpha {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
         self.resize_events(sys);
         let adaptive = self.s.fixed_step == 0.0;
+        // a step size that cannot advance (a forged state) is chosen afresh, as at the start
+        if adaptive && step_control::collapsed(self.h, st.t) {
+            self.h = self.initial_step(sys, st);
+        }
         // contact onset: a step that closes or opens a contact is taken again to end there, so
         // no step straddles the kink of the contact force and a damped law records the approach
         // speed at the onset, not at the end of the first step in contact
@@ -894,6 +904,9 @@ impl Integrator for GenAlpha {
         }
         let na = m[3] as usize;
         if m.len() < 5 + na {
+            return Err(bad());
+        }
+        if !(m[0].is_finite() && m[0] >= 0.0) {
             return Err(bad());
         }
         self.h = m[0];

@@ -100,25 +100,11 @@ KNOWN_FAILURES = [
          pattern=r"integrator=2\b.*rtol=1e-10\b|rtol=1e-10\b.*integrator=2\b",
          reproducer=["segments=4", "integrator=2", "rtol=1e-10", "scenario=1", "atol=4e-10"],
          message="envelope segments=4 integrator=2 rtol=1e-10 scenario=1 atol=4e-10: killed after 5.0 s CPU"),
-    # a forged step size in DOPRI5's memory (0, -0, subnormal) restores: its restore_memory
-    # (src/integrator) takes it as it is and the next step crawls to max_steps
     dict(model="RopeBlock", cls="hang",
          # BDF with 200 or more segments per sling
          pattern=r"integrator=2\b.*segments=[2-9]\d\d\b|segments=[2-9]\d\d\b.*integrator=2\b",
          reproducer=["segments=240", "scenario=1", "integrator=2"],
          message="envelope segments=240 scenario=1 integrator=2: killed after 5.0 s CPU"),
-    dict(model="RopeBlock", cls="hang",
-         # a forged lug point (where a sling is fixed to the block) far off the block: the
-         # restored structure is taken as it is (src/scene/rope_block/persist.rs does not check
-         # it against the block) and the sling's dynamics crawl
-         pattern=r"(^forge [a-z0-9_]+: |fmi2DeSerializeFMUstate \[)lug point \(f64\)",
-         replay=["--seed", "2", "--first", "60230", "--count", "1", "--inline"],
-         message="forge stepped: lug point (f64) at 2505: f89050137c600340 -> 8181dbd3af7a4241: killed after 5.0 s CPU"),
-    dict(model="PanelLock", cls="hang",
-         pattern=r"(^forge [a-z0-9_]+: |fmi2DeSerializeFMUstate \[)integrator memory \(f64\)",
-         forge=["2", "integrator memory", "0.0"],
-         message="forge bdf_one_panel: integrator memory (f64) at 2092: 000000000000943f -> 0000000000000000: "
-                 "killed after 5.0 s CPU"),
 ]
 
 

@@ -291,3 +291,66 @@ def test_forged_times_that_disagree_are_refused(models, model, base, what, value
     assert s == R.ERROR, (name, what, R.STATUS_NAMES[s])
     assert any("time" in msg and "match" in msg for msg in inst.messages()), inst.messages()
     inst.free()
+
+
+@pytest.mark.parametrize("model", ["PanelLock", "RopeBlock"])
+def test_forged_integrator_step_size_is_chosen_afresh_or_refused(models, model):
+    """Regression (benchmark seed 2, listed as a known failure until fixed): a PanelLock state
+    whose DOPRI5 step size in the integrator memory was forged to 0 restored with fmi2OK, and
+    the next step crawled to max_steps (over 5 s CPU). A step size that cannot advance (0, -0, a
+    subnormal) is now chosen afresh as at the start (or refused, as BDF does with 0); a negative
+    one is refused with a message. The restored run then steps with fmi2OK."""
+    m = models[model]
+    tried = 0
+    for base, data, fields in m.bases:
+        if A.state_code(data) in (0, None):
+            continue  # instantiated: no integrator yet
+        memory = [f for f in fields if f["what"] == "integrator memory" and f["kind"] == "f64"]
+        if not memory:
+            continue
+        off = memory[0]["spans"][0]["offset"]  # the first value: the step size [s]
+        for value in (0.0, -0.0, 5e-324, -1.0):
+            inst = m.new()
+            s, handle = inst.deserialize(R.reseal(data[:off] + struct.pack("<d", value) + data[off + 8:-8]))
+            if value < 0.0 or s != R.OK:
+                # refused (BDF takes no step size of 0 either): with a message naming the memory
+                assert s == R.ERROR and any("memory" in msg for msg in inst.messages()), \
+                    (base, value, R.STATUS_NAMES[s], inst.messages())
+            else:
+                assert inst.set_state(handle) == R.OK
+                s_t, t = inst.real_status()
+                assert s_t == R.OK
+                s = inst.do_step(t, 0.01)
+                assert s == R.OK, (base, value, R.STATUS_NAMES[s], inst.messages())
+                s_get, values = inst.get_real(m.outputs)
+                assert s_get == R.OK and all(math.isfinite(v) for v in values), (base, value)
+            inst.free()
+            tried += 1
+    assert tried >= 4
+
+
+def test_forged_lug_point_off_the_block_is_refused(models):
+    """Regression (benchmark seed 2, sequences 53561, 60230, 89168; listed as a known failure
+    until fixed): a RopeBlock state whose lug point (where a sling is fixed to the block) was
+    forged to about 2.4e6 m restored with fmi2OK, and the slings' dynamics crawled for over 5 s
+    CPU per step. A lug point off the block's bounding box (widened by a tenth of its diagonal)
+    is refused with a message naming it; one moved by a millimetre still restores."""
+    m = models["RopeBlock"]
+    tried = 0
+    for base, data, fields in m.bases:
+        for field in fields:
+            if field["what"] != "lug point" or field["kind"] != "f64":
+                continue
+            off = field["spans"][0]["offset"]
+            (original,) = struct.unpack("<d", data[off:off + 8])
+            for value, refused in ((2.4e6, True), (original + 1e-3, False)):
+                inst = m.new()
+                s, _ = inst.deserialize(R.reseal(data[:off] + struct.pack("<d", value) + data[off + 8:-8]))
+                if refused:
+                    assert s == R.ERROR and any("lug point" in msg for msg in inst.messages()), \
+                        (base, value, R.STATUS_NAMES[s], inst.messages())
+                else:
+                    assert s == R.OK, (base, value, inst.messages())
+                inst.free()
+                tried += 1
+    assert tried >= 4

@@ -302,6 +302,11 @@ fn read_structure(
             nodes,
         });
     }
+    for rope in &s.ropes {
+        for end in [&rope.start, &rope.end] {
+            check_lug_point(&s, &rope.name, end)?;
+        }
+    }
     if r.u64("applied force count")? != 0 {
         return Err(bad(
             "serialized RopeBlock state has applied forces (none expected)",
@@ -310,6 +315,41 @@ fn read_structure(
     s.validate()
         .map_err(|e| bad(format!("serialized RopeBlock structure: {e}")))?;
     Ok(s)
+}
+
+/// A rope end fixed to a block with a mesh must lie on the block: within its bounding box
+/// widened by a tenth of the box's diagonal (lugs stand a little off the plates). A forged lug
+/// point far off the block restored before and left a sling whose dynamics crawled.
+fn check_lug_point(s: &Structure, rope: &str, end: &EndSpec) -> Result<(), ModelError> {
+    let EndSpec::Block { block, local } = end else {
+        return Ok(());
+    };
+    let Some(spec) = s.blocks.get(*block) else {
+        return Ok(()); // the structure's own validation names a missing block
+    };
+    let Some(mesh) = &spec.mesh else {
+        return Ok(());
+    };
+    let margin = 0.1 * (mesh.aabb_max - mesh.aabb_min).norm();
+    let inside = (0..3)
+        .all(|k| local[k] >= mesh.aabb_min[k] - margin && local[k] <= mesh.aabb_max[k] + margin);
+    if inside {
+        Ok(())
+    } else {
+        Err(bad(format!(
+            "serialized RopeBlock structure: lug point ({:.6e}, {:.6e}, {:.6e}) m of rope `{rope}` lies off block `{}` (bounding box ({:.3}, {:.3}, {:.3}) .. ({:.3}, {:.3}, {:.3}) m)",
+            local.x,
+            local.y,
+            local.z,
+            spec.name,
+            mesh.aabb_min.x,
+            mesh.aabb_min.y,
+            mesh.aabb_min.z,
+            mesh.aabb_max.x,
+            mesh.aabb_max.y,
+            mesh.aabb_max.z
+        )))
+    }
 }
 
 /// Writes a running simulation.
