@@ -1,60 +1,9 @@
 //! Conditioning of the active constraint rows in closed loops, measured directly on `G`, for
-//! integrators whose factorization does not show the constraint pivots (sparse LU): a dense SVD
-//! of all loop rows (rarely: at the start and when a run fails) and, cheap enough for every
-//! step, the pivots of `G_c G_c^T` of each loop component `c` (rows in the redundancy check's
-//! order: tree rows first, loop-closing rows last).
+//! integrators whose factorization does not show the constraint pivots (sparse LU): the pivots
+//! of `G_c G_c^T` of each loop component `c` (rows in the redundancy check's order: tree rows
+//! first, loop-closing rows last), cheap enough for every step.
 
 use super::System;
-use nalgebra::DMatrix;
-
-/// Conditioning of the loop rows of `G` at the last constraint evaluation.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LoopConditioning {
-    /// Smallest over largest singular value of the loop rows (0: rank lost).
-    pub ratio: f64,
-    /// Active row that takes the largest part of the direction of the smallest singular value.
-    pub row: usize,
-}
-
-impl System {
-    /// Singular values of the active rows that lie in closed loops (see
-    /// [`System::active_row_in_loop`]) as evaluated last; `None` without such rows.
-    pub fn loop_conditioning(&self) -> Option<LoopConditioning> {
-        let rows: Vec<usize> = (0..self.n_c())
-            .filter(|&r| self.active_row_in_loop(r))
-            .collect();
-        if rows.is_empty() {
-            return None;
-        }
-        let mut g = DMatrix::<f64>::zeros(rows.len(), self.n_v());
-        for (i, &r) in rows.iter().enumerate() {
-            self.for_row(r, |c, v| g[(i, c)] += v);
-        }
-        let svd = g.svd(true, false);
-        let s = &svd.singular_values;
-        let (k_min, s_min) =
-            s.iter().enumerate().fold(
-                (0, f64::INFINITY),
-                |a, (k, &v)| if v < a.1 { (k, v) } else { a },
-            );
-        let s_max = s.iter().fold(0.0_f64, |m, &v| m.max(v));
-        if !(s_max > 0.0 && s_max.is_finite()) {
-            return None;
-        }
-        // with fewer columns than rows the missing singular values are zero
-        let (ratio, row) = if rows.len() > self.n_v() {
-            (0.0, rows[0])
-        } else {
-            let u = svd.u.as_ref()?;
-            let col = u.column(k_min);
-            let (i, _) = col.iter().enumerate().fold((0, -1.0), |a, (i, &v)| {
-                if v.abs() > a.1 { (i, v.abs()) } else { a }
-            });
-            (s_min / s_max, rows[i])
-        };
-        Some(LoopConditioning { ratio, row })
-    }
-}
 
 impl System {
     /// The active rows in closed loops, grouped by connected component of the bodies they join

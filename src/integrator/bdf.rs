@@ -58,10 +58,6 @@ const NEWTON_ROUND_OFF_EPSILONS: f64 = 30.0;
 
 /// The Newton matrix is formed again when the BDF leading coefficient has moved by more than
 /// this fraction since it was formed (and the serialized matrix point is reused within it).
-/// Conditioning of a closed loop's constraint rows, relative to the start, below which a
-/// failure is blamed on a singular configuration.
-const SINGULAR_NEAR: f64 = 0.1;
-
 /// BDF grows a step by at most 2x, and only by more than 20 % (a new step size costs a Newton
 /// matrix; a higher order is worth more than a slightly longer step).
 const STEP_POLICY: StepPolicy = StepPolicy {
@@ -109,10 +105,9 @@ pub struct Bdf {
     stats: Stats,
     /// Watches the constraint pivots of the Newton matrices for singular configurations.
     rank: super::rank::RankMonitor,
-    /// Conditioning of the loop rows of `G` at the first start (models with closed loops; not
-    /// serialized): the baseline against which a failure checks for a singular configuration
-    /// when the sparse Newton matrix hides the pivots.
-    loop_baseline: Option<f64>,
+    /// Watches the loop rows themselves (the sparse Newton matrix hides its pivots): observed
+    /// at the first start (the baseline) and when a run fails, to name a singular configuration.
+    rows: super::rank::RankMonitor,
     // scratch: chart coordinates of history points (newest first), unknowns, residuals
     xs: Vec<Vec<f64>>,
     x: Vec<f64>,
@@ -236,7 +231,7 @@ impl Bdf {
             pending: None,
             stats: Stats::default(),
             rank: super::rank::RankMonitor::default(),
-            loop_baseline: None,
+            rows: super::rank::RankMonitor::default(),
             xs: Vec::new(),
             x: Vec::new(),
             v: Vec::new(),
@@ -807,23 +802,24 @@ impl Bdf {
         }
     }
 
-    /// When the run fails near a singular configuration of a closed loop (the loop rows of `G`
-    /// conditioned [`SINGULAR_NEAR`] times worse than at the start, or the rank monitor inside a
-    /// passage): what to say about it.
-    fn singular_cause(&self, sys: &mut System, st: &State) -> Option<String> {
-        let base = self.loop_baseline?;
-        sys.eval_constraints(st.t, &st.q, &st.v);
-        let now = sys.loop_conditioning()?;
-        if !(self.rank.inside() || now.ratio < SINGULAR_NEAR * base) {
+    /// When the run fails near a singular configuration of a closed loop (the loop rows watched
+    /// directly, or the Newton matrix's pivots, inside a passage): what to say about it.
+    fn singular_cause(&mut self, sys: &mut System, st: &State) -> Option<String> {
+        if !self.rows.observed() {
             return None;
         }
-        let joint = sys
-            .joint_of_active_row(now.row)
-            .and_then(|j| sys.model.joints.get(j))
-            .map_or_else(|| "?".to_string(), |j| format!("'{}'", j.name));
+        sys.eval_constraints(st.t, &st.q, &st.v);
+        self.rows.observe_rows(sys, st.t, &mut self.stats);
+        let ratio = self.rows.smallest_ratio();
+        if !(self.rank.inside() || self.rows.inside()) {
+            return None;
+        }
+        let joints = self
+            .rows
+            .weakest_joints(sys)
+            .unwrap_or_else(|| "?".to_string());
         Some(format!(
-            "the mechanism is at a singular configuration (joint {joint}: the loop constraints' conditioning fell to {:.1e} of its value at the start), where bdf's Newton iteration does not converge; use gen-alpha or dopri5, which pass singular configurations",
-            now.ratio / base
+            "the mechanism is at a singular configuration (joints {joints}: the loop constraints' smallest pivot fell to {ratio:.1e} of its value at the start), where bdf's Newton iteration does not converge; use gen-alpha or dopri5, which pass singular configurations"
         ))
     }
 
@@ -867,9 +863,9 @@ impl Integrator for Bdf {
         self.h = self.initial_step(sys, st);
         self.jac_valid = false;
         self.pending = None;
-        if self.loop_baseline.is_none() && sys.has_loops() {
+        if !self.rows.observed() && sys.has_loops() {
             sys.eval_constraints(st.t, &st.q, &st.v);
-            self.loop_baseline = sys.loop_conditioning().map(|c| c.ratio);
+            self.rows.observe_rows(sys, st.t, &mut self.stats);
         }
         Ok(())
     }
@@ -917,11 +913,9 @@ impl Integrator for Bdf {
                 self.h.min(self.s.h_max)
             };
             let remaining = t_end - st.t;
-            let landing_trial = cut.is_some();
-            if !landing_trial {
-                self.events.landing.clear();
-            }
-            let h = if let Some(h_on) = cut.take() {
+            let landing = self.events.begin_trial(&mut cut);
+            let landing_trial = landing.is_some();
+            let h = if let Some(h_on) = landing {
                 h_on
             } else if natural >= remaining - time_eps(t_end) {
                 remaining

@@ -532,17 +532,15 @@ impl Integrator for Dopri5 {
                 self.s.fixed_step
             };
             let remaining = t_end - st.t;
-            let landing_trial = cut.is_some();
-            let h = if let Some(h_on) = cut.take() {
+            let landing = self.events.begin_trial(&mut cut);
+            let landing_trial = landing.is_some();
+            let h = if let Some(h_on) = landing {
                 h_on
             } else if natural >= remaining - time_eps(t_end) {
                 remaining
             } else {
                 natural
             };
-            if !landing_trial {
-                self.events.landing.clear();
-            }
             let err = match self.try_step(sys, st, h) {
                 Ok(e) if e.is_finite() => e,
                 Ok(_) | Err(_) => f64::INFINITY,

@@ -122,6 +122,16 @@ impl EventLocator {
         }
     }
 
+    /// At the start of a trial step: the step cut to land on an event (`cut`, taken), or `None`
+    /// for a step of the integrator's own choice, which forgets the events of a previous trial.
+    pub fn begin_trial(&mut self, cut: &mut Option<f64>) -> Option<f64> {
+        let h_on = cut.take();
+        if h_on.is_none() {
+            self.landing.clear();
+        }
+        h_on
+    }
+
     /// Whether an event function is positive at the step's end (`g1`, filled by the caller).
     pub fn end_has_event(&self) -> bool {
         self.g1.iter().any(|g| *g > 0.0)

@@ -732,11 +732,9 @@ impl Integrator for GenAlpha {
                 self.s.fixed_step
             };
             let remaining = t_end - st.t;
-            let landing_trial = cut.is_some();
-            if !landing_trial {
-                self.events.landing.clear();
-            }
-            let h = if let Some(h_on) = cut.take() {
+            let landing = self.events.begin_trial(&mut cut);
+            let landing_trial = landing.is_some();
+            let h = if let Some(h_on) = landing {
                 h_on
             } else if natural >= remaining - time_eps(t_end) {
                 remaining

@@ -60,6 +60,8 @@ pub struct RankMonitor {
     scale: f64,
     /// Loop rows grouped by component, for observations without pivots (computed once).
     groups: Option<Vec<Vec<usize>>>,
+    /// Active row with the smallest pivot ratio in the last observation.
+    weakest: Option<usize>,
 }
 
 impl RankMonitor {
@@ -83,6 +85,22 @@ impl RankMonitor {
         } else {
             1.0
         }
+    }
+
+    /// Whether a first observation (the baseline) has been made.
+    pub fn observed(&self) -> bool {
+        !self.baseline.is_empty()
+    }
+
+    /// Smallest pivot ratio against the baseline in the last observation (0 before a second).
+    pub fn smallest_ratio(&self) -> f64 {
+        self.smallest
+    }
+
+    /// The joint (name, quoted) of the row with the smallest pivot ratio in the last observation.
+    pub fn weakest_joints(&self, sys: &System) -> Option<String> {
+        let j = sys.joint_of_active_row(self.weakest?)?;
+        Some(joint_names(sys, &[j]))
     }
 
     /// Largest watched pivot magnitude of the last observation (the scale of `G M^-1 G^T` in
@@ -175,7 +193,10 @@ impl RankMonitor {
                 continue;
             }
             let ratio = p / b;
-            smallest = smallest.min(ratio);
+            if ratio < smallest {
+                smallest = ratio;
+                self.weakest = Some(k % nc);
+            }
             if ratio < RANK_DROP {
                 rows.push(k % nc);
             }

@@ -14,21 +14,11 @@
 use crate::rig::*;
 use mbcosim::math::Vec3;
 use mbcosim::model::Profile;
-use mbcosim::rope::{RopeProps, SlipMode};
+use mbcosim::rope::SlipMode;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-const MU: f64 = 0.2;
-
-fn props() -> RopeProps {
-    RopeProps {
-        mass_per_length: 6.4,
-        ea: 7.5e7,
-        axial_damping: 7.5e3,
-        friction: MU,
-        ..RopeProps::default()
-    }
-}
+const MU: f64 = STEEL_MU;
 
 /// The polygon law of a rig: the product of the sharp-edge ratios over the turns at its
 /// vertices (strand 1 in, chords, strand 2 out), from the geometry alone.
@@ -140,7 +130,7 @@ fn drum(k: usize, t1: f64, end_mass: f64) -> Wrap {
     let pull = (Profile::constant(t1), Profile::constant(t1));
     Wrap {
         end_mass,
-        ..Wrap::drum(k, 0.52, t1, props(), pull, Hold::Fixed)
+        ..Wrap::drum(k, 0.52, t1, steel_rope(), pull, Hold::Fixed)
     }
 }
 
@@ -197,7 +187,7 @@ fn rounded_corner(n: usize, t1: f64) -> Wrap {
     let pull = (Profile::constant(t1), Profile::constant(t1));
     let mut rig = Wrap {
         end_mass: 100.0 * t1 / 9.81e3,
-        ..Wrap::drum(2, 0.5, t1, props(), pull, Hold::Fixed)
+        ..Wrap::drum(2, 0.5, t1, steel_rope(), pull, Hold::Fixed)
     };
     rig.mesh = Arc::new(prism(&section, 1.0));
     rig.vertices = vertices;

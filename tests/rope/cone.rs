@@ -17,22 +17,11 @@
 use crate::rig::*;
 use mbcosim::math::Vec3;
 use mbcosim::model::Profile;
-use mbcosim::rope::{RopeProps, SlipMode};
+use mbcosim::rope::SlipMode;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-const MU: f64 = 0.2;
-
-/// Steel rope of the issue: EA 7.5e7 N, 6.4 kg/m.
-fn props() -> RopeProps {
-    RopeProps {
-        mass_per_length: 6.4,
-        ea: 7.5e7,
-        axial_damping: 7.5e3,
-        friction: MU,
-        ..RopeProps::default()
-    }
-}
+const MU: f64 = STEEL_MU;
 
 fn sharp_edge_ratio(mu: f64, theta: f64) -> f64 {
     let x = mu * (0.5 * theta).tan();
@@ -61,7 +50,7 @@ fn tilted_run(tilt_deg: f64, t1: f64) -> Tilted {
         e2,
         strand: 2.0,
         nodes: 3,
-        props: props(),
+        props: steel_rope(),
         t_init: vec![t1, t1],
         end_mass: 100.0 * t1 / 9.81e3,
         f1: Profile::constant(t1),

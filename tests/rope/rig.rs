@@ -11,6 +11,20 @@ use mbcosim::scene::rope_block::{
 };
 use std::sync::Arc;
 
+/// Friction coefficient of the steel rope of issue #19.
+pub const STEEL_MU: f64 = 0.2;
+
+/// The steel rope of issue #19: EA 7.5e7 N, 6.4 kg/m, mu 0.2, axial damping 7.5e3 N s.
+pub fn steel_rope() -> RopeProps {
+    RopeProps {
+        mass_per_length: 6.4,
+        ea: 7.5e7,
+        axial_damping: 7.5e3,
+        friction: STEEL_MU,
+        ..RopeProps::default()
+    }
+}
+
 /// A prism along z of the given cross-section (x, y), counter-clockwise, from z = -h to h.
 pub fn prism(section: &[(f64, f64)], h: f64) -> ShellMesh {
     let n = section.len();
