@@ -159,17 +159,18 @@ fn steps_land_on_the_onset_and_record_the_impact_speed() {
     }
 }
 
-/// The damped drop's height after the rebound against the independent reference, rtol 1e-4 ..
-/// 1e-10: within 10 x rtol and not growing as rtol shrinks (before onset location gen-alpha
-/// reached 464 x rtol at 1e-10, the approach speed of the first step in contact standing in;
-/// BDF ended 6.0e-9 and 5.5e-9 m off at 1e-7 and 1e-9).
+/// The damped drop's height after the rebound against the independent reference, rtol 1e-2 ..
+/// 1e-10: within 0.1 x rtol (issue #17's target for impacts) and not growing as rtol shrinks
+/// (before onset location gen-alpha reached 464 x rtol at 1e-10, the approach speed of the first
+/// step in contact standing in; BDF ended 6.0e-9 and 5.5e-9 m off at 1e-7 and 1e-9; with
+/// gen-alpha's error factor at 3 instead of 12 it ended 0.26 x rtol off at 1e-10).
 #[test]
 fn damped_rebound_follows_rtol() {
     let (z_ref, v_ref) = ln_reference();
     println!("reference: height {z_ref:.12} m, speed {v_ref:.12} m/s");
     for kind in IntegratorKind::ALL {
         let mut errors = Vec::new();
-        for k in 4..=10 {
+        for k in 2..=10 {
             let rtol = 10f64.powi(-k);
             let (sim, _) = run(ln_law(), kind, rtol);
             let err = (sim.state.q[2] - z_ref).abs();
@@ -183,7 +184,7 @@ fn damped_rebound_follows_rtol() {
         }
         for (rtol, err) in &errors {
             assert!(
-                *err < 10.0 * rtol,
+                *err < 0.1 * rtol,
                 "{} rtol {rtol:e}: error {err:e}: {errors:?}",
                 kind.name()
             );
@@ -199,38 +200,52 @@ fn damped_rebound_follows_rtol() {
     }
 }
 
+/// The Hertz (lossless) drop: after the rebound `v^2 / 2 + g z = g d`, an independent check of
+/// the whole contact phase. For every integrator the energy error, as a height, is within 0.1 x
+/// rtol (issue #17's target for impacts) at rtol 1e-2 .. 1e-10 and does not grow as rtol
+/// shrinks; DOPRI5's falls decade by decade (at least 3x).
 #[test]
-fn dopri5_hertz_rebound_error_falls_decade_by_decade() {
-    // no loss: after the rebound v^2 / 2 + g z = g d; error as a height [m]
+fn hertz_rebound_error_follows_rtol() {
     let hertz = ContactLaw::hertz(1e7, 1.5).unwrap();
-    let mut errors = Vec::new();
-    for k in 2..=10 {
-        let rtol = 10f64.powi(-k);
-        let (sim, _) = run(hertz, IntegratorKind::Dopri5, rtol);
-        let (z, v) = (sim.state.q[2], sim.state.v[2]);
-        assert!(
-            z > 0.0,
-            "rtol {rtol:e}: the particle is in the air at the end"
-        );
-        let err = (0.5 * v * v / G + z - DROP).abs();
-        println!(
-            "rtol {rtol:.0e}: energy error {err:.2e} m ({:.2} rtol)",
-            err / rtol
-        );
-        errors.push((rtol, err));
-    }
-    for w in errors.windows(2) {
-        let ((r0, e0), (r1, e1)) = (w[0], w[1]);
-        assert!(
-            e1 <= e0,
-            "error grew from {e0:e} at rtol {r0:e} to {e1:e} at rtol {r1:e}: {errors:?}"
-        );
-    }
-    for (rtol, err) in &errors {
-        assert!(
-            *err < 30.0 * rtol,
-            "rtol {rtol:e}: error {err:e}: {errors:?}"
-        );
+    for kind in IntegratorKind::ALL {
+        let mut errors = Vec::new();
+        for k in 2..=10 {
+            let rtol = 10f64.powi(-k);
+            let (sim, _) = run(hertz, kind, rtol);
+            let (z, v) = (sim.state.q[2], sim.state.v[2]);
+            assert!(
+                z > 0.0,
+                "{} rtol {rtol:e}: the particle is in the air at the end",
+                kind.name()
+            );
+            let err = (0.5 * v * v / G + z - DROP).abs();
+            println!(
+                "{} rtol {rtol:.0e}: energy error {err:.2e} m ({:.3} rtol)",
+                kind.name(),
+                err / rtol
+            );
+            errors.push((rtol, err));
+        }
+        for (rtol, err) in &errors {
+            assert!(
+                *err < 0.1 * rtol,
+                "{} rtol {rtol:e}: error {err:e}: {errors:?}",
+                kind.name()
+            );
+        }
+        for w in errors.windows(2) {
+            let ((r0, e0), (r1, e1)) = (w[0], w[1]);
+            let falls = if kind == IntegratorKind::Dopri5 {
+                e1 * 3.0 <= e0 || e1 < 1e-12
+            } else {
+                e1 <= e0 || e1 < 1e-12
+            };
+            assert!(
+                falls,
+                "{}: error from {e0:e} at rtol {r0:e} to {e1:e} at rtol {r1:e}: {errors:?}",
+                kind.name()
+            );
+        }
     }
 }
 

@@ -8,7 +8,8 @@
 //!     [--csv] [--reference-out FILE]
 //! ```
 //! Problems: chain2, chain8, chain32 (pendulum chains of uniform rods), fourbar (closed loop),
-//! impact_hertz, impact_ln (ball on a half-space). Integrators: gen_alpha, bdf, dopri5
+//! impact_hertz, impact_ln (ball on a half-space), panel_smooth (the PanelLock default scene
+//! before its first lock). Integrators: gen_alpha, bdf, dopri5
 //! (adaptive, swept over rtol 1e-2 .. 1e-10, atol = rtol) and gen_alpha_fixed (fixed steps
 //! 1e-2 .. 1e-5 s with the default Newton tolerances). `--quick`: chain2, chain8, fourbar,
 //! impact_hertz at rtol 1e-2, 1e-4, 1e-6, 1e-8, steps 1e-2 and 1e-3, one run each. `--csv`
@@ -19,17 +20,19 @@ mod chain;
 mod fourbar;
 mod impact;
 mod ode;
+mod panel;
 mod suite;
 
 use suite::{Problem, Run, Series};
 
-const ALL_PROBLEMS: [&str; 6] = [
+const ALL_PROBLEMS: [&str; 7] = [
     "chain2",
     "chain8",
     "chain32",
     "fourbar",
     "impact_hertz",
     "impact_ln",
+    "panel_smooth",
 ];
 const QUICK_PROBLEMS: [&str; 4] = ["chain2", "chain8", "fourbar", "impact_hertz"];
 /// Error levels of the per-level table.
@@ -142,6 +145,7 @@ fn build(name: &str) -> Result<Problem, String> {
         "fourbar" => fourbar::problem(),
         "impact_hertz" => impact::problem(impact::Law::Hertz),
         "impact_ln" => impact::problem(impact::Law::LankaraniNikravesh(0.8)),
+        "panel_smooth" => panel::problem(),
         _ => Err(format!("unknown problem {name}")),
     }
 }

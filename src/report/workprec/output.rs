@@ -160,7 +160,7 @@ pub fn markdown(studies: &[Study], repeats: usize, targets: &[f64]) -> String {
     let mut md = String::from("# Work-precision report\n\n");
     let _ = writeln!(
         md,
-        "Machine: {}.  \nVersions: {}.  \nTimes are the median of {repeats} runs (CPU = wall clock of a single-threaded run, set-up included). Errors are against a reference at a much tighter tolerance; the reference check row gives the difference between the reference and an independent tight run (errors below it are not resolved).\n",
+        "Machine: {}.  \nVersions: {}.  \nTimes are the median of {repeats} runs (CPU = wall clock of a single-threaded run, set-up included). Errors are against a reference at a much tighter tolerance; the reference check row gives the difference between the reference and an independent tight run (errors below it are not resolved). In tolerance sweeps each error is followed by error / rtol in parentheses.\n",
         machine(),
         versions()
     );
@@ -214,7 +214,17 @@ pub fn markdown(studies: &[Study], repeats: usize, targets: &[f64]) -> String {
             "---|".repeat(names.len())
         );
         for s in &st.samples {
-            let errs: Vec<String> = s.errors.iter().map(|e| sci(*e)).collect();
+            // a tolerance sweep also gives error / rtol: what the tolerance bought
+            let errs: Vec<String> = s
+                .errors
+                .iter()
+                .map(|e| match s.setting.sweep {
+                    Sweep::Tolerance if e.is_finite() => {
+                        format!("{} ({:.2})", sci(*e), e / s.setting.x)
+                    }
+                    _ => sci(*e),
+                })
+                .collect();
             let (steps, rej, newton, lu) = match &s.outcome {
                 Ok(o) => (
                     o.stats.steps,
