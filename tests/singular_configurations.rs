@@ -268,27 +268,39 @@ fn counters_of_older_states_are_read() {
     assert!(Stats::from_numbers(&old[..9]).is_err());
 }
 
-/// BDF does not pass the change points (its Newton iteration diverges as the loop's
-/// constraints lose rank, at every rtol tried): it must never return OK off the reference, and
-/// when it fails the message names the singular configuration instead of blaming the
-/// parameters or the damping (as it did before).
+/// BDF passes every change point on the parallelogram branch too, counting each passage.
+/// Before, its Newton iteration stalled in round-off that the near-singular matrix amplifies
+/// (speed corrections of 1e-12 .. 1e-10 against a band of 5e-14) and the step collapsed at the
+/// first change point at every rtol from 1e-6 on; now the round-off band and the error weights'
+/// round-off floor widen by the watched amplification, as in gen-alpha. Tighter than it
+/// resolves there (rtol 1e-10 here), the run stops with a message naming the singular
+/// configuration, never with status OK off the branch.
 #[test]
-fn bdf_fails_with_the_singular_configuration_named() {
-    for rtol in [1e-6, 1e-8] {
+fn bdf_passes_the_change_points_on_the_parallelogram_branch() {
+    let t_end = 2.0;
+    let crossings = reference_crossings(t_end);
+    for (rtol, bound) in [(1e-4, 1e-2), (1e-6, 1e-4), (1e-8, 1e-6), (1e-9, 1e-6)] {
         let mut sim =
             Simulation::new(parallelogram(), IntegratorKind::Bdf, settings(rtol), 0.0).unwrap();
-        let (res, crank, shape) = run(&mut sim, 2.0);
-        println!("bdf rtol {rtol:.0e}: {res:?} crank error {crank:.2e}, off {shape:.2e}");
-        match res {
-            Ok(()) => assert!(
-                crank < 1e-4 && shape < 1e-6,
-                "rtol {rtol:e}: status OK with crank error {crank:.3e}, off the branch {shape:.3e}"
-            ),
-            Err(e) => assert!(
-                e.contains("singular configuration") && !e.contains("check parameters"),
-                "rtol {rtol:e}: {e}"
-            ),
-        }
+        let (res, crank, shape) = run(&mut sim, t_end);
+        let passages = sim.stats().singular_configurations as usize;
+        println!(
+            "bdf rtol {rtol:.0e}: {res:?} crank error {crank:.2e}, off {shape:.2e}, passages {passages}"
+        );
+        res.unwrap();
+        assert_on_branch(rtol, crank, bound, shape);
+        assert_eq!(passages, crossings, "rtol {rtol:e}: every passage counted");
+    }
+    let mut sim =
+        Simulation::new(parallelogram(), IntegratorKind::Bdf, settings(1e-10), 0.0).unwrap();
+    let (res, crank, shape) = run(&mut sim, t_end);
+    println!("bdf rtol 1e-10: {res:?} crank error {crank:.2e}, off {shape:.2e}");
+    match res {
+        Ok(()) => assert_on_branch(1e-10, crank, 1e-6, shape),
+        Err(e) => assert!(
+            e.contains("singular configuration") && e.contains("'B'") && e.contains("rtol"),
+            "{e}"
+        ),
     }
 }
 
@@ -297,21 +309,20 @@ fn bdf_fails_with_the_singular_configuration_named() {
 /// DOPRI5 at rtol 1e-8 returned status OK with the cranks 3.1 rad off (the 40-loop case
 /// behaved the same; 40 copies pass too, 30 s, not run here).
 #[test]
-fn dopri5_passes_the_change_points_with_a_sparse_matrix() {
+fn passes_the_change_points_with_a_sparse_matrix() {
     let n = 3;
-    for (rtol, bound) in [(1e-8, 1e-7), (1e-10, 1e-8)] {
-        let mut sim = Simulation::new(
-            parallelograms(n),
-            IntegratorKind::Dopri5,
-            settings(rtol),
-            0.0,
-        )
-        .unwrap();
+    for (kind, rtol, bound) in [
+        (IntegratorKind::Dopri5, 1e-8, 1e-7),
+        (IntegratorKind::Dopri5, 1e-10, 1e-8),
+        (IntegratorKind::Bdf, 1e-6, 1e-4),
+        (IntegratorKind::Bdf, 1e-8, 1e-6),
+    ] {
+        let mut sim = Simulation::new(parallelograms(n), kind, settings(rtol), 0.0).unwrap();
         let (mut crank, mut shape) = (0.0_f64, 0.0_f64);
         for k in 1..=200 {
             let t = 0.01 * k as f64;
             if let Err(e) = sim.advance_to(t) {
-                panic!("rtol {rtol:e}: {}", e.0);
+                panic!("{kind:?} rtol {rtol:e}: {}", e.0);
             }
             let (phi, _) = reference(t);
             for c in 0..n {
@@ -323,7 +334,7 @@ fn dopri5_passes_the_change_points_with_a_sparse_matrix() {
         }
         let passages = sim.stats().singular_configurations;
         println!(
-            "dopri5, {n} loops, rtol {rtol:.0e}: crank error {crank:.2e}, off the parallelogram {shape:.2e}, passages {passages}"
+            "{kind:?}, {n} loops, rtol {rtol:.0e}: crank error {crank:.2e}, off the parallelogram {shape:.2e}, passages {passages}"
         );
         assert_on_branch(rtol, crank, bound, shape);
         assert!(passages >= 4, "rtol {rtol:e}: {passages} passages seen");

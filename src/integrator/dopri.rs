@@ -422,13 +422,9 @@ impl Dopri5 {
     /// lands on the nearest branch, which near the singular configuration may be another one.
     fn check_branch(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
         let nv = sys.n_v();
-        // the sparse LU hides the pivots: observe the rows themselves
-        let observed = if self.lin.dense_pivot(0).is_some() {
+        let observed =
             self.rank
-                .observe(sys, &self.lin, nv, 1, st.t, &mut self.stats)
-        } else {
-            self.rank.observe_rows(sys, st.t, &mut self.stats)
-        };
+                .observe_factorization(sys, &self.lin, (nv, 1), st.t, &mut self.stats);
         match observed {
             Passage::None => Ok(()),
             Passage::Entered => {

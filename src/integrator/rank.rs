@@ -156,6 +156,23 @@ impl RankMonitor {
         self.decide(sys, nc, t, stats)
     }
 
+    /// [`RankMonitor::observe`] when the factorization shows its pivots (dense LU), otherwise
+    /// [`RankMonitor::observe_rows`] on the constraint rows evaluated last.
+    pub fn observe_factorization(
+        &mut self,
+        sys: &mut System,
+        lin: &LinearSolver,
+        (col0, blocks): (usize, usize),
+        t: f64,
+        stats: &mut Stats,
+    ) -> Passage {
+        if lin.dense_pivot(0).is_some() {
+            self.observe(sys, lin, col0, blocks, t, stats)
+        } else {
+            self.observe_rows(sys, t, stats)
+        }
+    }
+
     /// As [`RankMonitor::observe`] for a factorization that does not show its pivots (sparse
     /// LU): observes the constraint rows evaluated last directly, by the pivots of `G G^T` of
     /// each closed loop's rows ([`System::loop_row_pivots`], a small dense Cholesky per loop).
