@@ -1,7 +1,8 @@
 //! The 8-link pendulum at every tolerance from 1e-1 to 1e-10 (issue #17): each adaptive run either
 //! ends within 100 x rtol of an independent reference or fails with a message; never status OK
-//! with a larger error. Reference: the chain in absolute joint angles (closed-form mass matrix),
-//! classical RK4 at 40,000 steps, checked against 20,000.
+//! with a larger error. From rtol 1e-2 on each decade lowers the error at least 3x. Reference:
+//! the chain in absolute joint angles (closed-form mass matrix), classical RK4 at 40,000 steps,
+//! checked against 20,000.
 
 mod common;
 use common::{planar_distance, simulated_planar_point};
@@ -140,15 +141,15 @@ fn eight_link_pendulum_meets_every_tolerance_or_says_why() {
                 }
             }
         }
-        // monotone from 1e-2 on until 1e-10 m. The issue asks for 3x per decade; BDF misses
-        // that (1e-6 -> 1e-7: 2.1x, its order changes), so this holds the error to not growing
-        // and the per-decade factors are in docs/integrator_error_control.md
+        // from rtol 1e-2 on, each decade of rtol lowers the error at least 3x until it is below
+        // 1e-10 m (measured: 5.9x .. 103x); a decade whose tighter run failed with a message is
+        // not judged
         for w in errors.windows(2) {
-            let ((r0, e0), (_, e1)) = (w[0], w[1]);
-            if r0 <= 1e-2 && e0 > 1e-10 {
+            let ((r0, e0), (r1, e1)) = (w[0], w[1]);
+            if r0 <= 1e-2 && e0 > 1e-10 && (r0 / r1 - 10.0).abs() < 1e-6 {
                 assert!(
-                    e1 <= e0,
-                    "{}: error {e0:.2e} at rtol {r0:e} grew to {e1:.2e} a decade tighter",
+                    e1 <= e0 / 3.0,
+                    "{}: error {e0:.2e} at rtol {r0:e} fell only to {e1:.2e} a decade tighter",
                     kind.name()
                 );
             }
