@@ -653,7 +653,23 @@ impl GenAlpha {
         let in_play = k0.max(k1) + u0.abs().max(u1.abs()) + dissipated.abs() + input.abs();
         // round-off of the energy sums
         let floor = 1e3 * f64::EPSILON * (k0 + k1 + u0.abs() + u1.abs());
-        let tol = 100.0 * self.s.rtol * in_play + floor;
+        let mut tol = 100.0 * self.s.rtol * in_play + floor;
+        if gain > tol {
+            // below the energy the tolerance resolves: the kinetic energy of moving by the
+            // position weights per ERROR_TIME_UNIT (a scene nearly at rest, such as slack
+            // slings without gravity with 1e-20 J in play, rejected every step for gains of
+            // 1e-20 J, mostly the dissipation's quadrature)
+            sys.mass_mul(&self.wx, &mut self.tmp);
+            let resolution = 0.5
+                * self
+                    .wx
+                    .iter()
+                    .zip(&self.tmp)
+                    .map(|(w, mw)| w * mw)
+                    .sum::<f64>()
+                / (super::ERROR_TIME_UNIT * super::ERROR_TIME_UNIT);
+            tol += resolution;
+        }
         if tol > 0.0 { gain / tol } else { 0.0 }
     }
 

@@ -75,26 +75,7 @@ BASE_STATES = {
 # model, violation class, a pattern of the finding's text. test_adversarial.py accepts these
 # and nothing else; test_known_failures_still_fail replays each reproducer and checks its exact
 # message, so a fixed one must be taken off the list.
-GRAVITY_OFF = r"(gravity_on=(False|0)\b|gravity=0(\.0)?\b)"
-MANY_SEGMENTS = r"segments=([5-9]\d|[1-9]\d\d)\b"
 KNOWN_FAILURES = [
-    dict(model="RopeBlock", cls="hang",
-         # gravity switched off with more than ~50 segments per sling (slack slings)
-         pattern=rf"{GRAVITY_OFF}.*{MANY_SEGMENTS}|{MANY_SEGMENTS}.*{GRAVITY_OFF}",
-         reproducer=["segments=200", "gravity_on=0"],
-         message="envelope segments=200 gravity_on=0: killed after 5.0 s CPU"),
-    dict(model="RopeBlock", cls="hang",
-         # DOPRI5 (explicit) on a stiff ground contact at a tight tolerance
-         pattern=r"integrator=3\b.*ground_contact=(True|1)\b|ground_contact=(True|1)\b.*integrator=3\b",
-         reproducer=["segments=4", "gravity=20", "integrator=3", "atol=1e-12", "ground_contact=1",
-                     "ground_slip_speed=1e-6", "contact=0"],
-         message="envelope segments=4 gravity=20 integrator=3 atol=1e-12 ground_contact=1 ground_slip_speed=1e-6 "
-                 "contact=0: killed after 5.0 s CPU"),
-    dict(model="RopeBlock", cls="hang",
-         # rope_damping at its maximum 1e9 N s (DOPRI5: explicit steps on the damping time scale)
-         pattern=r"rope_damping=(1e9|1e\+09|1000000000(\.0)?)\b",
-         reproducer=["segments=4", "rope_damping=1e9", "integrator=3"],
-         message="envelope segments=4 rope_damping=1e9 integrator=3: killed after 5.0 s CPU"),
     dict(model="RopeBlock", cls="hang",
          # BDF at rtol near its floor 1e-10
          pattern=r"integrator=2\b.*rtol=1e-10\b|rtol=1e-10\b.*integrator=2\b",

@@ -212,6 +212,12 @@ ENVELOPE_CASES = [
     ("PanelLock", ["h_max=1e-8", "integrator=3"], "h_max"),
     # dopri5 at 263 segments: one 0.05 s step took 193 s CPU (a hang under any CPU bound)
     ("RopeBlock", ["integrator=3", "segments=263"], "segments"),
+    # dopri5 at the stability boundary of the rope damping: 125,000 steps of 4e-7 s per 0.05 s
+    # step (34 s CPU; known failure 2 of the benchmark); now refused as stiff after 1,000 steps
+    ("RopeBlock", ["segments=4", "rope_damping=1e9", "integrator=3"], "integrator"),
+    # dopri5 on a stiff ground contact at atol 1e-12 (known failure 1): steps of 3e-7 s
+    ("RopeBlock", ["segments=4", "gravity=20", "integrator=3", "atol=1e-12", "ground_contact=1",
+                   "ground_slip_speed=1e-6", "contact=0"], "integrator"),
 ]
 
 
@@ -237,6 +243,38 @@ def test_envelope_refusals_name_the_parameter(model, values, named, tmp_path):
     assert case["refused"], case
     assert not case["violations"], case["violations"]
     assert re.search(rf"\b{named}\b", case["messages"]), case["messages"]
+
+
+# Cases that once ran past the CPU bound and now complete: each must initialize and take its
+# steps with finite outputs within 2 s CPU for the whole process.
+COMPLETING_CASES = [
+    # gravity off with 200 segments per sling (known failure 0 of the benchmark): gen-alpha's
+    # energy check rejected every step of the scene at rest (1e-20 J in play, gains of 1e-20 J
+    # from the dissipation's quadrature): 9,000 rejections and 10 s CPU per 0.05 s step
+    ("RopeBlock", ["segments=200", "gravity_on=0"]),
+    ("RopeBlock", ["segments=200", "gravity=0"]),
+]
+
+
+@pytest.mark.parametrize("model,values", COMPLETING_CASES, ids=[" ".join(c[1]) for c in COMPLETING_CASES])
+def test_envelope_cases_complete_within_the_cpu_bound(model, values, tmp_path):
+    """Each case initializes and takes its steps, outputs finite, within 2 s CPU."""
+    import resource
+
+    packed(model)
+    out = tmp_path / "case.json"
+
+    def cpu_bound():
+        resource.setrlimit(resource.RLIMIT_CPU, (2, 3))
+
+    r = subprocess.run([sys.executable, str(HERE / "adversarial.py"), "--dist", str(DIST), "--bin", mbcosim(),
+                        "--models", model, "--json", str(out), "--values", *values],
+                       capture_output=True, text=True, timeout=60, preexec_fn=cpu_bound)
+    assert r.returncode == 0, f"exit {r.returncode} (killed over 2 s CPU?): {r.stderr[-2000:]}"
+    case = json.loads(out.read_text())
+    assert not case["refused"], case
+    assert not case["violations"], case["violations"]
+    assert case["steps"] == 3, case
 
 
 def _reproducer(k):
