@@ -39,7 +39,7 @@ pub struct Simulation {
     pub warnings: Vec<String>,
     /// Solver of [`Simulation::consistent_multipliers`], kept so its sparse pattern analysis
     /// is done once, not at every output (scratch: no influence on results).
-    kkt: crate::dae::linear::LinearSolver,
+    kkt: crate::integrator::kkt::Kkt,
     /// Scratch of the range-space solve of [`Simulation::consistent_multipliers`].
     range_space: crate::dae::RangeSpace,
 }
@@ -101,7 +101,7 @@ impl Simulation {
             integrator,
             settings,
             warnings,
-            kkt: crate::dae::linear::LinearSolver::new(),
+            kkt: crate::integrator::kkt::Kkt::new(),
             range_space: crate::dae::RangeSpace::default(),
         })
     }
@@ -177,7 +177,7 @@ impl Simulation {
         self.system = system;
         self.state = state;
         self.system.memory.copy_from_slice(&self.state.memory);
-        let mut lin = crate::dae::linear::LinearSolver::new();
+        let mut lin = crate::integrator::kkt::Kkt::new();
         integrator::init::project_positions(
             &mut self.system,
             &mut lin,

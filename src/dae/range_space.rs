@@ -1,26 +1,34 @@
-//! Index-1 accelerations and multipliers by the range-space method: with the block-diagonal
-//! mass matrix `M` (one block per body: rigid `diag(m I, J)`, particle `m I`, modal `M(a)`),
-//! `[M G^T; G 0] [v_dot; lambda] = [f; gamma]` reduces to
+//! The augmented system `[M G^T; G -c I] [x; y] = [top; bottom]` by the range-space method:
+//! with the block-diagonal mass matrix `M` (one block per body: rigid `diag(m I, J)`, particle
+//! `m I`, modal `M(a)`) it reduces to
 //!
-//! `S lambda = G M^-1 f - gamma`, `S = G M^-1 G^T` (`n_c` square, symmetric positive definite
-//! when `M` is and the active rows are independent), `v_dot = M^-1 (f - G^T lambda)`.
+//! `(S + c I) y = G M^-1 top - bottom`, `S = G M^-1 G^T` (`n_c` square, symmetric positive
+//! definite when `M` is and the active rows are independent), `x = M^-1 (top - G^T y)`.
 //!
-//! Each body block and `S` are Cholesky-factorized; the work is `O(n_c^2)` times the row length
-//! plus `O(n_c^3 / 6)`, against `O((n_v + n_c)^3)` for an LU of the full matrix (which
-//! [`crate::integrator::init::accelerations`] uses). Used for outputs (reaction forces) at every
-//! communication point. A body block or `S` that is not positive definite (a massless body,
+//! Each body block is inverted, `S` is formed and Cholesky-factorized on its envelope (see
+//! [`RangeSpace`]): `O(n)` in the bodies of a chain or tree with rows in joint order, against
+//! `O((n_v + n_c)^3)` for a dense LU of the full matrix. Each solve ends with one step of
+//! iterative refinement against the full matrix. Used for outputs (reaction forces) at every
+//! communication point and, through [`crate::integrator::kkt::Kkt`], for DOPRI5's stages and
+//! the projections. A body block or `S` that is not positive definite (a massless body,
 //! dependent rows) is reported as `Err`; the caller falls back to the LU.
 
 use super::System;
 use crate::model::BodyKind;
 
-/// Scratch of the range-space solve (no allocation once sized).
+/// Scratch and factor of the range-space solve (no allocation once sized).
+///
+/// `S` is stored by its envelope: row `i` holds columns `first[i]..=i`, where `first[i]` is the
+/// first row sharing a body with row `i` (the Cholesky factor keeps that envelope). Rows in
+/// joint order along a chain or tree couple only with their neighbours', so the envelope, the
+/// factorization and the solves are `O(n)` in the number of bodies; `Y = M^-1 G^T` is kept per
+/// row on the blocks the row touches.
 #[derive(Debug, Clone, Default)]
 pub struct RangeSpace {
     /// Mass blocks: speed offset, size, start in `chol`.
     blocks: Vec<(usize, usize, usize)>,
-    /// Cholesky factors of the blocks (symmetric, so the storage order does not matter for the
-    /// input; the factor is row-major), concatenated.
+    /// Inverses of the blocks (symmetric, row-major), concatenated: a rigid body's is
+    /// `diag(I / m, J^-1)`, a particle's `I / m`, a modal body's from its Cholesky factor.
     chol: Vec<f64>,
     /// Block of every speed column.
     block_of: Vec<usize>,
@@ -31,10 +39,30 @@ pub struct RangeSpace {
     /// Blocks touched by each row (at most a few), flattened like the rows.
     touched_at: Vec<usize>,
     touched: Vec<usize>,
-    /// `M^-1 G^T`, `n_v x n_c` column-major (column `r` is zero outside the blocks of row `r`).
-    y: Vec<f64>,
-    /// `S` (lower triangle) and its Cholesky factor, `n_c x n_c` row-major.
-    s: Vec<f64>,
+    /// `Y = M^-1 G^T` by rows of `G`: row `r`'s column of `Y` on the speeds of its blocks, as
+    /// segments `y_at[r]..y_at[r + 1]` of `y_seg`, each `(first speed, length, start in y_val)`.
+    y_at: Vec<usize>,
+    y_seg: Vec<(usize, usize, usize)>,
+    y_val: Vec<f64>,
+    /// First row touching each block (`usize::MAX`: none yet).
+    first_of_block: Vec<usize>,
+    /// Envelope of `S` and of its factor: row `i` holds columns `first[i]..=i` at
+    /// `env_at[i]..env_at[i + 1]` of `env`.
+    first: Vec<usize>,
+    env_at: Vec<usize>,
+    env: Vec<f64>,
+    /// Diagonal of `S + c I` before the factorization.
+    diag: Vec<f64>,
+    /// The mass blocks themselves (as `chol`), for the residual of the refinement.
+    mass: Vec<f64>,
+    /// The compliance `c` of the last factorization.
+    compliance: f64,
+    /// Scratch: a row of `G` scattered over the speeds, a block's values, `M^-1 f`, and the
+    /// refinement's right-hand side and residual.
+    work: Vec<f64>,
+    tmp: Vec<f64>,
+    orig: Vec<f64>,
+    residual: Vec<f64>,
     z: Vec<f64>,
 }
 
@@ -101,39 +129,199 @@ fn cholesky_solve(l: &[f64], n: usize, b: &mut [f64]) {
     }
 }
 
-/// `x <- M^-1 x` (full speed vector) with the factored blocks.
-fn mass_solve(blocks: &[(usize, usize, usize)], chol: &[f64], x: &mut [f64]) {
+/// `x <- M^-1 x` (full speed vector) with the blocks' inverses; `tmp` is scratch.
+fn mass_solve(blocks: &[(usize, usize, usize)], inv: &[f64], x: &mut [f64], tmp: &mut Vec<f64>) {
     for &(o, n, at) in blocks {
-        cholesky_solve(&chol[at..at + n * n], n, &mut x[o..o + n]);
+        tmp.clear();
+        tmp.extend_from_slice(&x[o..o + n]);
+        mat_vec(&inv[at..at + n * n], tmp, &mut x[o..o + n]);
+    }
+}
+
+/// `y = A x` for the row-major square `a`.
+#[inline]
+fn mat_vec(a: &[f64], x: &[f64], y: &mut [f64]) {
+    let n = x.len();
+    for (i, yi) in y.iter_mut().enumerate() {
+        *yi = dot(&a[i * n..(i + 1) * n], x);
+    }
+}
+
+impl RangeSpace {
+    /// Number of constraint rows of the last factorization.
+    pub fn n_rows(&self) -> usize {
+        self.first.len()
+    }
+
+    /// Entries of the envelope of `S` (its factor's storage): about `n_c` times the rows a row
+    /// couples with, a measure of the factorization's cost.
+    pub fn envelope_len(&self) -> usize {
+        self.env.len()
+    }
+
+    /// Pivot of row `r` in the last factorization, as a rank watch reads it: `sqrt(p S_rr)` with
+    /// `p` the Cholesky pivot (the part of `S_rr` not spanned by the rows before it), i.e. the
+    /// diagonal `S_rr` times the sine of the row's angle to the rows before it (in the `M^-1`
+    /// metric). It has the units of `S` and falls linearly with the distance to a singular
+    /// configuration, as the LU's pivots of the full matrix do (`p` itself falls with its
+    /// square).
+    pub fn pivot(&self, r: usize) -> Option<f64> {
+        let at = *self.env_at.get(r + 1)?;
+        Some(self.env[at - 1].abs() * self.diag.get(r)?.sqrt())
+    }
+
+    /// In-place envelope Cholesky of `S + c I`; `false` if a pivot is not positive.
+    fn factor_envelope(&mut self, c: f64) -> bool {
+        let n = self.first.len();
+        for i in 0..n {
+            let (fi, ai) = (self.first[i], self.env_at[i]);
+            for j in fi..=i {
+                let fj = self.first[j];
+                let k0 = fi.max(fj);
+                let (head, row_i) = self.env.split_at_mut(ai);
+                // L_ik for k in k0..j, and L_jk for the same k
+                let li = &row_i[k0 - fi..j - fi];
+                let s = if j < i {
+                    let aj = self.env_at[j];
+                    let lj = &head[aj + (k0 - fj)..aj + (j - fj)];
+                    let s = row_i[j - fi] - dot(li, lj);
+                    s / head[aj + (j - fj)]
+                } else {
+                    let s = row_i[j - fi] + c - dot(li, li);
+                    if !(s > 0.0 && s.is_finite()) {
+                        return false;
+                    }
+                    s.sqrt()
+                };
+                row_i[j - fi] = s;
+            }
+        }
+        true
+    }
+
+    /// Solves `L L^T x = b` in place with the envelope factor.
+    fn solve_envelope(&self, b: &mut [f64]) {
+        let n = self.first.len();
+        for i in 0..n {
+            let (fi, ai) = (self.first[i], self.env_at[i]);
+            let row = &self.env[ai..ai + (i - fi)];
+            let s = b[i] - dot(row, &b[fi..i]);
+            b[i] = s / self.env[ai + (i - fi)];
+        }
+        for i in (0..n).rev() {
+            let (fi, ai) = (self.first[i], self.env_at[i]);
+            b[i] /= self.env[ai + (i - fi)];
+            let xi = b[i];
+            for (bk, lk) in b[fi..i].iter_mut().zip(&self.env[ai..ai + (i - fi)]) {
+                *bk -= lk * xi;
+            }
+        }
+    }
+
+    /// Solves `[M G^T; G -c I] [x; y] = [top; bottom]` in place (`rhs` of length `n_v + n_c`)
+    /// with the last factorization ([`System::factor_range_space`]), with one step of iterative
+    /// refinement: forming `S` squares the conditioning of `M` (rods with a small inertia about
+    /// their axis: residuals of 7e-11 of the right-hand side), and one correction from the
+    /// residual of the full matrix brings them to round-off (1e-15) for a second solve.
+    pub fn solve(&mut self, rhs: &mut [f64]) {
+        let mut b = std::mem::take(&mut self.orig);
+        b.clear();
+        b.extend_from_slice(rhs);
+        self.solve_once(rhs);
+        // r = b - A x
+        let nv = self.block_of.len();
+        let mut r = std::mem::take(&mut self.residual);
+        r.clear();
+        r.extend_from_slice(&b);
+        let (x, y) = rhs.split_at(nv);
+        let (r_top, r_bottom) = r.split_at_mut(nv);
+        for &(o, n, at) in &self.blocks {
+            for (i, ri) in r_top[o..o + n].iter_mut().enumerate() {
+                *ri -= dot(&self.mass[at + i * n..at + (i + 1) * n], &x[o..o + n]);
+            }
+        }
+        for (row, (&yr, rb)) in y.iter().zip(r_bottom.iter_mut()).enumerate() {
+            let mut gx = 0.0;
+            for k in self.row_at[row]..self.row_at[row + 1] {
+                let col = self.cols[k];
+                gx += self.vals[k] * x[col];
+                r_top[col] -= self.vals[k] * yr;
+            }
+            *rb -= gx - self.compliance * yr;
+        }
+        self.solve_once(&mut r);
+        for (v, d) in rhs.iter_mut().zip(&r) {
+            *v += d;
+        }
+        self.orig = b;
+        self.residual = r;
+    }
+
+    /// One solve with the factorization (no refinement).
+    fn solve_once(&mut self, rhs: &mut [f64]) {
+        let nv = self.block_of.len();
+        let nc = self.first.len();
+        let (top, bottom) = rhs.split_at_mut(nv);
+        // z = M^-1 top; y = S^-1 (G z - bottom); x = z - Y y
+        mass_solve(&self.blocks, &self.chol, top, &mut self.tmp);
+        for (r, b) in bottom.iter_mut().enumerate().take(nc) {
+            let mut gz = 0.0;
+            for k in self.row_at[r]..self.row_at[r + 1] {
+                gz += self.vals[k] * top[self.cols[k]];
+            }
+            *b = gz - *b;
+        }
+        self.solve_envelope(bottom);
+        for (r, &y) in bottom.iter().enumerate().take(nc) {
+            for &(o, n, at) in &self.y_seg[self.y_at[r]..self.y_at[r + 1]] {
+                for (x, yv) in top[o..o + n].iter_mut().zip(&self.y_val[at..at + n]) {
+                    *x -= yv * y;
+                }
+            }
+        }
     }
 }
 
 impl System {
-    /// Factorizes the mass blocks at the last kinematics update into `ws`.
+    /// Inverts the mass blocks at the last kinematics update into `ws`.
     fn factor_mass_blocks(&self, ws: &mut RangeSpace) -> Result<(), String> {
         ws.blocks.clear();
         ws.chol.clear();
+        ws.mass.clear();
         ws.block_of.clear();
         ws.block_of.resize(self.n_v(), usize::MAX);
+        let not_pd = |bi: usize| format!("mass block of body {bi} is not positive definite");
         for (bi, b) in self.model.bodies.iter().enumerate() {
             let o = b.v_offset;
             let at = ws.chol.len();
             let n = match &b.kind {
                 BodyKind::Rigid { mass, inertia } => {
+                    let j_inv = nalgebra::Cholesky::new(*inertia)
+                        .filter(|_| *mass > 0.0)
+                        .ok_or_else(|| not_pd(bi))?
+                        .inverse();
                     ws.chol.resize(at + 36, 0.0);
-                    let blk = &mut ws.chol[at..];
+                    ws.mass.resize(at + 36, 0.0);
+                    let (blk, m) = (&mut ws.chol[at..], &mut ws.mass[at..]);
                     for i in 0..3 {
-                        blk[i * 6 + i] = *mass;
+                        blk[i * 6 + i] = 1.0 / mass;
+                        m[i * 6 + i] = *mass;
                         for j in 0..3 {
-                            blk[(3 + j) * 6 + 3 + i] = inertia[(i, j)];
+                            blk[(3 + i) * 6 + 3 + j] = j_inv[(i, j)];
+                            m[(3 + i) * 6 + 3 + j] = inertia[(i, j)];
                         }
                     }
                     6
                 }
                 BodyKind::Particle { mass } => {
+                    if mass.is_nan() || *mass <= 0.0 {
+                        return Err(not_pd(bi));
+                    }
                     ws.chol.resize(at + 9, 0.0);
+                    ws.mass.resize(at + 9, 0.0);
                     for i in 0..3 {
-                        ws.chol[at + i * 3 + i] = *mass;
+                        ws.chol[at + i * 3 + i] = 1.0 / mass;
+                        ws.mass[at + i * 3 + i] = *mass;
                     }
                     3
                 }
@@ -142,15 +330,126 @@ impl System {
                         .map(|i| &self.modal[i].mass)
                         .ok_or("modal body without floating-frame terms")?;
                     let n = m.nrows();
-                    ws.chol.extend_from_slice(m.as_slice());
+                    ws.mass.extend_from_slice(m.as_slice());
+                    ws.tmp.clear();
+                    ws.tmp.extend_from_slice(m.as_slice());
+                    if !cholesky(&mut ws.tmp, n) {
+                        return Err(not_pd(bi));
+                    }
+                    // the inverse, column by column (symmetric: rows alike)
+                    ws.chol.resize(at + n * n, 0.0);
+                    for k in 0..n {
+                        let col = &mut ws.chol[at + k * n..at + (k + 1) * n];
+                        col[k] = 1.0;
+                        cholesky_solve(&ws.tmp, n, col);
+                    }
                     n
                 }
             };
-            if !cholesky(&mut ws.chol[at..at + n * n], n) {
-                return Err(format!("mass block of body {bi} is not positive definite"));
+            if ws.chol[at..at + n * n].iter().any(|x| !x.is_finite()) {
+                return Err(not_pd(bi));
             }
             ws.block_of[o..o + n].fill(ws.blocks.len());
             ws.blocks.push((o, n, at));
+        }
+        Ok(())
+    }
+
+    /// Factorizes `[M G^T; G -c I]` by the range-space method into `ws`: the mass blocks at
+    /// `(q, v)` and the constraint rows evaluated last (`eval_constraints`). `Err` when a mass
+    /// block or `S + c I` is not positive definite (a massless body, dependent rows).
+    pub fn factor_range_space(
+        &mut self,
+        q: &[f64],
+        v: &[f64],
+        c: f64,
+        ws: &mut RangeSpace,
+    ) -> Result<(), String> {
+        let (nv, nc) = (self.n_v(), self.n_c());
+        self.update_kinematics(q, v);
+        self.factor_mass_blocks(ws)?;
+        // G in compressed rows, the blocks each row touches, and the envelope of S
+        ws.row_at.clear();
+        ws.cols.clear();
+        ws.vals.clear();
+        ws.touched_at.clear();
+        ws.touched.clear();
+        ws.first.clear();
+        ws.first_of_block.clear();
+        ws.first_of_block.resize(ws.blocks.len(), usize::MAX);
+        ws.row_at.push(0);
+        ws.touched_at.push(0);
+        for r in 0..nc {
+            let t0 = ws.touched.len();
+            self.for_row(r, |c, g| {
+                ws.cols.push(c);
+                ws.vals.push(g);
+                let b = ws.block_of[c];
+                if !ws.touched[t0..].contains(&b) {
+                    ws.touched.push(b);
+                }
+            });
+            ws.row_at.push(ws.cols.len());
+            ws.touched_at.push(ws.touched.len());
+            let mut first = r;
+            for &b in &ws.touched[t0..] {
+                let f = &mut ws.first_of_block[b];
+                if *f == usize::MAX {
+                    *f = r;
+                }
+                first = first.min(*f);
+            }
+            ws.first.push(first);
+        }
+        // Y = M^-1 G^T: column r lives on the blocks of row r (M is block diagonal)
+        ws.y_at.clear();
+        ws.y_seg.clear();
+        ws.y_val.clear();
+        ws.y_at.push(0);
+        ws.work.clear();
+        ws.work.resize(nv, 0.0);
+        for r in 0..nc {
+            for k in ws.row_at[r]..ws.row_at[r + 1] {
+                ws.work[ws.cols[k]] += ws.vals[k];
+            }
+            for &b in &ws.touched[ws.touched_at[r]..ws.touched_at[r + 1]] {
+                let (o, n, at) = ws.blocks[b];
+                ws.y_seg.push((o, n, ws.y_val.len()));
+                let g = &ws.work[o..o + n];
+                for row in ws.chol[at..at + n * n].chunks_exact(n) {
+                    ws.y_val.push(dot(row, g));
+                }
+                ws.work[o..o + n].fill(0.0);
+            }
+            ws.y_at.push(ws.y_seg.len());
+        }
+        // S = G Y on the envelope, row by row: G_i scattered, dotted with each Y_j
+        ws.env_at.clear();
+        ws.env.clear();
+        for i in 0..nc {
+            ws.env_at.push(ws.env.len());
+            for k in ws.row_at[i]..ws.row_at[i + 1] {
+                ws.work[ws.cols[k]] += ws.vals[k];
+            }
+            for j in ws.first[i]..=i {
+                let s: f64 = ws.y_seg[ws.y_at[j]..ws.y_at[j + 1]]
+                    .iter()
+                    .map(|&(o, n, at)| dot(&ws.work[o..o + n], &ws.y_val[at..at + n]))
+                    .sum();
+                ws.env.push(s);
+            }
+            for k in ws.row_at[i]..ws.row_at[i + 1] {
+                ws.work[ws.cols[k]] = 0.0;
+            }
+        }
+        ws.env_at.push(ws.env.len());
+        ws.compliance = c;
+        ws.diag.clear();
+        for i in 0..nc {
+            ws.diag.push(ws.env[ws.env_at[i + 1] - 1] + c);
+        }
+        if !ws.factor_envelope(c) {
+            return Err("G M^-1 G^T is not positive definite".into());
         }
         Ok(())
     }
@@ -167,82 +466,18 @@ impl System {
         vdot: &mut [f64],
         lambda: &mut [f64],
     ) -> Result<(), String> {
-        let (nv, nc) = (self.n_v(), self.n_c());
+        let nv = self.n_v();
         self.forces(t, q, v, vdot);
         self.eval_constraints(t, q, v);
-        self.factor_mass_blocks(ws)?;
-        // G in compressed rows, and the blocks each row touches
-        ws.row_at.clear();
-        ws.cols.clear();
-        ws.vals.clear();
-        ws.touched_at.clear();
-        ws.touched.clear();
-        ws.row_at.push(0);
-        ws.touched_at.push(0);
-        for r in 0..nc {
-            let t0 = ws.touched.len();
-            self.for_row(r, |c, g| {
-                ws.cols.push(c);
-                ws.vals.push(g);
-                let b = ws.block_of[c];
-                if !ws.touched[t0..].contains(&b) {
-                    ws.touched.push(b);
-                }
-            });
-            ws.row_at.push(ws.cols.len());
-            ws.touched_at.push(ws.touched.len());
-        }
-        // Y = M^-1 G^T: column r lives on the blocks of row r (M is block diagonal)
-        ws.y.clear();
-        ws.y.resize(nv * nc, 0.0);
-        for r in 0..nc {
-            let col = &mut ws.y[r * nv..(r + 1) * nv];
-            for k in ws.row_at[r]..ws.row_at[r + 1] {
-                col[ws.cols[k]] += ws.vals[k];
-            }
-            for &b in &ws.touched[ws.touched_at[r]..ws.touched_at[r + 1]] {
-                let (o, n, at) = ws.blocks[b];
-                cholesky_solve(&ws.chol[at..at + n * n], n, &mut col[o..o + n]);
-            }
-        }
-        // S = G Y (lower part suffices)
-        ws.s.clear();
-        ws.s.resize(nc * nc, 0.0);
-        for j in 0..nc {
-            let yj = &ws.y[j * nv..(j + 1) * nv];
-            let tj = &ws.touched[ws.touched_at[j]..ws.touched_at[j + 1]];
-            for i in j..nc {
-                let ti = &ws.touched[ws.touched_at[i]..ws.touched_at[i + 1]];
-                if !ti.iter().any(|b| tj.contains(b)) {
-                    continue;
-                }
-                let mut s = 0.0;
-                for k in ws.row_at[i]..ws.row_at[i + 1] {
-                    s += ws.vals[k] * yj[ws.cols[k]];
-                }
-                ws.s[i * nc + j] = s;
-            }
-        }
-        if !cholesky(&mut ws.s, nc) {
-            return Err("G M^-1 G^T is not positive definite".into());
-        }
-        // z = M^-1 f; lambda = S^-1 (G z - gamma); vdot = z - Y lambda
-        ws.z.clear();
-        ws.z.extend_from_slice(vdot);
-        mass_solve(&ws.blocks, &ws.chol, &mut ws.z);
-        let z = std::mem::take(&mut ws.z);
-        self.g_mul(&z, lambda);
-        for (l, row) in lambda.iter_mut().zip(&self.rows) {
-            *l -= row.gamma;
-        }
-        cholesky_solve(&ws.s, nc, lambda);
-        vdot.copy_from_slice(&z);
-        for (r, &l) in lambda.iter().enumerate() {
-            for (a, y) in vdot.iter_mut().zip(&ws.y[r * nv..(r + 1) * nv]) {
-                *a -= y * l;
-            }
-        }
-        ws.z = z;
+        self.factor_range_space(q, v, 0.0, ws)?;
+        let mut rhs = std::mem::take(&mut ws.z);
+        rhs.clear();
+        rhs.extend_from_slice(vdot);
+        rhs.extend(self.rows.iter().map(|r| r.gamma));
+        ws.solve(&mut rhs);
+        vdot.copy_from_slice(&rhs[..nv]);
+        lambda.copy_from_slice(&rhs[nv..]);
+        ws.z = rhs;
         Ok(())
     }
 }
@@ -261,13 +496,23 @@ mod tests {
             s.advance_to(0.3).unwrap();
             let sim = &mut s.sim;
             let mut st = sim.state.clone();
-            crate::integrator::init::accelerations(
-                &mut sim.system,
-                &mut LinearSolver::new(),
-                &mut st,
-            )
-            .unwrap();
             let (nv, nc) = (sim.system.n_v(), sim.system.n_c());
+            // the reference: the LU of the full matrix
+            let sys = &mut sim.system;
+            let mut rhs = vec![0.0; nv + nc];
+            sys.forces(st.t, &st.q, &st.v, &mut rhs[..nv]);
+            sys.eval_constraints(st.t, &st.q, &st.v);
+            for (r, row) in sys.rows.iter().enumerate() {
+                rhs[nv + r] = row.gamma;
+            }
+            let mut lu = LinearSolver::new();
+            lu.begin(nv + nc);
+            sys.add_dynamics_matrix(st.t, &st.q, &st.v, 1.0, 0.0, 0.0, &mut lu, 0);
+            sys.add_constraint_blocks(&mut lu, nv, 0, 1.0, Some((0, nv, 1.0)));
+            lu.factor().unwrap();
+            lu.solve(&mut rhs).unwrap();
+            st.vdot.copy_from_slice(&rhs[..nv]);
+            st.lambda = rhs[nv..].to_vec();
             let (mut vdot, mut lam) = (vec![0.0; nv], vec![0.0; nc]);
             let mut ws = super::RangeSpace::default();
             let s0 = &sim.state;

@@ -1048,7 +1048,7 @@ impl Integrator for Bdf {
     }
 
     fn restart(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
-        let mut lin = LinearSolver::new();
+        let mut lin = super::kkt::Kkt::new();
         super::init::accelerations(sys, &mut lin, st)?;
         let h = self.h;
         self.start(sys, st)?;

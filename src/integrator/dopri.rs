@@ -10,14 +10,14 @@ use super::events::EventLocator;
 use super::init::{
     ProjectionScratch, accelerations, project_positions_reusing, project_velocities_reusing,
 };
+use super::kkt::Kkt;
 use super::rank::{Passage, RankMonitor};
 use super::step_control::{self, StepPolicy};
 use super::{
-    Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, kkt, time_eps,
+    Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
     weights,
 };
 use crate::dae::System;
-use crate::dae::linear::LinearSolver;
 use crate::math::wrms;
 use crate::state::State;
 
@@ -113,7 +113,8 @@ fn dense(theta: f64, y0: f64, y1: f64, hk1: f64, hk7: f64, r5: f64) -> f64 {
 pub struct Dopri5 {
     s: Settings,
     h: f64,
-    lin: LinearSolver,
+    /// The augmented matrix of the stages and projections.
+    lin: Kkt,
     stats: Stats,
     kx: Vec<Vec<f64>>,
     kv: Vec<Vec<f64>>,
@@ -236,7 +237,7 @@ impl Dopri5 {
         Dopri5 {
             s,
             h: 0.0,
-            lin: LinearSolver::new(),
+            lin: Kkt::new(),
             stats: Stats::default(),
             kx: vec![Vec::new(); 7],
             kv: vec![Vec::new(); 7],
@@ -358,13 +359,13 @@ impl Dopri5 {
         for (r, row) in sys.rows.iter().enumerate() {
             self.rhs[nv + r] = row.gamma;
         }
-        if self.rank.inside() {
-            let c = PASSAGE_COMPLIANCE * self.rank.pivot_scale();
-            kkt::factor_compliant(sys, &mut self.lin, t, &self.qs, &self.vs, c)?;
+        let c = if self.rank.inside() {
+            PASSAGE_COMPLIANCE * self.rank.pivot_scale()
         } else {
-            kkt::factor(sys, &mut self.lin, t, &self.qs, &self.vs)?;
-        }
-        kkt::solve(&mut self.lin, &mut self.rhs)?;
+            0.0
+        };
+        self.lin.factor(sys, t, &self.qs, &self.vs, c)?;
+        self.lin.solve(&mut self.rhs)?;
         self.stats.rhs_evaluations += 1;
         self.stats.factorizations += 1;
         self.kv[i].copy_from_slice(&self.rhs[..nv]);
@@ -496,9 +497,14 @@ impl Dopri5 {
     /// lands on the nearest branch, which near the singular configuration may be another one.
     fn check_branch(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
         let nv = sys.n_v();
-        let observed =
-            self.rank
-                .observe_factorization(sys, &self.lin, (nv, 1), st.t, &mut self.stats);
+        let lin = &self.lin;
+        let observed = self.rank.observe_pivots_or_rows(
+            sys,
+            &|c| lin.pivot(c),
+            (nv, 1),
+            st.t,
+            &mut self.stats,
+        );
         match observed {
             Passage::None => Ok(()),
             Passage::Entered => {

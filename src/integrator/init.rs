@@ -1,9 +1,9 @@
 //! Consistent initialization: positions and speeds projected onto the constraints (minimum
 //! mass-weighted change), then accelerations and multipliers from the index-1 equations.
 
-use super::{SolverError, kkt};
+use super::SolverError;
+use super::kkt::Kkt;
 use crate::dae::System;
-use crate::dae::linear::LinearSolver;
 use crate::state::State;
 
 /// Reusable buffers of the projections (so a caller's step loop does not allocate).
@@ -26,7 +26,7 @@ fn worst_row(sys: &System) -> (f64, usize) {
 /// Projects `state.q` onto `Phi = 0` (Gauss-Newton, at most 50 iterations, to `tol` [m, rad]).
 pub fn project_positions(
     sys: &mut System,
-    lin: &mut LinearSolver,
+    lin: &mut Kkt,
     state: &mut State,
     tol: f64,
 ) -> Result<(), SolverError> {
@@ -44,7 +44,7 @@ pub fn project_positions(
 /// `lin` (the caller formed `[M G^T; G 0]` at `state.q`).
 pub fn project_positions_reusing(
     sys: &mut System,
-    lin: &mut LinearSolver,
+    lin: &mut Kkt,
     state: &mut State,
     tol: f64,
     reuse: bool,
@@ -68,17 +68,18 @@ pub fn project_positions_reusing(
         if reuse && it == 0 {
             // the caller's factorization at this very point
         } else {
-            kkt::factor(sys, lin, state.t, &state.q, &state.v).map_err(|e| {
-                SolverError(format!(
-                    "projection onto the joints failed: {e} (redundant or conflicting joints?)"
-                ))
-            })?;
+            lin.factor(sys, state.t, &state.q, &state.v, 0.0)
+                .map_err(|e| {
+                    SolverError(format!(
+                        "projection onto the joints failed: {e} (redundant or conflicting joints?)"
+                    ))
+                })?;
         }
         rhs[..nv].fill(0.0);
         for (r, row) in sys.rows.iter().enumerate() {
             rhs[nv + r] = -row.phi;
         }
-        kkt::solve(lin, rhs).map_err(SolverError)?;
+        lin.solve(rhs).map_err(SolverError)?;
         sys.model.retract(&state.q, &rhs[..nv], qn);
         state.q.copy_from_slice(qn);
     }
@@ -92,7 +93,7 @@ pub fn project_positions_reusing(
 /// Projects `state.v` onto `G v + Phi_t = 0` (one linear solve).
 pub fn project_velocities(
     sys: &mut System,
-    lin: &mut LinearSolver,
+    lin: &mut Kkt,
     state: &mut State,
 ) -> Result<(), SolverError> {
     project_velocities_reusing(sys, lin, state, false, &mut ProjectionScratch::default())
@@ -103,7 +104,7 @@ pub fn project_velocities(
 /// constraints to the product of that distance and the correction, far below the tolerance.
 pub fn project_velocities_reusing(
     sys: &mut System,
-    lin: &mut LinearSolver,
+    lin: &mut Kkt,
     state: &mut State,
     reuse: bool,
     scratch: &mut ProjectionScratch,
@@ -114,7 +115,7 @@ pub fn project_velocities_reusing(
     }
     sys.eval_constraints(state.t, &state.q, &state.v);
     if !reuse {
-        kkt::factor(sys, lin, state.t, &state.q, &state.v)
+        lin.factor(sys, state.t, &state.q, &state.v, 0.0)
             .map_err(|e| SolverError(format!("velocity projection failed: {e}")))?;
     }
     let ProjectionScratch { rhs, gv, .. } = scratch;
@@ -125,7 +126,7 @@ pub fn project_velocities_reusing(
     for (r, row) in sys.rows.iter().enumerate() {
         rhs[nv + r] = -(gv[r] + row.phi_t);
     }
-    kkt::solve(lin, rhs).map_err(SolverError)?;
+    lin.solve(rhs).map_err(SolverError)?;
     for (v, dv) in state.v.iter_mut().zip(&rhs[..nv]) {
         *v += dv;
     }
@@ -135,7 +136,7 @@ pub fn project_velocities_reusing(
 /// Accelerations and multipliers from `[M G^T; G 0] [v_dot; lambda] = [f; gamma]`.
 pub fn accelerations(
     sys: &mut System,
-    lin: &mut LinearSolver,
+    lin: &mut Kkt,
     state: &mut State,
 ) -> Result<(), SolverError> {
     let (nv, nc) = (sys.n_v(), sys.n_c());
@@ -145,9 +146,9 @@ pub fn accelerations(
     for (r, row) in sys.rows.iter().enumerate() {
         rhs[nv + r] = row.gamma;
     }
-    kkt::factor(sys, lin, state.t, &state.q, &state.v)
+    lin.factor(sys, state.t, &state.q, &state.v, 0.0)
         .map_err(|e| SolverError(format!("initial accelerations: {e}")))?;
-    kkt::solve(lin, &mut rhs).map_err(SolverError)?;
+    lin.solve(&mut rhs).map_err(SolverError)?;
     state.vdot.copy_from_slice(&rhs[..nv]);
     state.lambda.resize(nc, 0.0);
     state.lambda.copy_from_slice(&rhs[nv..]);
@@ -160,7 +161,7 @@ pub fn make_consistent(
     state: &mut State,
     position_tol: f64,
 ) -> Result<(), SolverError> {
-    let mut lin = LinearSolver::new();
+    let mut lin = Kkt::new();
     project_positions(sys, &mut lin, state, position_tol)?;
     sys.check_dropped_rows(state.t, &state.q, &state.v, 1e3 * position_tol.max(1e-13))
         .map_err(SolverError)?;

@@ -14,7 +14,7 @@ pub mod dopri;
 mod events;
 pub mod gen_alpha;
 pub mod init;
-mod kkt;
+pub mod kkt;
 pub mod newton;
 pub mod rank;
 pub mod step_control;

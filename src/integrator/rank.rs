@@ -126,6 +126,18 @@ impl RankMonitor {
         t: f64,
         stats: &mut Stats,
     ) -> Passage {
+        self.observe_pivots(sys, &|c| lin.dense_pivot(c), (col0, blocks), t, stats)
+    }
+
+    /// As [`RankMonitor::observe`] with the pivot of column `c` from `pivot` (`None`: not shown).
+    pub fn observe_pivots(
+        &mut self,
+        sys: &mut System,
+        pivot: &dyn Fn(usize) -> Option<f64>,
+        (col0, blocks): (usize, usize),
+        t: f64,
+        stats: &mut Stats,
+    ) -> Passage {
         if !sys.has_loops() {
             return Passage::None;
         }
@@ -135,7 +147,7 @@ impl RankMonitor {
             let at = self.now.len();
             for r in 0..nc {
                 let p = if sys.active_row_in_loop(r) {
-                    match lin.dense_pivot(col0 + b * nc + r) {
+                    match pivot(col0 + b * nc + r) {
                         Some(p) => p,
                         None => return Passage::None,
                     }
@@ -166,8 +178,21 @@ impl RankMonitor {
         t: f64,
         stats: &mut Stats,
     ) -> Passage {
-        if lin.dense_pivot(0).is_some() {
-            self.observe(sys, lin, col0, blocks, t, stats)
+        self.observe_pivots_or_rows(sys, &|c| lin.dense_pivot(c), (col0, blocks), t, stats)
+    }
+
+    /// [`RankMonitor::observe_pivots`] when `pivot` shows the constraint columns' pivots,
+    /// otherwise [`RankMonitor::observe_rows`] on the constraint rows evaluated last.
+    pub fn observe_pivots_or_rows(
+        &mut self,
+        sys: &mut System,
+        pivot: &dyn Fn(usize) -> Option<f64>,
+        (col0, blocks): (usize, usize),
+        t: f64,
+        stats: &mut Stats,
+    ) -> Passage {
+        if pivot(col0).is_some() {
+            self.observe_pivots(sys, pivot, (col0, blocks), t, stats)
         } else {
             self.observe_rows(sys, t, stats)
         }
