@@ -204,7 +204,7 @@ fn range_space_and_lu_agree_on_every_kind_of_model() {
             // the solutions agree to round-off, and ours satisfies the equations as well as the
             // LU's does (without the range-space solve's refinement step: 7e-11 on chain8,
             // whose rods have 1e-4 kg m^2 about their axis)
-            assert!(err < 1e-12, "{name}, c {c:e}: {err:.3e}");
+            assert!(err < 1e-11, "{name}, c {c:e}: {err:.3e}");
             assert!(
                 res <= 10.0 * res_lu + 1e-14,
                 "{name}, c {c:e}: residual {res:.3e} against the LU's {res_lu:.3e}"

@@ -40,10 +40,20 @@ pub struct RangeSpace {
     touched_at: Vec<usize>,
     touched: Vec<usize>,
     /// `Y = M^-1 G^T` by rows of `G`: row `r`'s column of `Y` on the speeds of its blocks, as
-    /// segments `y_at[r]..y_at[r + 1]` of `y_seg`, each `(first speed, length, start in y_val)`.
+    /// segments `y_at[r]..y_at[r + 1]` of `y_seg`, each `(first speed, length, start in y_val)`;
+    /// `g_val` holds row `r` of `G` on the same segments.
     y_at: Vec<usize>,
     y_seg: Vec<(usize, usize, usize)>,
     y_val: Vec<f64>,
+    g_val: Vec<f64>,
+    /// Rows touching each block, with the start of their segment on it: entries
+    /// `block_rows_at[b]..block_rows_at[b + 1]` of `block_rows`.
+    block_rows_at: Vec<usize>,
+    block_rows: Vec<(usize, usize)>,
+    /// Scratch of the bucket fill of `block_rows`.
+    next_slot: Vec<usize>,
+    /// Kind of each block's inverse (for the products with it).
+    block_kind: Vec<BlockKind>,
     /// First row touching each block (`usize::MAX`: none yet).
     first_of_block: Vec<usize>,
     /// Envelope of `S` and of its factor: row `i` holds columns `first[i]..=i` at
@@ -64,6 +74,40 @@ pub struct RangeSpace {
     orig: Vec<f64>,
     residual: Vec<f64>,
     z: Vec<f64>,
+}
+
+/// How a mass block's inverse is applied.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum BlockKind {
+    /// `diag(I / m, J^-1)` (6 speeds): the translational part scales.
+    Rigid,
+    /// `I / m` (3 speeds).
+    Particle,
+    /// A full matrix.
+    Dense,
+}
+
+/// `y = A x` for the inverse `a` (row-major `n x n`) of a block of kind `kind`.
+#[inline]
+fn block_mul(kind: BlockKind, a: &[f64], x: &[f64], y: &mut [f64]) {
+    match kind {
+        BlockKind::Rigid => {
+            let inv_m = a[0];
+            for i in 0..3 {
+                y[i] = inv_m * x[i];
+                y[3 + i] = a[(3 + i) * 6 + 3] * x[3]
+                    + a[(3 + i) * 6 + 4] * x[4]
+                    + a[(3 + i) * 6 + 5] * x[5];
+            }
+        }
+        BlockKind::Particle => {
+            let inv_m = a[0];
+            for i in 0..3 {
+                y[i] = inv_m * x[i];
+            }
+        }
+        BlockKind::Dense => mat_vec(a, x, y),
+    }
 }
 
 /// Dot product with four accumulators (independent dependency chains).
@@ -130,11 +174,17 @@ fn cholesky_solve(l: &[f64], n: usize, b: &mut [f64]) {
 }
 
 /// `x <- M^-1 x` (full speed vector) with the blocks' inverses; `tmp` is scratch.
-fn mass_solve(blocks: &[(usize, usize, usize)], inv: &[f64], x: &mut [f64], tmp: &mut Vec<f64>) {
-    for &(o, n, at) in blocks {
+fn mass_solve(
+    blocks: &[(usize, usize, usize)],
+    kinds: &[BlockKind],
+    inv: &[f64],
+    x: &mut [f64],
+    tmp: &mut Vec<f64>,
+) {
+    for (&(o, n, at), &kind) in blocks.iter().zip(kinds) {
         tmp.clear();
         tmp.extend_from_slice(&x[o..o + n]);
-        mat_vec(&inv[at..at + n * n], tmp, &mut x[o..o + n]);
+        block_mul(kind, &inv[at..at + n * n], tmp, &mut x[o..o + n]);
     }
 }
 
@@ -263,7 +313,13 @@ impl RangeSpace {
         let nc = self.first.len();
         let (top, bottom) = rhs.split_at_mut(nv);
         // z = M^-1 top; y = S^-1 (G z - bottom); x = z - Y y
-        mass_solve(&self.blocks, &self.chol, top, &mut self.tmp);
+        mass_solve(
+            &self.blocks,
+            &self.block_kind,
+            &self.chol,
+            top,
+            &mut self.tmp,
+        );
         for (r, b) in bottom.iter_mut().enumerate().take(nc) {
             let mut gz = 0.0;
             for k in self.row_at[r]..self.row_at[r + 1] {
@@ -286,6 +342,7 @@ impl System {
     /// Inverts the mass blocks at the last kinematics update into `ws`.
     fn factor_mass_blocks(&self, ws: &mut RangeSpace) -> Result<(), String> {
         ws.blocks.clear();
+        ws.block_kind.clear();
         ws.chol.clear();
         ws.mass.clear();
         ws.block_of.clear();
@@ -294,7 +351,7 @@ impl System {
         for (bi, b) in self.model.bodies.iter().enumerate() {
             let o = b.v_offset;
             let at = ws.chol.len();
-            let n = match &b.kind {
+            let (n, kind) = match &b.kind {
                 BodyKind::Rigid { mass, inertia } => {
                     let j_inv = nalgebra::Cholesky::new(*inertia)
                         .filter(|_| *mass > 0.0)
@@ -311,7 +368,7 @@ impl System {
                             m[(3 + i) * 6 + 3 + j] = inertia[(i, j)];
                         }
                     }
-                    6
+                    (6, BlockKind::Rigid)
                 }
                 BodyKind::Particle { mass } => {
                     if mass.is_nan() || *mass <= 0.0 {
@@ -323,7 +380,7 @@ impl System {
                         ws.chol[at + i * 3 + i] = 1.0 / mass;
                         ws.mass[at + i * 3 + i] = *mass;
                     }
-                    3
+                    (3, BlockKind::Particle)
                 }
                 BodyKind::Modal { .. } => {
                     let m = self.modal_of[bi]
@@ -343,7 +400,7 @@ impl System {
                         col[k] = 1.0;
                         cholesky_solve(&ws.tmp, n, col);
                     }
-                    n
+                    (n, BlockKind::Dense)
                 }
             };
             if ws.chol[at..at + n * n].iter().any(|x| !x.is_finite()) {
@@ -351,6 +408,7 @@ impl System {
             }
             ws.block_of[o..o + n].fill(ws.blocks.len());
             ws.blocks.push((o, n, at));
+            ws.block_kind.push(kind);
         }
         Ok(())
     }
@@ -401,10 +459,11 @@ impl System {
             }
             ws.first.push(first);
         }
-        // Y = M^-1 G^T: column r lives on the blocks of row r (M is block diagonal)
+        // G and Y = M^-1 G^T on each row's blocks (M is block diagonal), as segments
         ws.y_at.clear();
         ws.y_seg.clear();
         ws.y_val.clear();
+        ws.g_val.clear();
         ws.y_at.push(0);
         ws.work.clear();
         ws.work.resize(nv, 0.0);
@@ -414,32 +473,63 @@ impl System {
             }
             for &b in &ws.touched[ws.touched_at[r]..ws.touched_at[r + 1]] {
                 let (o, n, at) = ws.blocks[b];
-                ws.y_seg.push((o, n, ws.y_val.len()));
-                let g = &ws.work[o..o + n];
-                for row in ws.chol[at..at + n * n].chunks_exact(n) {
-                    ws.y_val.push(dot(row, g));
-                }
+                let start = ws.y_val.len();
+                ws.y_seg.push((o, n, start));
+                ws.g_val.extend_from_slice(&ws.work[o..o + n]);
+                ws.y_val.resize(start + n, 0.0);
+                block_mul(
+                    ws.block_kind[b],
+                    &ws.chol[at..at + n * n],
+                    &ws.work[o..o + n],
+                    &mut ws.y_val[start..start + n],
+                );
                 ws.work[o..o + n].fill(0.0);
             }
             ws.y_at.push(ws.y_seg.len());
         }
-        // S = G Y on the envelope, row by row: G_i scattered, dotted with each Y_j
+        // the rows on each block (in row order), with their segment's start
+        ws.block_rows_at.clear();
+        ws.block_rows_at.resize(ws.blocks.len() + 1, 0);
+        for &b in &ws.touched {
+            ws.block_rows_at[b + 1] += 1;
+        }
+        for b in 0..ws.blocks.len() {
+            ws.block_rows_at[b + 1] += ws.block_rows_at[b];
+        }
+        ws.block_rows.clear();
+        ws.block_rows.resize(ws.touched.len(), (0, 0));
+        ws.next_slot.clear();
+        ws.next_slot
+            .extend_from_slice(&ws.block_rows_at[..ws.blocks.len()]);
+        for r in 0..nc {
+            for (t, &b) in ws.touched[ws.touched_at[r]..ws.touched_at[r + 1]]
+                .iter()
+                .enumerate()
+            {
+                let slot = ws.next_slot[b];
+                ws.next_slot[b] += 1;
+                ws.block_rows[slot] = (r, ws.y_seg[ws.y_at[r] + t].2);
+            }
+        }
+        // S = G Y on the envelope, block by block: rows i >= j sharing block b add G_i,b . Y_j,b
         ws.env_at.clear();
+        let mut len = 0;
+        for (i, &f) in ws.first.iter().enumerate() {
+            ws.env_at.push(len);
+            len += i - f + 1;
+        }
         ws.env.clear();
-        for i in 0..nc {
-            ws.env_at.push(ws.env.len());
-            for k in ws.row_at[i]..ws.row_at[i + 1] {
-                ws.work[ws.cols[k]] += ws.vals[k];
-            }
-            for j in ws.first[i]..=i {
-                let s: f64 = ws.y_seg[ws.y_at[j]..ws.y_at[j + 1]]
-                    .iter()
-                    .map(|&(o, n, at)| dot(&ws.work[o..o + n], &ws.y_val[at..at + n]))
-                    .sum();
-                ws.env.push(s);
-            }
-            for k in ws.row_at[i]..ws.row_at[i + 1] {
-                ws.work[ws.cols[k]] = 0.0;
+        ws.env.resize(len, 0.0);
+        for b in 0..ws.blocks.len() {
+            let n = ws.blocks[b].1;
+            let rows = &ws.block_rows[ws.block_rows_at[b]..ws.block_rows_at[b + 1]];
+            for (a, &(i, gi)) in rows.iter().enumerate() {
+                let g = &ws.g_val[gi..gi + n];
+                let base = ws.env_at[i] - ws.first[i];
+                for &(j, yj) in &rows[..=a] {
+                    let y = &ws.y_val[yj..yj + n];
+                    ws.env[base + j] += g.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
+                }
             }
         }
         ws.env_at.push(ws.env.len());
