@@ -87,6 +87,16 @@ impl RankMonitor {
         }
     }
 
+    /// As [`RankMonitor::round_off_amplification`], but from the first observation on, inside
+    /// a passage or not: the inverse of the smallest pivot ratio (at least 1, capped at 1e8).
+    pub fn conditioning_amplification(&self) -> f64 {
+        if self.observed() && self.smallest > 0.0 {
+            (1.0 / self.smallest).clamp(1.0, 1e8)
+        } else {
+            1.0
+        }
+    }
+
     /// Whether a first observation (the baseline) has been made.
     pub fn observed(&self) -> bool {
         !self.baseline.is_empty()
