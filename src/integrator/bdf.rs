@@ -655,8 +655,7 @@ impl Bdf {
             self.ex[i] = c * (self.x[i] - self.xp[i]);
             self.ev[i] = c * (self.v[i] - self.vp[i]);
         }
-        let combine = |a: f64, b: f64| ((a * a + b * b) * 0.5).sqrt();
-        let err_k = combine(wrms(&self.ex, &self.wx), wrms(&self.ev, &self.wv));
+        let err_k = self.combined(wrms(&self.ex, &self.wx), wrms(&self.ev, &self.wv));
         let err_k = if np < k + 1 { err_k.max(1e-300) } else { err_k };
         let err_lo = if k >= 2 {
             self.scaled_divided_difference(k, t1, h, navail) / k as f64
@@ -750,8 +749,17 @@ impl Bdf {
             self.ex[i] = scale * vx[0];
             self.ev[i] = scale * vv[0];
         }
-        let (a, b) = (wrms(&self.ex, &self.wx), wrms(&self.ev, &self.wv));
-        ((a * a + b * b) * 0.5).sqrt()
+        self.combined(wrms(&self.ex, &self.wx), wrms(&self.ev, &self.wv))
+    }
+
+    /// The error norm of a step from its weighted position and speed errors: their RMS, or the
+    /// position error alone without [`Settings::error_includes_speeds`].
+    fn combined(&self, position: f64, speed: f64) -> f64 {
+        if self.s.error_includes_speeds {
+            ((position * position + speed * speed) * 0.5).sqrt()
+        } else {
+            position
+        }
     }
 
     fn accept(&mut self, sys: &mut System, st: &mut State, h: f64, alpha0_k: usize) {

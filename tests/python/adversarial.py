@@ -73,20 +73,9 @@ BASE_STATES = {
 }
 # Findings deep in the physics that stay open (docs/adversarial_harness.md, with reproducers):
 # model, violation class, a pattern of the finding's text. test_adversarial.py accepts these
-# and nothing else; test_known_failures_still_fail replays each reproducer and checks its exact
-# message, so a fixed one must be taken off the list.
-KNOWN_FAILURES = [
-    dict(model="RopeBlock", cls="hang",
-         # BDF at rtol near its floor 1e-10
-         pattern=r"integrator=2\b.*rtol=1e-10\b|rtol=1e-10\b.*integrator=2\b",
-         reproducer=["segments=4", "integrator=2", "rtol=1e-10", "scenario=1", "atol=4e-10"],
-         message="envelope segments=4 integrator=2 rtol=1e-10 scenario=1 atol=4e-10: killed after 5.0 s CPU"),
-    dict(model="RopeBlock", cls="hang",
-         # BDF with 200 or more segments per sling
-         pattern=r"integrator=2\b.*segments=[2-9]\d\d\b|segments=[2-9]\d\d\b.*integrator=2\b",
-         reproducer=["segments=240", "scenario=1", "integrator=2"],
-         message="envelope segments=240 scenario=1 integrator=2: killed after 5.0 s CPU"),
-]
+# and nothing else. Empty since the last five were fixed (docs/adversarial_harness.md): a new
+# entry needs a reproducer and a test that it still fails, as the fixed ones had.
+KNOWN_FAILURES = []
 
 
 def known_failure(model, cls, text):

@@ -527,7 +527,9 @@ fn mesh_digest_of(p: &RopeBlockParams) -> Result<Option<u64>, ModelError> {
 /// RopeBlock's advice for a step the integrator could not complete (the integrator's own message
 /// is model-neutral).
 fn remedy(message: &str) -> &'static str {
-    if message.contains("step size fell below") {
+    if message.contains("slip modes not settled") {
+        "; in RopeBlock this comes from a contact node at its friction limit whose stick/slip decision keeps switching within the step, which BDF's Newton iteration did not settle (seen with 240 segments per sling over 0.05 s communication steps): use integrator = gen_alpha, or shorter communication steps"
+    } else if message.contains("step size fell below") {
         "; in RopeBlock this comes from slings too stiff or too strongly damped for the integrator (BDF's Newton iteration diverged at rope_damping 5e6 N s while the rope law clamped the total tension): use integrator = gen_alpha, lower rope_damping or rope_ea, or use fewer segments (longer segments are softer)"
     } else {
         ""
