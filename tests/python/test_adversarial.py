@@ -212,6 +212,9 @@ ENVELOPE_CASES = [
     ("PanelLock", ["h_max=1e-8", "integrator=3"], "h_max"),
     # dopri5 at 263 segments: one 0.05 s step took 193 s CPU (a hang under any CPU bound)
     ("RopeBlock", ["integrator=3", "segments=263"], "segments"),
+    # a winch pay-out rate of -375 m/s (benchmark seed 3, 63485, in a forged state: the slings
+    # shortened by 19 m per step and the solver crawled); hook inputs are bounded to 10 m/s
+    ("RopeBlock", ["hook0_payout_rate=-375.43499227333064"], "hook0_payout_rate"),
     # dopri5 at the stability boundary of the rope damping: 125,000 steps of 4e-7 s per 0.05 s
     # step (34 s CPU; known failure 2 of the benchmark); now refused as stiff after 1,000 steps
     ("RopeBlock", ["segments=4", "rope_damping=1e9", "integrator=3"], "integrator"),
@@ -257,6 +260,9 @@ COMPLETING_CASES = [
     # rejected, 18 s CPU in the first 0.05 s; BDF now holds the positions' error only in
     # RopeBlock (Settings::error_includes_speeds), 1,742 steps for three 0.05 s steps
     ("RopeBlock", ["segments=4", "integrator=2", "rtol=1e-10", "scenario=1", "atol=4e-10"]),
+    # panels of 7.5e5 m (in the envelope; benchmark seed 3, 90970): the initial projection asked
+    # for 1e-13 m, below the round-off of such coordinates, and the refusal named no parameter
+    ("PanelLock", ["panel_length=753661.8290988074"]),
 ]
 
 
@@ -302,6 +308,21 @@ def test_envelope_cases_complete_within_the_cpu_bound(model, values, tmp_path):
     assert not case["refused"], case
     assert not case["violations"], case["violations"]
     assert case["steps"] == 3, case
+
+
+def test_forged_pay_out_rate_beyond_its_bound_is_refused(tmp_path):
+    """Benchmark seed 3, sequence 63485, replayed: a RopeBlock state whose `hook0_payout_rate` was
+    forged to -375 m/s is refused at restore (it crawled over the CPU bound before)."""
+    packed("RopeBlock")
+    out = tmp_path / "replay.json"
+    r = subprocess.run([sys.executable, str(HERE / "adversarial.py"), "--dist", str(DIST), "--bin", mbcosim(),
+                        "--seed", "3", "--first", "63485", "--count", "1", "--inline", "--json", str(out)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr[-2000:]
+    s = json.loads(out.read_text())
+    assert s["tried"] == 1 and s["violations"] == 0, s
+    assert [x["outcome"] for x in s["results"]] == ["refused"], s
+    assert "hook0_payout_rate" in s["results"][0]["field"], s
 
 
 @pytest.mark.parametrize("model,base,what,value", [

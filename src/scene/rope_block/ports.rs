@@ -279,6 +279,11 @@ pub mod bvr {
 /// String value reference of `mesh_file`.
 pub const SVR_MESH_FILE: ValueRef = 0;
 
+/// Largest hook speed and winch pay-out rate accepted [m/s], either way: crane hooks move and
+/// winches pay out below about 2 m/s; a forged state with a pay-out rate of -375 m/s shortened
+/// the slings by 19 m per 0.05 s step and the solver crawled (adversarial benchmark, seed 3).
+pub const MAX_HOOK_SPEED: f64 = 10.0;
+
 /// Per-hook inputs: (suffix, unit, description).
 pub const HOOK_INPUTS: [(&str, &str, &str); 4] = [
     ("vx", "m/s", "velocity, world x"),
@@ -524,7 +529,11 @@ pub fn info() -> &'static ModelInfo {
         for k in 0..MAX_HOOKS {
             for (j, (s, u, desc)) in HOOK_INPUTS.iter().enumerate() {
                 let note = if k == 0 { "" } else { " Accepted and ignored in the lift scenario." };
-                ports.push(PortSpec::real_input(&format!("hook{k}_{s}"), vr_input(k, j), 0.0, Some(u), &format!("Hook {k} command: {desc}; reached linearly over 0.5 s from the previous command (position stays continuous), then held.{note}")));
+                ports.push(
+                    PortSpec::real_input(&format!("hook{k}_{s}"), vr_input(k, j), 0.0, Some(u), &format!("Hook {k} command: {desc}; reached linearly over 0.5 s from the previous command (position stays continuous), then held; at most {MAX_HOOK_SPEED} m/s either way.{note}"))
+                        .with_min(-MAX_HOOK_SPEED)
+                        .with_max(MAX_HOOK_SPEED),
+                );
             }
         }
         for (i, (name, unit, desc)) in real_outputs().into_iter().enumerate() {
