@@ -3,6 +3,7 @@
 
 use super::SolverError;
 use super::kkt::Kkt;
+use super::newton::{PROJECTION_ITERATIONS, Progress, Verdict};
 use crate::dae::System;
 use crate::state::State;
 
@@ -14,16 +15,20 @@ pub struct ProjectionScratch {
     gv: Vec<f64>,
 }
 
-/// Largest constraint residual and the name of the joint it belongs to.
+/// Largest constraint residual and the index of its row (a non-finite residual wins).
 fn worst_row(sys: &System) -> (f64, usize) {
     sys.rows
         .iter()
         .enumerate()
         .map(|(i, r)| (r.phi.abs(), i))
-        .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a })
+        .fold(
+            (0.0, 0),
+            |a, b| if a.0.is_nan() || b.0 <= a.0 { a } else { b },
+        )
 }
 
-/// Projects `state.q` onto `Phi = 0` (Gauss-Newton, at most 50 iterations, to `tol` [m, rad]).
+/// Projects `state.q` onto `Phi = 0` (Gauss-Newton, at most [`PROJECTION_ITERATIONS`]
+/// corrections, to `tol` [m, rad]; the iteration's bookkeeping is [`Progress::judge_residual`]).
 pub fn project_positions(
     sys: &mut System,
     lin: &mut Kkt,
@@ -62,13 +67,28 @@ pub fn project_positions_reusing(
     let ProjectionScratch { rhs, qn, .. } = scratch;
     rhs.resize(nv + nc, 0.0);
     qn.clone_from(&state.q);
-    for it in 0..50 {
+    let mut progress = Progress::with_cap(PROJECTION_ITERATIONS);
+    loop {
         sys.eval_constraints(state.t, &state.q, &state.v);
-        let (worst, _) = worst_row(sys);
-        if worst <= tol {
-            return Ok(());
+        let (worst, row) = worst_row(sys);
+        let first = progress.iterations() == 0;
+        match progress.judge_residual(worst / tol) {
+            Verdict::Converged => return Ok(()),
+            Verdict::Continue => {}
+            Verdict::Diverged(_) => {
+                return Err(SolverError(format!(
+                    "projection onto the joints failed at t = {:.9e} s: constraint row {row} has the residual {worst} (non-finite positions or joint data)",
+                    state.t
+                )));
+            }
+            Verdict::Exhausted => {
+                return Err(SolverError(format!(
+                    "positions cannot be made to satisfy the joints at t = {:.9e} s: constraint row {row} keeps a residual of {worst:.3e} after {PROJECTION_ITERATIONS} projection iterations (check joint frames and initial poses)",
+                    state.t
+                )));
+            }
         }
-        if reuse && it == 0 {
+        if reuse && first {
             // the caller's factorization at this very point
         } else {
             lin.factor(sys, state.t, &state.q, &state.v, 0.0)
@@ -86,11 +106,6 @@ pub fn project_positions_reusing(
         sys.model.retract(&state.q, &rhs[..nv], qn);
         state.q.copy_from_slice(qn);
     }
-    sys.eval_constraints(state.t, &state.q, &state.v);
-    let (worst, row) = worst_row(sys);
-    Err(SolverError(format!(
-        "initial positions cannot be made to satisfy the joints: constraint row {row} keeps a residual of {worst:.3e} after 50 projection iterations (check joint frames and initial poses)"
-    )))
 }
 
 /// Projects `state.v` onto `G v + Phi_t = 0` (one linear solve).

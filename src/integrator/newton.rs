@@ -1,11 +1,19 @@
-//! Bookkeeping of the Newton iteration of an implicit step, shared by generalized-alpha and BDF:
-//! the iteration cap, the convergence test on the weighted correction norm (with the contraction
-//! rate's estimate of the remaining error), the divergence test, and the freezing of the effects'
-//! discrete decisions (slip modes) within the iteration.
+//! Bookkeeping of every Newton iteration of the solver: the implicit steps of generalized-alpha
+//! and BDF, the projection onto the joints (initial state, DOPRI5 after each step) and the rope
+//! statics. One [`Progress`] counts the iterates against a cap, judges them and says why an
+//! iteration ended ([`Verdict`]).
 //!
-//! Each method supplies its own weights (a fraction of the local error tolerance in adaptive mode,
-//! round-off in fixed-step mode) and, where it has one, its own test of a round-off band in which
-//! an iteration that no longer contracts has converged.
+//! Two kinds of iteration share it:
+//! - A step that corrects a prediction ([`Progress::judge`]): converged when the remaining error
+//!   estimated from the contraction rate of the weighted corrections is small ([`NewtonTest`]);
+//!   diverged when the corrections stop contracting; the effects' discrete decisions (slip modes)
+//!   are frozen within the iteration. Each method supplies its weights (a fraction of the local
+//!   error tolerance in adaptive mode, round-off in fixed-step mode) and, where it has one, its
+//!   own test of a round-off band in which an iteration that no longer contracts has converged.
+//! - A solve from an arbitrary start ([`Progress::judge_residual`]): converged when the residual
+//!   is within its tolerance. Such a solve brings its own globalization (the statics' pseudo-time
+//!   and backtracking; the projection's Gauss-Newton from poses that may be far off) and may pass
+//!   non-contracting iterates on the way, so only a non-finite residual ends it early.
 
 use crate::dae::System;
 
@@ -22,6 +30,11 @@ pub const FREEZE_AT: usize = 1;
 
 /// How often a step's frozen decisions may be taken again on a converged iterate.
 pub const MAX_REDECIDE: usize = 3;
+
+/// Corrections of a projection onto the joints before it fails: a pose far off the joints (an
+/// initial state a user wrote down) may take many Gauss-Newton corrections; one near them (after
+/// an integration step) takes one or two.
+pub const PROJECTION_ITERATIONS: usize = 50;
 
 /// A method's convergence test: the iteration has converged when the estimated remaining error
 /// (weighted norm) is at most `fraction`; a first correction, which shows no contraction rate
@@ -41,7 +54,7 @@ pub enum Verdict {
     Converged,
     /// The corrections no longer contract (rate given).
     Diverged(f64),
-    /// [`MAX_ITERATIONS`] iterates without convergence.
+    /// The cap ([`MAX_ITERATIONS`] for a step) reached without convergence.
     Exhausted,
 }
 
@@ -51,19 +64,32 @@ pub struct Progress {
     prev: f64,
     it: usize,
     redecided: usize,
+    cap: usize,
 }
 
 impl Default for Progress {
+    /// The iteration of an implicit step: [`MAX_ITERATIONS`].
     fn default() -> Self {
-        Progress {
-            prev: f64::INFINITY,
-            it: 0,
-            redecided: 0,
-        }
+        Progress::with_cap(MAX_ITERATIONS)
     }
 }
 
 impl Progress {
+    /// An iteration that ends after `cap` iterates (corrections) without convergence.
+    pub fn with_cap(cap: usize) -> Self {
+        Progress {
+            prev: f64::INFINITY,
+            it: 0,
+            redecided: 0,
+            cap,
+        }
+    }
+
+    /// The iteration cap.
+    pub fn cap(&self) -> usize {
+        self.cap
+    }
+
     /// Iterates since the start or since the decisions were last taken again.
     pub fn iterations(&self) -> usize {
         self.it
@@ -98,9 +124,28 @@ impl Progress {
         self.it += 1;
         if est <= test.fraction || norm <= 1e-12 || stalled {
             Verdict::Converged
-        } else if self.it >= MAX_ITERATIONS {
+        } else if self.it >= self.cap {
             Verdict::Exhausted
         } else {
+            Verdict::Continue
+        }
+    }
+
+    /// Judges a solve from an arbitrary start before its next correction, on its residual
+    /// weighted by its tolerance (`norm <= 1`: within it). `Continue` counts one correction;
+    /// `Exhausted` once `cap` corrections have not brought the residual within tolerance;
+    /// `Diverged` when the residual is not finite.
+    pub fn judge_residual(&mut self, norm: f64) -> Verdict {
+        if !norm.is_finite() {
+            return Verdict::Diverged(norm);
+        }
+        self.prev = norm;
+        if norm <= 1.0 {
+            Verdict::Converged
+        } else if self.it >= self.cap {
+            Verdict::Exhausted
+        } else {
+            self.it += 1;
             Verdict::Continue
         }
     }
@@ -167,6 +212,26 @@ mod tests {
         p.judge(&TEST, 1.0, false);
         p.judge(&TEST, 0.5, false);
         assert_eq!(p.judge(&TEST, 0.48, true), Verdict::Converged);
+    }
+
+    #[test]
+    fn a_residual_solve_converges_within_tolerance_and_ends_at_its_cap() {
+        // residual 10 x tolerance, falling tenfold per correction: within it after one
+        let mut p = Progress::with_cap(5);
+        assert_eq!(p.judge_residual(10.0), Verdict::Continue);
+        assert_eq!(p.judge_residual(1.0), Verdict::Converged);
+        assert_eq!(p.iterations(), 1);
+        // a residual that stalls above tolerance: five corrections, then exhausted
+        let mut p = Progress::with_cap(5);
+        let verdicts: Vec<_> = (0..7).map(|_| p.judge_residual(3.0)).collect();
+        assert_eq!(verdicts[..5], [Verdict::Continue; 5]);
+        assert_eq!(verdicts[5], Verdict::Exhausted);
+        assert_eq!(p.iterations(), 5);
+        // a residual that grows is not judged diverged (the solve globalizes itself), a NaN is
+        let mut p = Progress::with_cap(5);
+        assert_eq!(p.judge_residual(2.0), Verdict::Continue);
+        assert_eq!(p.judge_residual(200.0), Verdict::Continue);
+        assert!(matches!(p.judge_residual(f64::NAN), Verdict::Diverged(x) if x.is_nan()));
     }
 
     #[test]

@@ -10,6 +10,7 @@
 
 use super::runner::RopeBlockSim;
 use crate::dae::linear::LinearSolver;
+use crate::integrator::newton::{Progress, Verdict};
 
 /// Result of a static solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -21,7 +22,9 @@ pub struct StaticReport {
 }
 
 /// Moves `sim` to the static equilibrium near its current positions; `Err` when no equilibrium is
-/// found within `max_iter` iterations (the message gives the remaining force imbalance).
+/// found within `max_iter` iterations (the message gives the remaining force imbalance). The
+/// iteration's bookkeeping is the solver's shared one ([`Progress::judge_residual`] on the force
+/// imbalance over `force_tol`).
 ///
 /// Slings laid out just taut carry no tension and have no stiffness, so the exact tangent only
 /// lets the block fall (against the pseudo-mass) and the iteration crawls. The first iterations
@@ -64,26 +67,45 @@ fn solve_inner(
             sys.eval_constraints(t, q, v);
             let neg: Vec<f64> = lam.iter().map(|x| -x).collect();
             sys.gt_mul_add(&neg, f);
-            let fmax = f.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-            let pmax = sys.rows.iter().fold(0.0f64, |a, r| a.max(r.phi.abs()));
+            // largest magnitudes; a NaN wins (f64::max would drop it)
+            let largest = |a: f64, x: f64| {
+                if a.is_nan() || x.abs() <= a {
+                    a
+                } else {
+                    x.abs()
+                }
+            };
+            let fmax = f.iter().copied().fold(0.0, largest);
+            let pmax = sys.rows.iter().map(|r| r.phi).fold(0.0, largest);
             (fmax, pmax)
         };
     let mut lam = s.state.lambda.clone();
     let (mut fmax, _) = residual(&mut s.system, &s.state.q, &s.state.v, &lam, &mut f);
     let f_start = fmax;
-    for it in 0..max_iter {
+    let mut progress = Progress::with_cap(max_iter);
+    loop {
+        let it = progress.iterations();
         if it >= TAUT_TANGENT_ITERATIONS || fmax < 0.1 * f_start {
             rope.set_taut_tangent(false);
         }
-        if fmax <= force_tol {
-            rope.set_taut_tangent(false);
-            s.state.vdot.fill(0.0);
-            s.state.lambda.copy_from_slice(&lam);
-            s.restart().map_err(|e| e.0)?;
-            return Ok(StaticReport {
-                iterations: it,
-                residual: fmax,
-            });
+        match progress.judge_residual(fmax / force_tol) {
+            Verdict::Converged => {
+                rope.set_taut_tangent(false);
+                s.state.vdot.fill(0.0);
+                s.state.lambda.copy_from_slice(&lam);
+                s.restart().map_err(|e| e.0)?;
+                return Ok(StaticReport {
+                    iterations: it,
+                    residual: fmax,
+                });
+            }
+            Verdict::Continue => {}
+            Verdict::Diverged(_) => {
+                return Err(format!(
+                    "static solve: the force imbalance is {fmax} N after {it} iterations (non-finite forces: check the scene's parameters)"
+                ));
+            }
+            Verdict::Exhausted => break,
         }
         let q = s.state.q.clone();
         let v = s.state.v.clone();
