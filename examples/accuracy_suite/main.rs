@@ -5,7 +5,7 @@
 //! ```sh
 //! cargo run --release --example accuracy_suite -- [--problem NAME ...] [--integrator NAME ...]
 //!     [--rtol X ...] [--step H ...] [--repeats N] [--budget S] [--atol-ratio R] [--quick]
-//!     [--csv] [--reference-out FILE] [--samples K]
+//!     [--csv] [--reference-out FILE] [--samples K] [--h-max H]
 //! ```
 //! Problems: chain2, chain8, chain32 (pendulum chains of uniform rods), fourbar (closed loop),
 //! impact_hertz, impact_ln (ball on a half-space), panel_smooth (the PanelLock default scene
@@ -22,6 +22,7 @@
 //! error is the largest of those errors. The summary checks, on both errors, that each decade
 //! of rtol lowers the error at least 3x until it reaches the floor (1e-10, or 10x the
 //! reference's own estimated error if larger), and prints the smallest per-decade factor.
+//! `--h-max H` sets the adaptive runs' largest step (default: the library's, 0.1 s).
 
 mod chain;
 mod fourbar;
@@ -107,11 +108,17 @@ fn parse_args() -> Result<Options, String> {
             "--budget" => o.budget = number(a, it.next())?,
             "--atol-ratio" => o.atol_ratio = number(a, it.next())?,
             "--samples" => o.samples = number(a, it.next())?.round().max(1.0) as usize,
+            "--h-max" => {
+                let h = number(a, it.next())?;
+                suite::H_MAX
+                    .set(h)
+                    .map_err(|_| "--h-max given twice".to_string())?;
+            }
             "--reference-out" => {
                 o.reference_out = Some(it.next().ok_or("--reference-out needs a file")?.clone())
             }
             "-h" | "--help" => {
-                return Err("usage: accuracy_suite [--problem NAME[,NAME]] [--integrator gen_alpha|bdf|dopri5|gen_alpha_fixed] [--rtol X ...] [--step H ...] [--repeats N] [--budget S] [--atol-ratio R] [--quick] [--csv] [--reference-out FILE] [--samples K]".into());
+                return Err("usage: accuracy_suite [--problem NAME[,NAME]] [--integrator gen_alpha|bdf|dopri5|gen_alpha_fixed] [--rtol X ...] [--step H ...] [--repeats N] [--budget S] [--atol-ratio R] [--quick] [--csv] [--reference-out FILE] [--samples K] [--h-max H]".into());
             }
             other => return Err(format!("unknown argument '{other}' (try --help)")),
         }

@@ -6,6 +6,9 @@ use mbcosim::model::Model;
 use mbcosim::sim::Simulation;
 use mbcosim::state::State;
 
+/// The largest step of the adaptive runs when `--h-max` sets it (else the library default).
+pub static H_MAX: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+
 /// Gravity [m/s^2], along -y in every problem.
 pub const G: f64 = 9.81;
 
@@ -153,6 +156,7 @@ impl Series {
                     rtol: x,
                     atol: atol_ratio * x,
                     max_steps,
+                    h_max: H_MAX.get().copied().unwrap_or(Settings::default().h_max),
                     ..Settings::default()
                 },
             ),
@@ -377,6 +381,14 @@ fn run_sampled(p: &Problem, out: &mut Run, atol_ratio: f64, budget: f64) {
         if !e.is_finite() {
             out.traj_failure = Some(format!("non-finite result at t = {t} s"));
             return;
+        }
+        if std::env::var_os("ACCURACY_SUITE_DEBUG").is_some() {
+            eprintln!(
+                "sampled: {} {:.0e} t = {t:.4} s: error {e:.2e}, {} steps",
+                out.series.name(),
+                out.x,
+                sim.stats().steps
+            );
         }
         if e > worst || at.is_nan() {
             (worst, at) = (e, t);
