@@ -212,7 +212,7 @@ fn run_suite() -> Result<(), String> {
         );
         say!(
             csv,
-            "Trajectory reference: {} sample times [{}] s, estimated error {:.1e} ({}).\n",
+            "Trajectory reference: {} sample times [{}] s, estimated error {:.1e} ({}); at the end time it differs from the end-time reference by {:.1e}.\n",
             p.trajectory.times.len(),
             p.trajectory
                 .times
@@ -221,7 +221,8 @@ fn run_suite() -> Result<(), String> {
                 .collect::<Vec<_>>()
                 .join(", "),
             p.trajectory.estimated_error,
-            p.trajectory.method
+            p.trajectory.method,
+            p.sample_error(p.trajectory.times.len() - 1, &p.reference.value)
         );
         reference_rows.push(format!(
             "{},{},{:e},{}",
