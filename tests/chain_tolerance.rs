@@ -2,7 +2,9 @@
 //! ends within 100 x rtol of an independent reference or fails with a message; never status OK
 //! with a larger error. From rtol 1e-2 on each decade lowers the error at least 3x. Reference:
 //! the chain in absolute joint angles (closed-form mass matrix), classical RK4 at 40,000 steps,
-//! checked against 20,000.
+//! checked against 20,000. The second test measures the trajectory error: the largest tip error
+//! at t_k = k T / 8, k = 1..8, on a run that stops at each t_k in turn (like an FMU
+//! communication grid), against the same RK4 reference at t_k.
 
 mod common;
 use common::{planar_distance, simulated_planar_point};
@@ -78,6 +80,16 @@ fn accelerations(th: &[f64], w: &[f64]) -> DVector<f64> {
 
 /// Tip of the last rod at `T_END` [m] by RK4 with `steps` steps.
 fn reference_tip(steps: usize) -> [f64; 2] {
+    *reference_tips(steps).last().unwrap()
+}
+
+/// Sample times of the trajectory error: `t_k = k T_END / SAMPLES`, k = 1..SAMPLES.
+const SAMPLES: usize = 8;
+
+/// Tip of the last rod [m] at each sample time by RK4 with `steps` steps over `T_END` (a
+/// multiple of `SAMPLES`).
+fn reference_tips(steps: usize) -> Vec<[f64; 2]> {
+    assert!(steps.is_multiple_of(SAMPLES));
     let h = T_END / steps as f64;
     let f = |y: &DVector<f64>| {
         let (th, w) = (y.rows(0, N), y.rows(N, N));
@@ -89,16 +101,50 @@ fn reference_tip(steps: usize) -> [f64; 2] {
     };
     let mut y = DVector::zeros(2 * N);
     y.rows_mut(0, N).fill(std::f64::consts::FRAC_PI_2);
-    for _ in 0..steps {
+    let mut tips = Vec::with_capacity(SAMPLES);
+    for step in 1..=steps {
         let k1 = f(&y);
         let k2 = f(&(&y + 0.5 * h * &k1));
         let k3 = f(&(&y + 0.5 * h * &k2));
         let k4 = f(&(&y + h * &k3));
         y += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        if step.is_multiple_of(steps / SAMPLES) {
+            let x: f64 = (0..N).map(|i| LEN * y[i].sin()).sum();
+            let z: f64 = (0..N).map(|i| -LEN * y[i].cos()).sum();
+            tips.push([x, z]);
+        }
     }
-    let x: f64 = (0..N).map(|i| LEN * y[i].sin()).sum();
-    let z: f64 = (0..N).map(|i| -LEN * y[i].cos()).sum();
-    [x, z]
+    tips
+}
+
+/// Tip of the last rod [m] at each sample time, simulated by `kind` at `rtol` (atol = rtol,
+/// defaults otherwise, as `simulated_planar_point`), advancing to each sample time in turn; or
+/// the failure's message.
+fn simulated_tips(
+    model: &Model,
+    offset: usize,
+    kind: IntegratorKind,
+    rtol: f64,
+) -> Result<Vec<[f64; 2]>, String> {
+    let s = mbcosim::integrator::Settings {
+        rtol,
+        atol: rtol,
+        max_steps: 10_000_000,
+        ..mbcosim::integrator::Settings::default()
+    };
+    let mut sim =
+        mbcosim::sim::Simulation::new(model.clone(), kind, s, 0.0).map_err(|e| format!("{e:?}"))?;
+    (1..=SAMPLES)
+        .map(|k| {
+            sim.advance_to(T_END * k as f64 / SAMPLES as f64)
+                .map_err(|e| format!("{e:?}"))?;
+            let q = &sim.state.q;
+            let p = Vec3::new(q[offset], q[offset + 1], q[offset + 2])
+                + mbcosim::model::kinematics::quat_at(q, offset + 3)
+                    * Vec3::new(0.5 * LEN, 0.0, 0.0);
+            Ok([p.x, p.y])
+        })
+        .collect()
 }
 
 /// Every integrator; generalized-alpha with its default error per unit step (per step it
@@ -155,5 +201,73 @@ fn eight_link_pendulum_meets_every_tolerance_or_says_why() {
             }
         }
         assert!(errors.len() >= 8, "{}: too few runs succeeded", kind.name());
+    }
+}
+
+/// The trajectory error (largest tip error over t_k = k T / 8) of every integrator from rtol 1e-1
+/// to 1e-10 (generalized-alpha to 1e-6: its runs at 1e-7 and 1e-8 cost most of the first test's
+/// time): within 100 x rtol or a failure with a message, and from rtol 1e-2 on each decade lowers
+/// it at least 3x until it is at or below 1e-10 m (measured: smallest factor 6.3x dopri5, 7.5x
+/// bdf, 8.6x gen-alpha; about 2.5 s).
+#[test]
+fn eight_link_pendulum_trajectory_error_falls_with_rtol() {
+    let reference = reference_tips(40_000);
+    let check = reference_tips(20_000);
+    let ref_err = reference
+        .iter()
+        .zip(&check)
+        .map(|(a, b)| planar_distance(*a, *b))
+        .fold(0.0, f64::max);
+    assert!(ref_err < 1e-11, "reference not converged: {ref_err:.2e}");
+    let (model, offset) = chain();
+    for kind in IntegratorKind::ALL {
+        let tightest = if kind == IntegratorKind::GenAlpha {
+            6
+        } else {
+            10
+        };
+        let mut errors = Vec::new();
+        for k in 1..=tightest {
+            let rtol = 10f64.powi(-k);
+            match simulated_tips(&model, offset, kind, rtol) {
+                Ok(tips) => {
+                    let e = tips
+                        .iter()
+                        .zip(&reference)
+                        .map(|(a, b)| planar_distance(*a, *b))
+                        .fold(0.0, f64::max);
+                    println!(
+                        "{:8} rtol {rtol:.0e}: trajectory tip error {e:.2e} m ({:.2} rtol)",
+                        kind.name(),
+                        e / rtol
+                    );
+                    assert!(
+                        e <= 100.0 * rtol,
+                        "{} at rtol {rtol:e}: status OK with trajectory tip error {e:.3e} m (> 100 rtol)",
+                        kind.name()
+                    );
+                    errors.push((rtol, e));
+                }
+                Err(msg) => {
+                    println!("{:8} rtol {rtol:.0e}: failed: {msg}", kind.name());
+                    assert!(msg.len() > 20, "{}: failure without a message", kind.name());
+                }
+            }
+        }
+        for w in errors.windows(2) {
+            let ((r0, e0), (r1, e1)) = (w[0], w[1]);
+            if r0 <= 1e-2 && e0 > 1e-10 && (r0 / r1 - 10.0).abs() < 1e-6 {
+                assert!(
+                    e1 <= e0 / 3.0 || e1 <= 1e-10,
+                    "{}: trajectory error {e0:.2e} at rtol {r0:e} fell only to {e1:.2e} a decade tighter",
+                    kind.name()
+                );
+            }
+        }
+        assert!(
+            errors.len() + 2 >= tightest as usize,
+            "{}: too few runs succeeded",
+            kind.name()
+        );
     }
 }

@@ -8,7 +8,7 @@
 //! `mu_ij = m l^2 (N - 1 - max(i, j) + 1/2)`, integrated by order-16 extrapolation.
 
 use crate::ode;
-use crate::suite::{G, Problem, Reference};
+use crate::suite::{G, Problem, Reference, Trajectory};
 use mbcosim::math::{Mat3, Vec3};
 use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, ModelBuilder, kinematics};
 use nalgebra::{DMatrix, DVector};
@@ -25,7 +25,7 @@ pub fn duration(n: usize) -> f64 {
 }
 
 /// The suite problem for a chain of `n` rods.
-pub fn problem(n: usize) -> Result<Problem, String> {
+pub fn problem(n: usize, samples: usize) -> Result<Problem, String> {
     let t_end = duration(n);
     let mut b = ModelBuilder::new();
     b.set_gravity(Some(Vec3::new(0.0, -G, 0.0)))?;
@@ -52,6 +52,7 @@ pub fn problem(n: usize) -> Result<Problem, String> {
     let model = b.build()?;
     let body = model.body(last).ok_or("chain: last rod missing")?.q_offset;
     let reference = reference(n, t_end);
+    let trajectory = trajectory(n, &crate::suite::grid(t_end, samples));
     Ok(Problem {
         name: format!("chain{n}"),
         title: format!(
@@ -70,6 +71,7 @@ pub fn problem(n: usize) -> Result<Problem, String> {
         }),
         primary: 2,
         reference,
+        trajectory,
     })
 }
 
@@ -109,6 +111,35 @@ pub fn tip(theta: &[f64]) -> Vec<f64> {
     let x: f64 = theta.iter().map(|t| L * t.sin()).sum();
     let y: f64 = theta.iter().map(|t| -L * t.cos()).sum();
     vec![x, y]
+}
+
+fn initial(n: usize) -> Vec<f64> {
+    let mut y0 = vec![std::f64::consts::FRAC_PI_2; n];
+    y0.extend(std::iter::repeat_n(0.0, n));
+    y0
+}
+
+/// The same ODE converged at every sample time (the state carried from one to the next).
+pub fn trajectory(n: usize, times: &[f64]) -> Trajectory {
+    let t_end = *times.last().expect("sample times");
+    let c = ode::converge_samples(
+        &rhs(n),
+        &initial(n),
+        times,
+        (25.0 * t_end).ceil() as usize,
+        1e-13,
+        8,
+        &|y| tip(&y[..n]),
+    );
+    Trajectory {
+        times: times.to_vec(),
+        values: c.outputs,
+        estimated_error: c.estimated_error,
+        method: format!(
+            "the joint-angle ODE converged at each sample time, {} macro steps, checked against half as many",
+            c.macro_steps
+        ),
+    }
 }
 
 /// The converged minimal-coordinate solution at `t_end`.

@@ -14,7 +14,7 @@
 //! driven from its crank has no dead centre, so the closure is smooth for every phi.
 
 use crate::ode;
-use crate::suite::{G, Problem, Reference};
+use crate::suite::{G, Problem, Reference, Trajectory};
 use mbcosim::math::{Mat3, Quat, Vec3};
 use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, ModelBuilder, kinematics};
 use nalgebra::{Matrix2, Vector2};
@@ -138,7 +138,7 @@ fn coupler_point(phi: f64) -> Vec<f64> {
     vec![p.x, p.y]
 }
 
-pub fn problem() -> Result<Problem, String> {
+pub fn problem(samples: usize) -> Result<Problem, String> {
     let c = closure(PHI0);
     let (beta, gamma) = (c.beta[0], c.gamma[0]);
     let mut b = ModelBuilder::new();
@@ -197,6 +197,10 @@ pub fn problem() -> Result<Problem, String> {
     let conv = ode::converge(&rhs, &[PHI0, 0.0], T_END, 50, 1e-13, 8, &|y| {
         coupler_point(y[0])
     });
+    let times = crate::suite::grid(T_END, samples);
+    let traj = ode::converge_samples(&rhs, &[PHI0, 0.0], &times, 50, 1e-13, 8, &|y| {
+        coupler_point(y[0])
+    });
     Ok(Problem {
         name: "fourbar".into(),
         title: format!(
@@ -220,6 +224,15 @@ pub fn problem() -> Result<Problem, String> {
             method: format!(
                 "one-DOF crank-angle ODE with closed-form loop closure, extrapolated midpoint rule of order 16, {} macro steps, checked against half as many",
                 conv.macro_steps
+            ),
+        },
+        trajectory: Trajectory {
+            times,
+            values: traj.outputs,
+            estimated_error: traj.estimated_error,
+            method: format!(
+                "the crank-angle ODE converged at each sample time, {} macro steps, checked against half as many",
+                traj.macro_steps
             ),
         },
     })

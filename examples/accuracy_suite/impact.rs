@@ -14,7 +14,7 @@
 //! `E = v^2 + 2 g delta - 2 k delta^(n+1) / ((n+1) m)`, leaving at the impact speed.
 
 use crate::ode;
-use crate::suite::{G, Problem, Reference};
+use crate::suite::{G, Problem, Reference, Trajectory};
 use mbcosim::contact::{ContactLaw, LawKind};
 use mbcosim::effect::plane_contact::{PlaneContact, PlaneContacts};
 use mbcosim::math::{Mat3, Vec3};
@@ -78,6 +78,85 @@ fn ode_reference(law: Law, rtol: f64, v_scale: f64) -> (Vec<f64>, f64) {
     let (t, y, _) = ode::adaptive_until(&free, t_off, &y_off, T_END, rtol, atol, &|_| 1.0);
     assert!((t - T_END).abs() < 1e-12);
     (y, t_on)
+}
+
+/// The reference states `[y, v]` at `times` (ascending) by the same phases as
+/// [`ode_reference`], stopping at each time within its phase; also the located onset and
+/// separation times.
+fn ode_samples(law: Law, rtol: f64, times: &[f64]) -> (Vec<Vec<f64>>, f64, f64) {
+    let atol = 1e-3 * rtol;
+    let free = |_t: f64, y: &[f64], dy: &mut [f64]| {
+        dy[0] = y[1];
+        dy[1] = -G;
+    };
+    let contact = |v_minus: f64| {
+        move |_t: f64, y: &[f64], dy: &mut [f64]| {
+            dy[0] = y[1];
+            dy[1] = -G + force(law, RADIUS - y[0], -y[1], v_minus) / MASS;
+        }
+    };
+    let (mut t, mut y) = (0.0, vec![RADIUS + DROP, 0.0]);
+    // 0: falling, 1: in contact, 2: in the air again
+    let (mut phase, mut v_minus) = (0, 0.0);
+    let (mut t_on, mut t_off) = (f64::NAN, f64::NAN);
+    let mut out = Vec::with_capacity(times.len());
+    for &tk in times {
+        loop {
+            let (t1, y1, hit) = match phase {
+                0 => ode::adaptive_until(&free, t, &y, tk, rtol, atol, &|y| y[0] - RADIUS),
+                1 => ode::adaptive_until(&contact(v_minus), t, &y, tk, rtol, atol, &|y| {
+                    RADIUS - y[0]
+                }),
+                _ => ode::adaptive_until(&free, t, &y, tk, rtol, atol, &|_| 1.0),
+            };
+            (t, y) = (t1, y1);
+            if !hit {
+                break;
+            }
+            phase += 1;
+            if phase == 1 {
+                (t_on, v_minus) = (t, -y[1]);
+            } else {
+                t_off = t;
+            }
+        }
+        assert!((t - tk).abs() < 1e-12, "the reference reaches {tk} s");
+        out.push(y.clone());
+    }
+    (out, t_on, t_off)
+}
+
+/// Sample times: `k T / k_max`, k = 1..k_max, and (none of those falls in the ~5 ms contact)
+/// three inside the contact, at 1/4, 1/2 and 3/4 of the reference's contact interval; also the
+/// reference values there, their estimated error (largest difference in height to rtol 1e-14)
+/// and how it was made.
+fn trajectory(law: Law, samples: usize) -> Trajectory {
+    let (_, t_on, t_off) = ode_samples(law, 1e-15, &[T_END]);
+    let mut times = crate::suite::grid(T_END, samples);
+    times.extend([0.25, 0.5, 0.75].map(|f| t_on + f * (t_off - t_on)));
+    times.sort_by(f64::total_cmp);
+    let (values, _, _) = ode_samples(law, 1e-15, &times);
+    let (check, _, _) = ode_samples(law, 1e-14, &times);
+    let estimated_error = values
+        .iter()
+        .zip(&check)
+        .map(|(a, b)| (a[0] - b[0]).abs())
+        .fold(0.0, f64::max);
+    // free fall before the onset in closed form
+    let fall = times
+        .iter()
+        .zip(&values)
+        .filter(|(t, _)| **t < t_on)
+        .map(|(t, v)| (v[0] - (RADIUS + DROP - 0.5 * G * t * t)).abs())
+        .fold(0.0, f64::max);
+    Trajectory {
+        method: format!(
+            "the phased ODE stopped at each sample time; contact {t_on:.6} .. {t_off:.6} s, samples there at 1/4, 1/2, 3/4 of it; vs rtol 1e-14: height {estimated_error:.1e} m; free fall vs closed form {fall:.1e} m"
+        ),
+        estimated_error: estimated_error.max(fall),
+        times,
+        values,
+    }
 }
 
 /// Gauss-Legendre nodes and weights on [-1, 1] (Newton on the three-term recurrence).
@@ -156,7 +235,7 @@ fn hertz_quadrature() -> Vec<f64> {
     vec![RADIUS + v * dt - 0.5 * G * dt * dt, v - G * dt]
 }
 
-pub fn problem(law: Law) -> Result<Problem, String> {
+pub fn problem(law: Law, samples: usize) -> Result<Problem, String> {
     let mut b = ModelBuilder::new();
     b.set_gravity(Some(Vec3::new(0.0, -G, 0.0)))?;
     let i = 0.4 * MASS * RADIUS * RADIUS;
@@ -246,5 +325,6 @@ pub fn problem(law: Law) -> Result<Problem, String> {
             estimated_error,
             method,
         },
+        trajectory: trajectory(law, samples),
     })
 }

@@ -5,7 +5,7 @@
 //! ```sh
 //! cargo run --release --example accuracy_suite -- [--problem NAME ...] [--integrator NAME ...]
 //!     [--rtol X ...] [--step H ...] [--repeats N] [--budget S] [--atol-ratio R] [--quick]
-//!     [--csv] [--reference-out FILE]
+//!     [--csv] [--reference-out FILE] [--samples K] [--h-max H]
 //! ```
 //! Problems: chain2, chain8, chain32 (pendulum chains of uniform rods), fourbar (closed loop),
 //! impact_hertz, impact_ln (ball on a half-space), panel_smooth (the PanelLock default scene
@@ -15,6 +15,14 @@
 //! impact_hertz at rtol 1e-2, 1e-4, 1e-6, 1e-8, steps 1e-2 and 1e-3, one run each. `--csv`
 //! prints one CSV row per run on stdout (tables go to stderr); `--reference-out` writes the
 //! reference values for `benches/exudyn_compare.py`. Each problem lives in its own module.
+//!
+//! Besides the end-time error (the timed run), each setting is run once more stopping at K
+//! equally spaced sample times `t_k = k T / K` (`--samples K`, default 8; the impacts add three
+//! inside the contact), each against an independent reference value there: the trajectory
+//! error is the largest of those errors. The summary checks, on both errors, that each decade
+//! of rtol lowers the error at least 3x until it reaches the floor (1e-10, or 10x the
+//! reference's own estimated error if larger), and prints the smallest per-decade factor.
+//! `--h-max H` sets the adaptive runs' largest step (default: the library's, 0.1 s).
 
 mod chain;
 mod fourbar;
@@ -48,6 +56,7 @@ struct Options {
     atol_ratio: f64,
     csv: bool,
     reference_out: Option<String>,
+    samples: usize,
 }
 
 fn parse_args() -> Result<Options, String> {
@@ -63,6 +72,7 @@ fn parse_args() -> Result<Options, String> {
         atol_ratio: 1.0,
         csv: false,
         reference_out: None,
+        samples: suite::SAMPLES,
     };
     let mut it = args.iter();
     let number = |flag: &str, v: Option<&String>| -> Result<f64, String> {
@@ -97,11 +107,18 @@ fn parse_args() -> Result<Options, String> {
             "--repeats" => o.repeats = number(a, it.next())?.round().max(1.0) as usize,
             "--budget" => o.budget = number(a, it.next())?,
             "--atol-ratio" => o.atol_ratio = number(a, it.next())?,
+            "--samples" => o.samples = number(a, it.next())?.round().max(1.0) as usize,
+            "--h-max" => {
+                let h = number(a, it.next())?;
+                suite::H_MAX
+                    .set(h)
+                    .map_err(|_| "--h-max given twice".to_string())?;
+            }
             "--reference-out" => {
                 o.reference_out = Some(it.next().ok_or("--reference-out needs a file")?.clone())
             }
             "-h" | "--help" => {
-                return Err("usage: accuracy_suite [--problem NAME[,NAME]] [--integrator gen_alpha|bdf|dopri5|gen_alpha_fixed] [--rtol X ...] [--step H ...] [--repeats N] [--budget S] [--atol-ratio R] [--quick] [--csv] [--reference-out FILE]".into());
+                return Err("usage: accuracy_suite [--problem NAME[,NAME]] [--integrator gen_alpha|bdf|dopri5|gen_alpha_fixed] [--rtol X ...] [--step H ...] [--repeats N] [--budget S] [--atol-ratio R] [--quick] [--csv] [--reference-out FILE] [--samples K] [--h-max H]".into());
             }
             other => return Err(format!("unknown argument '{other}' (try --help)")),
         }
@@ -137,15 +154,15 @@ fn parse_args() -> Result<Options, String> {
     Ok(o)
 }
 
-fn build(name: &str) -> Result<Problem, String> {
+fn build(name: &str, k: usize) -> Result<Problem, String> {
     match name {
-        "chain2" => chain::problem(2),
-        "chain8" => chain::problem(8),
-        "chain32" => chain::problem(32),
-        "fourbar" => fourbar::problem(),
-        "impact_hertz" => impact::problem(impact::Law::Hertz),
-        "impact_ln" => impact::problem(impact::Law::LankaraniNikravesh(0.8)),
-        "panel_smooth" => panel::problem(),
+        "chain2" => chain::problem(2, k),
+        "chain8" => chain::problem(8, k),
+        "chain32" => chain::problem(32, k),
+        "fourbar" => fourbar::problem(k),
+        "impact_hertz" => impact::problem(impact::Law::Hertz, k),
+        "impact_ln" => impact::problem(impact::Law::LankaraniNikravesh(0.8), k),
+        "panel_smooth" => panel::problem(k),
         _ => Err(format!("unknown problem {name}")),
     }
 }
@@ -169,13 +186,14 @@ fn run_suite() -> Result<(), String> {
     let csv = o.csv;
     if csv {
         println!(
-            "problem,integrator,parameter,value,error,aux_error,approach_speed_error,cpu_s,repeats,steps,rejected,newton_failures,status,message"
+            "problem,integrator,parameter,value,error,aux_error,approach_speed_error,cpu_s,repeats,steps,rejected,newton_failures,status,message,traj_error,traj_time,traj_end_error,traj_steps,traj_status,traj_message"
         );
     }
     let mut reference_rows = vec!["problem,t_end,estimated_error,values".to_string()];
+    let mut overview: Vec<(String, Series, Decades)> = Vec::new();
     for name in &o.problems {
         let t0 = suite::cpu_now();
-        let p = build(name)?;
+        let p = build(name, o.samples)?;
         let t_ref = suite::cpu_now() - t0;
         say!(csv, "\n## {}: {}\n", p.name, p.title);
         say!(
@@ -191,6 +209,20 @@ fn run_suite() -> Result<(), String> {
             p.reference.estimated_error,
             p.reference.method,
             t_ref
+        );
+        say!(
+            csv,
+            "Trajectory reference: {} sample times [{}] s, estimated error {:.1e} ({}); at the end time it differs from the end-time reference by {:.1e}.\n",
+            p.trajectory.times.len(),
+            p.trajectory
+                .times
+                .iter()
+                .map(|t| format!("{t:.4}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            p.trajectory.estimated_error,
+            p.trajectory.method,
+            p.sample_error(p.trajectory.times.len() - 1, &p.reference.value)
         );
         reference_rows.push(format!(
             "{},{},{:e},{}",
@@ -213,12 +245,12 @@ fn run_suite() -> Result<(), String> {
         let n_extra = aux_rule.len() / 4;
         say!(
             csv,
-            "| integrator | rtol or h | {} | error/rtol |{aux} CPU [ms] | runs | steps | rejected | Newton failures | Newton it./step | status |",
+            "| integrator | rtol or h | {} | error/rtol | trajectory error | at t [s] | traj. error/rtol |{aux} CPU [ms] | runs | steps | rejected | Newton failures | Newton it./step | status |",
             p.quantity
         );
         say!(
             csv,
-            "|---|---|---|---|{aux_rule}---|---|---|---|---|---|---|"
+            "|---|---|---|---|---|---|---|{aux_rule}---|---|---|---|---|---|---|"
         );
         let mut runs: Vec<Run> = Vec::new();
         for &series in &o.series {
@@ -231,7 +263,7 @@ fn run_suite() -> Result<(), String> {
                 if over_budget {
                     say!(
                         csv,
-                        "| {} | {x:.0e} | - | - |{} - | - | - | - | - | - | skipped: a looser setting used up the CPU budget |",
+                        "| {} | {x:.0e} | - | - | - | - | - |{} - | - | - | - | - | - | skipped: a looser setting used up the CPU budget |",
                         series.name(),
                         " - |".repeat(n_extra)
                     );
@@ -261,14 +293,30 @@ fn run_suite() -> Result<(), String> {
                             .unwrap_or(" - |".into()),
                     );
                 }
-                let status = r
+                let mut status = r
                     .failure
                     .as_deref()
                     .map(|f| format!("FAILED: {f}"))
                     .unwrap_or_else(|| "ok".into());
+                if let Some(f) = &r.traj_failure {
+                    status.push_str(&format!("; sampled run FAILED: {f}"));
+                }
+                let (traj, traj_t, traj_ratio) = match (&r.traj_failure, series) {
+                    (Some(_), _) => ("-".into(), "-".into(), "-".into()),
+                    (None, Series::Adaptive(_)) => (
+                        format!("{:.2e}", r.traj_error),
+                        format!("{:.4}", r.traj_time),
+                        sig(r.traj_error / x),
+                    ),
+                    (None, Series::GenAlphaFixed) => (
+                        format!("{:.2e}", r.traj_error),
+                        format!("{:.4}", r.traj_time),
+                        "-".into(),
+                    ),
+                };
                 say!(
                     csv,
-                    "| {} | {x:.0e} | {} | {ratio} |{aux_cell} {:.3} | {} | {} | {} | {} | {:.2} | {status} |",
+                    "| {} | {x:.0e} | {} | {ratio} | {traj} | {traj_t} | {traj_ratio} |{aux_cell} {:.3} | {} | {} | {} | {} | {:.2} | {status} |",
                     series.name(),
                     if r.failure.is_none() {
                         format!("{:.2e}", r.error)
@@ -284,7 +332,7 @@ fn run_suite() -> Result<(), String> {
                 );
                 if csv {
                     println!(
-                        "{},{},{},{x:e},{:e},{},{},{:e},{},{},{},{},{},\"{}\"",
+                        "{},{},{},{x:e},{:e},{},{},{:e},{},{},{},{},{},\"{}\",{:e},{},{:e},{},{},\"{}\"",
                         p.name,
                         series.name(),
                         series.parameter(),
@@ -299,14 +347,25 @@ fn run_suite() -> Result<(), String> {
                         r.rejected,
                         r.newton_failures,
                         if r.failure.is_none() { "ok" } else { "failed" },
-                        r.failure.as_deref().unwrap_or("").replace('"', "'")
+                        r.failure.as_deref().unwrap_or("").replace('"', "'"),
+                        r.traj_error,
+                        r.traj_time,
+                        r.traj_end_error,
+                        r.traj_steps,
+                        if r.traj_failure.is_none() {
+                            "ok"
+                        } else {
+                            "failed"
+                        },
+                        r.traj_failure.as_deref().unwrap_or("").replace('"', "'")
                     );
                 }
                 runs.push(r);
             }
         }
-        summary(csv, &p, &o.series, &runs);
+        overview.extend(summary(csv, &p, &o.series, &runs));
     }
+    overview_table(csv, &o.series, &overview);
     if let Some(path) = &o.reference_out {
         std::fs::write(path, reference_rows.join("\n") + "\n")
             .map_err(|e| format!("cannot write {path}: {e}"))?;
@@ -315,9 +374,96 @@ fn run_suite() -> Result<(), String> {
     Ok(())
 }
 
-/// Per series: monotonicity of the error in the swept parameter and the error/rtol range; then
-/// the cheapest run per error level.
-fn summary(csv: bool, p: &Problem, series: &[Series], runs: &[Run]) {
+/// Per-decade factors of one adaptive series: consecutive settings a decade apart whose looser
+/// error is above `floor` are judged; a decade fails when the error falls less than 3x and the
+/// tighter error is still above `floor`. A decade whose tighter run failed is not judged.
+#[derive(Debug, Clone, Default)]
+struct Decades {
+    judged: usize,
+    /// Smallest factor of the judged decades whose tighter error is above the floor, and its
+    /// looser rtol.
+    smallest: Option<(f64, f64)>,
+    /// Judged decades whose tighter error reached the floor (passed, factor not counted).
+    at_floor: usize,
+    failures: Vec<String>,
+}
+
+/// `points`: (rtol, error or None if the run failed), loose to tight.
+fn decades(points: &[(f64, Option<f64>)], floor: f64) -> Decades {
+    let mut d = Decades::default();
+    for w in points.windows(2) {
+        let ((x0, e0), (x1, e1)) = (w[0], w[1]);
+        let (Some(e0), Some(e1)) = (e0, e1) else {
+            continue;
+        };
+        if (x0 / x1 - 10.0).abs() > 1e-6 || e0 <= floor {
+            continue;
+        }
+        d.judged += 1;
+        if e1 <= floor {
+            d.at_floor += 1;
+            continue;
+        }
+        let f = e0 / e1;
+        if d.smallest.is_none_or(|(s, _)| f < s) {
+            d.smallest = Some((f, x0));
+        }
+        if f < 3.0 {
+            d.failures.push(format!(
+                "{x0:.0e} -> {x1:.0e}: {e0:.2e} -> {e1:.2e} ({f:.2}x; {} x rtol at {x0:.0e})",
+                sig(e0 / x0)
+            ));
+        }
+    }
+    d
+}
+
+impl Decades {
+    fn smallest_cell(&self) -> String {
+        match self.smallest {
+            Some((f, x0)) => format!("{}x ({x0:.0e} -> {:.0e})", sig(f), x0 / 10.0),
+            None if self.judged > 0 => "all at floor".into(),
+            None => "none judged".into(),
+        }
+    }
+
+    fn failures_cell(&self) -> String {
+        if self.failures.is_empty() {
+            "none".into()
+        } else {
+            self.failures.join("; ")
+        }
+    }
+}
+
+/// Errors of a series, loose to tight (`x`: failed), and error/rtol.
+fn error_cells(ok: &[Option<f64>], xs: &[f64], adaptive: bool) -> (String, String) {
+    let errs = ok
+        .iter()
+        .map(|e| e.map(|e| format!("{e:.1e}")).unwrap_or("x".into()))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let ratios = if adaptive {
+        ok.iter()
+            .zip(xs)
+            .filter_map(|(e, x)| e.map(|e| sig(e / x)))
+            .collect::<Vec<_>>()
+            .join(" ")
+    } else {
+        "-".into()
+    };
+    (errs, ratios)
+}
+
+/// Per series: monotonicity of the error in the swept parameter and the error/rtol range, the
+/// per-decade factors of the end-time and the trajectory error; then the cheapest run per error
+/// level. Returns the trajectory error's decades per adaptive series.
+fn summary(
+    csv: bool,
+    p: &Problem,
+    series: &[Series],
+    runs: &[Run],
+) -> Vec<(String, Series, Decades)> {
     // differences below this are noise (the reference's, round-off), not the integrator's
     let floor = (10.0 * p.reference.estimated_error).max(1e-11);
     say!(
@@ -379,6 +525,55 @@ fn summary(csv: bool, p: &Problem, series: &[Series], runs: &[Run]) {
             }
         );
     }
+    // the per-decade check, on the end-time error and on the trajectory error
+    let end_floor = (10.0 * p.reference.estimated_error).max(1e-10);
+    let traj_floor = (10.0 * p.trajectory.estimated_error).max(1e-10);
+    say!(
+        csv,
+        "\nPer decade of rtol (at least 3x until the error reaches the floor: 1e-10, or 10x the reference's estimated error if larger; end time {end_floor:.1e}, trajectory {traj_floor:.1e}; a decade whose tighter run failed is not judged).\n"
+    );
+    say!(
+        csv,
+        "| integrator | trajectory errors (loose -> tight; x = failed) | traj. error/rtol | smallest decade factor, trajectory | decades < 3x, trajectory | smallest decade factor, end time | decades < 3x, end time |"
+    );
+    say!(csv, "|---|---|---|---|---|---|---|");
+    let mut out = Vec::new();
+    for &s in series {
+        let mine: Vec<&Run> = runs.iter().filter(|r| r.series == s).collect();
+        let xs: Vec<f64> = mine.iter().map(|r| r.x).collect();
+        let traj: Vec<Option<f64>> = mine
+            .iter()
+            .map(|r| r.traj_failure.is_none().then_some(r.traj_error))
+            .collect();
+        let end: Vec<Option<f64>> = mine
+            .iter()
+            .map(|r| r.failure.is_none().then_some(r.error))
+            .collect();
+        let adaptive = matches!(s, Series::Adaptive(_));
+        let (errs, ratios) = error_cells(&traj, &xs, adaptive);
+        if !adaptive {
+            say!(csv, "| {} | {errs} | - | - | - | - | - |", s.name());
+            continue;
+        }
+        let pts = |e: &[Option<f64>]| {
+            xs.iter()
+                .copied()
+                .zip(e.iter().copied())
+                .collect::<Vec<_>>()
+        };
+        let dt = decades(&pts(&traj), traj_floor);
+        let de = decades(&pts(&end), end_floor);
+        say!(
+            csv,
+            "| {} | {errs} | {ratios} | {} | {} | {} | {} |",
+            s.name(),
+            dt.smallest_cell(),
+            dt.failures_cell(),
+            de.smallest_cell(),
+            de.failures_cell()
+        );
+        out.push((p.name.clone(), s, dt));
+    }
     say!(
         csv,
         "\n| error level | cheapest run reaching it | CPU [ms] |\n|---|---|---|"
@@ -407,15 +602,89 @@ fn summary(csv: bool, p: &Problem, series: &[Series], runs: &[Run]) {
             None => say!(csv, "| {level:.0e} | none | - |"),
         }
     }
+    out
 }
 
-/// Two significant digits for ratios (no decimals from 100 on).
+/// All problems: the smallest per-decade factor of the trajectory error per problem and adaptive
+/// integrator, and every decade below 3x.
+fn overview_table(csv: bool, series: &[Series], all: &[(String, Series, Decades)]) {
+    let adaptive: Vec<Series> = series
+        .iter()
+        .copied()
+        .filter(|s| matches!(s, Series::Adaptive(_)))
+        .collect();
+    if all.is_empty() || adaptive.is_empty() {
+        return;
+    }
+    say!(
+        csv,
+        "\n## Trajectory error: smallest factor per decade of rtol (decades < 3x in brackets)\n"
+    );
+    say!(
+        csv,
+        "| problem | {} |",
+        adaptive
+            .iter()
+            .map(|s| s.name())
+            .collect::<Vec<_>>()
+            .join(" | ")
+    );
+    say!(csv, "|---|{}", "---|".repeat(adaptive.len()));
+    let mut problems: Vec<&String> = Vec::new();
+    for (p, _, _) in all {
+        if !problems.contains(&p) {
+            problems.push(p);
+        }
+    }
+    let mut fails = Vec::new();
+    for p in problems {
+        let cells: Vec<String> = adaptive
+            .iter()
+            .map(|s| match all.iter().find(|(q, t, _)| q == p && t == s) {
+                Some((_, _, d)) => {
+                    for f in &d.failures {
+                        fails.push(format!("{p} {}: {f}", s.name()));
+                    }
+                    let n = d.failures.len();
+                    format!(
+                        "{}{}",
+                        d.smallest_cell(),
+                        if n > 0 {
+                            format!(" [{n}]")
+                        } else {
+                            String::new()
+                        }
+                    )
+                }
+                None => "-".into(),
+            })
+            .collect();
+        say!(csv, "| {p} | {} |", cells.join(" | "));
+    }
+    if fails.is_empty() {
+        say!(
+            csv,
+            "\nEvery judged decade lowers the trajectory error at least 3x."
+        );
+    } else {
+        say!(csv, "\nDecades below 3x (trajectory error):");
+        for f in fails {
+            say!(csv, "- {f}");
+        }
+    }
+}
+
+/// Two significant digits for ratios (no decimals from 100 on; below 1, as many decimals as two
+/// significant digits need).
 fn sig(x: f64) -> String {
     if x >= 100.0 {
         format!("{x:.0}")
     } else if x >= 10.0 {
         format!("{x:.1}")
-    } else {
+    } else if x >= 1.0 || x <= 0.0 || !x.is_finite() {
         format!("{x:.2}")
+    } else {
+        let decimals = (1.0 - x.log10().floor()) as usize;
+        format!("{x:.decimals$}")
     }
 }

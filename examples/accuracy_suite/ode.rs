@@ -136,6 +136,80 @@ pub fn converge(
     }
 }
 
+/// Converged fixed-step solutions at several times: outputs `out(y(t_k))` at `times`
+/// (ascending, after 0), and the largest change over the times between the last two
+/// resolutions (the estimated error).
+pub struct ConvergedSamples {
+    pub outputs: Vec<Vec<f64>>,
+    pub estimated_error: f64,
+    /// Macro steps over the whole interval at the finest resolution.
+    pub macro_steps: usize,
+}
+
+/// [`converge`] over a grid of output times: each interval `[t_{k-1}, t_k]` gets
+/// `ceil(steps0 (t_k - t_{k-1}) / t_last)` macro steps (at least one), all doubled per halving,
+/// the state carried across the intervals; the change is the largest over the times. Same
+/// stopping rule as [`converge`].
+pub fn converge_samples(
+    f: &dyn Rhs,
+    y0: &[f64],
+    times: &[f64],
+    steps0: usize,
+    tol: f64,
+    max_halvings: usize,
+    out: &dyn Fn(&[f64]) -> Vec<f64>,
+) -> ConvergedSamples {
+    let t_last = *times.last().expect("at least one output time");
+    let mut per: Vec<usize> = {
+        let mut prev = 0.0;
+        times
+            .iter()
+            .map(|&t| {
+                let n = ((steps0 as f64 * (t - prev) / t_last).ceil() as usize).max(1);
+                prev = t;
+                n
+            })
+            .collect()
+    };
+    let solve = |per: &[usize]| -> Vec<Vec<f64>> {
+        let (mut y, mut t0) = (y0.to_vec(), 0.0);
+        times
+            .iter()
+            .zip(per)
+            .map(|(&t1, &n)| {
+                y = fixed(f, &y, t0, t1, n);
+                t0 = t1;
+                out(&y)
+            })
+            .collect()
+    };
+    let mut prev = solve(&per);
+    let (mut diff, mut last) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..max_halvings {
+        per.iter_mut().for_each(|n| *n *= 2);
+        let cur = solve(&per);
+        diff = cur
+            .iter()
+            .zip(&prev)
+            .map(|(a, b)| dist(a, b))
+            .fold(0.0, f64::max);
+        prev = cur;
+        if diff < tol {
+            break;
+        }
+        if diff < 1e-11 && diff > 0.25 * last {
+            diff = diff.max(last);
+            break;
+        }
+        last = diff;
+    }
+    ConvergedSamples {
+        outputs: prev,
+        estimated_error: diff,
+        macro_steps: per.iter().sum(),
+    }
+}
+
 /// Euclidean distance.
 pub fn dist(a: &[f64], b: &[f64]) -> f64 {
     a.iter()
