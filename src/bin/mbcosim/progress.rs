@@ -117,6 +117,7 @@ impl Progress {
         )
         .unwrap_or_else(|_| ProgressStyle::default_bar());
         bar.set_style(style);
+        bar.set_message(self.message(0.0));
         self.bar = Some(bar);
     }
 
@@ -146,14 +147,13 @@ impl Progress {
     /// The final state: left on screen after a success, frozen at the failure otherwise.
     pub fn finish(&mut self, t: f64, steps: u64, ok: bool) {
         if let Some(bar) = self.bar.take() {
-            if ok {
-                bar.set_length(steps);
-            }
-            bar.set_position(steps);
             let msg = self.message(t);
             if ok {
+                bar.set_length(steps);
+                bar.set_position(steps);
                 bar.finish_with_message(msg);
             } else {
+                bar.set_position(steps);
                 bar.abandon_with_message(format!("{msg}, stopped"));
             }
         }

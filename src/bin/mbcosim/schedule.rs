@@ -87,9 +87,14 @@ impl Schedule {
                 )
             })?;
             if port.causality != Causality::Input {
+                let what = port.causality.name();
+                let article = if what.starts_with(['a', 'e', 'i', 'o', 'u']) {
+                    "an"
+                } else {
+                    "a"
+                };
                 return Err(format!(
-                    "{at}: `{name}` is {} of {}, not an input; a schedule sets inputs ({}){}",
-                    port.causality.name(),
+                    "{at}: `{name}` is {article} {what} of {}, not an input; a schedule sets inputs ({}){}",
                     info.identifier,
                     inputs.join(", "),
                     if port.causality == Causality::Parameter {
@@ -100,11 +105,16 @@ impl Schedule {
                 ));
             }
             if unit != port.unit && unit.is_some() {
-                return Err(format!(
-                    "{at}: `{name}` is in {}, not {}",
-                    port.unit.unwrap_or("no unit (dimensionless)"),
-                    unit.unwrap_or("")
-                ));
+                return Err(match port.unit {
+                    Some(u) => format!(
+                        "{at}: `{name}` is in {u}, the header says {}",
+                        unit.unwrap_or("")
+                    ),
+                    None => format!(
+                        "{at}: `{name}` has no unit (dimensionless), the header says {}",
+                        unit.unwrap_or("")
+                    ),
+                });
             }
             if columns.iter().flatten().any(|p| p.name == port.name) {
                 return Err(format!("{at}: `{name}` appears twice"));
