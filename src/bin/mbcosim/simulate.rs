@@ -147,31 +147,50 @@ fn header_line(columns: &[&PortSpec], style: Header) -> String {
     cells.join(",")
 }
 
+/// Why a run stopped early.
+enum Stop {
+    /// The model (or the schedule's value) refused: its message.
+    Model(String),
+    /// The CSV could not be written.
+    Io(std::io::Error),
+}
+
+impl From<String> for Stop {
+    fn from(e: String) -> Self {
+        Stop::Model(e)
+    }
+}
+
 /// One CSV row at time `t`: reals shortest round-trip, integers bare, booleans 0/1.
 fn write_row(
     out: &mut dyn Write,
     t: f64,
     m: &dyn CoSimModel,
     columns: &[&PortSpec],
-) -> Result<(), String> {
+) -> Result<(), Stop> {
     let mut line = format!("{t:?}");
     for p in columns {
         let cell = match &p.ty {
-            PortType::Real { .. } => format!("{:?}", m.get_real(p.vr).map_err(|e| e.to_string())?),
-            PortType::Integer { .. } | PortType::Enumeration { .. } => {
-                m.get_integer(p.vr).map_err(|e| e.to_string())?.to_string()
-            }
-            PortType::Boolean { .. } => {
-                u8::from(m.get_boolean(p.vr).map_err(|e| e.to_string())?).to_string()
-            }
+            PortType::Real { .. } => format!(
+                "{:?}",
+                m.get_real(p.vr).map_err(|e| Stop::Model(e.to_string()))?
+            ),
+            PortType::Integer { .. } | PortType::Enumeration { .. } => m
+                .get_integer(p.vr)
+                .map_err(|e| Stop::Model(e.to_string()))?
+                .to_string(),
+            PortType::Boolean { .. } => u8::from(
+                m.get_boolean(p.vr)
+                    .map_err(|e| Stop::Model(e.to_string()))?,
+            )
+            .to_string(),
             PortType::String { .. } => continue,
         };
         line.push(',');
         line.push_str(&cell);
     }
     line.push('\n');
-    out.write_all(line.as_bytes())
-        .map_err(|e| format!("cannot write the CSV: {e}"))
+    out.write_all(line.as_bytes()).map_err(Stop::Io)
 }
 
 /// Where the run got to.
@@ -195,7 +214,7 @@ struct Run<'a> {
 }
 
 impl Run<'_> {
-    fn go(&mut self, grid: Grid, at: &mut Reached) -> Result<(), String> {
+    fn go(&mut self, grid: Grid, at: &mut Reached) -> Result<(), Stop> {
         let mut last_flush = Instant::now();
         let mut points = grid;
         let t0 = points.next().unwrap_or(0.0);
@@ -221,9 +240,7 @@ impl Run<'_> {
             at.t = next;
             self.progress.update(next, at.steps);
             if last_flush.elapsed() >= Duration::from_secs(1) {
-                self.out
-                    .flush()
-                    .map_err(|e| format!("cannot write the CSV: {e}"))?;
+                self.out.flush().map_err(Stop::Io)?;
                 last_flush = Instant::now();
             }
         }
@@ -292,10 +309,7 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
     let mut at = Reached::default();
     let result = run.go(grid, &mut at);
     run.progress.finish(at.t, at.steps, result.is_ok());
-    let flushed = run
-        .out
-        .flush()
-        .map_err(|e| format!("cannot write {target}: {e}"));
+    let flushed = run.out.flush();
     if a.timing {
         eprintln!(
             "timing: {} s wall for {} communication steps (initialization included)",
@@ -303,12 +317,22 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
             at.steps
         );
     }
+    // a reader that closed standard output (`| head`) has all it wanted: stop quietly
+    let closed = |e: &std::io::Error| a.out.is_none() && e.kind() == std::io::ErrorKind::BrokenPipe;
     match result {
-        Ok(()) => flushed,
-        Err(e) if !at.initialized => Err(format!(
+        Ok(()) => match flushed {
+            Err(e) if !closed(&e) => Err(format!("cannot write {target}: {e}")),
+            _ => Ok(()),
+        },
+        Err(Stop::Io(e)) if closed(&e) => Ok(()),
+        Err(Stop::Io(e)) => Err(format!(
+            "cannot write {target}: {e} (the run stopped at t = {} s)",
+            at.t
+        )),
+        Err(Stop::Model(e)) if !at.initialized => Err(format!(
             "{id} failed to initialize: {e}\n(the CSV on {target} has its header only)"
         )),
-        Err(e) => Err(format!(
+        Err(Stop::Model(e)) => Err(format!(
             "{id} stopped at t = {} s after {} of about {total} communication steps: {e}\n(the CSV on {target} holds the {} rows up to t = {} s)",
             at.t, at.steps, at.rows, at.t
         )),
