@@ -3,6 +3,7 @@
 //! - Nothing outside `src/fmi/` (and the `src/bin/` application, which packs FMUs) names
 //!   `crate::fmi`, `mbcosim::fmi` or an `fmi2` symbol in code: models stay FMI-agnostic.
 //! - No `unsafe` outside `src/fmi/`.
+//! - The command line's crates (`clap`, `indicatif`) only in the `src/bin/` application.
 
 use std::path::{Path, PathBuf};
 
@@ -47,6 +48,12 @@ fn only_the_fmi_module_knows_fmi_and_uses_unsafe() {
                 && (code.contains("fmi::") || code.contains("fmi2"))
             {
                 bad.push(format!("src/{rel}:{line}: names FMI: {}", code.trim()));
+            }
+            if !in_bin && (code.contains("clap::") || code.contains("indicatif")) {
+                bad.push(format!(
+                    "src/{rel}:{line}: command-line crate outside src/bin: {}",
+                    code.trim()
+                ));
             }
             if !in_fmi && code.contains("unsafe") && !code.contains("unsafe_code") {
                 bad.push(format!(

@@ -77,26 +77,84 @@ pub fn outputs(model: &dyn CoSimModel) -> Result<Vec<f64>, ModelError> {
 }
 
 /// `a` and `b` equal within a relative tolerance of 1e-9 (Python's `math.isclose`).
-fn isclose(a: f64, b: f64) -> bool {
+pub fn isclose(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
 }
 
-/// Sets `values` by name, initializes at `t = 0` and steps with `step` [s] until `stop` [s].
-///
-/// Communication point `k` is `k * step`, and the last step is shortened to land on `stop` unless
-/// it already ends within 1e-9 (relative) of it: the same time grid fmpy's `simulate_fmu` uses,
-/// so both runs make bit-identical calls.
+/// The communication points of a run from `t = 0` to `stop` [s] with step `step` [s]: point `k`
+/// is `k * step`, and the last step is shortened to land on `stop` unless it already ends within
+/// 1e-9 (relative) of it: the same time grid fmpy's `simulate_fmu` uses, so both runs make
+/// bit-identical calls. The first item is `0.0`.
+#[derive(Debug, Clone)]
+pub struct Grid {
+    stop: f64,
+    step: f64,
+    k: u64,
+    t: Option<f64>,
+}
+
+impl Grid {
+    /// The grid for `stop` and `step`; both finite, `step > 0`, `stop >= 0`.
+    pub fn new(stop: f64, step: f64) -> Result<Self, ModelError> {
+        if !(step.is_finite() && step > 0.0 && stop.is_finite() && stop >= 0.0) {
+            return Err(ModelError::InvalidValue(format!(
+                "stop time {stop} s and step {step} s must be finite, step > 0"
+            )));
+        }
+        Ok(Self {
+            stop,
+            step,
+            k: 0,
+            t: None,
+        })
+    }
+
+    /// Number of communication steps (points after `t = 0`), counted without running the grid
+    /// where the count is large; exact up to the 1e-9 end tolerance.
+    pub fn steps_estimate(&self) -> u64 {
+        let n = self.stop / self.step;
+        if n > 1e15 {
+            return u64::MAX;
+        }
+        let r = n.round();
+        if isclose(r, n) || (r - n).abs() < 1e-9 {
+            r as u64
+        } else {
+            n.ceil() as u64
+        }
+    }
+}
+
+impl Iterator for Grid {
+    type Item = f64;
+
+    fn next(&mut self) -> Option<f64> {
+        let Some(t) = self.t else {
+            self.t = Some(0.0);
+            return Some(0.0);
+        };
+        if t > self.stop || isclose(t, self.stop) {
+            return None;
+        }
+        self.k += 1;
+        let mut next = self.k as f64 * self.step;
+        if next > self.stop && !isclose(next, self.stop) {
+            next = self.stop;
+        }
+        self.t = Some(next);
+        Some(next)
+    }
+}
+
+/// Sets `values` by name, initializes at `t = 0` and steps with `step` [s] until `stop` [s] on
+/// the [`Grid`] (fmpy's time grid, so both runs make bit-identical calls).
 pub fn simulate(
     model: &mut dyn CoSimModel,
     values: &[(String, f64)],
     stop: f64,
     step: f64,
 ) -> Result<Table, ModelError> {
-    if !(step.is_finite() && step > 0.0 && stop.is_finite() && stop >= 0.0) {
-        return Err(ModelError::InvalidValue(format!(
-            "stop time {stop} s and step {step} s must be finite, step > 0"
-        )));
-    }
+    let mut grid = Grid::new(stop, step)?;
     for (name, v) in values {
         set_by_name(model, name, *v)?;
     }
@@ -113,14 +171,8 @@ pub fn simulate(
     );
     model.initialize(0.0)?;
     let mut rows = vec![[vec![0.0], outputs(model)?].concat()];
-    let mut t = 0.0;
-    let mut k = 0u64;
-    while !(t > stop || isclose(t, stop)) {
-        k += 1;
-        let mut next = k as f64 * step;
-        if next > stop && !isclose(next, stop) {
-            next = stop;
-        }
+    let mut t = grid.next().unwrap_or(0.0);
+    for next in grid {
         model.do_step(t, next - t)?;
         t = next;
         rows.push([vec![t], outputs(model)?].concat());
@@ -148,5 +200,17 @@ mod tests {
                 .starts_with("time,u,error,saturated\n0.0,2.0,2.0,0.0\n")
         );
         assert!(simulate(pid::create().as_mut(), &[("nope".into(), 1.0)], 1.0, 0.1).is_err());
+    }
+
+    #[test]
+    fn grid_lands_on_stop_and_estimates_its_length() {
+        let g: Vec<f64> = Grid::new(1.05, 0.1).unwrap().collect();
+        assert_eq!(g.len(), 12);
+        assert_eq!((g[0], g[1], g[11]), (0.0, 0.1, 1.05));
+        assert_eq!(Grid::new(1.05, 0.1).unwrap().steps_estimate(), 11);
+        assert_eq!(Grid::new(1.0, 0.1).unwrap().collect::<Vec<_>>().len(), 11);
+        assert_eq!(Grid::new(1.0, 0.1).unwrap().steps_estimate(), 10);
+        assert_eq!(Grid::new(0.0, 0.1).unwrap().collect::<Vec<_>>(), [0.0]);
+        assert!(Grid::new(1.0, 0.0).is_err() && Grid::new(f64::NAN, 0.1).is_err());
     }
 }

@@ -5,13 +5,16 @@ folder). A model gets meaningful inputs from SCENARIOS; models without an entry 
 defaults. The native reference runs come from `mbcosim simulate` (MBCOSIM_BIN, or cargo run).
 """
 
+import io
 import math
 import os
 import pathlib
+import re
 import struct
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
@@ -170,6 +173,18 @@ def native(*args, timeout=120):
     r = subprocess.run(cmd + [str(a) for a in args], cwd=ROOT, capture_output=True, text=True, timeout=timeout)
     assert r.returncode == 0, r.stderr
     return r.stdout
+
+
+def strip_unit(cell):
+    """`hinge0_angle [rad]` -> `hinge0_angle`: mbcosim's CSV header carries units (docs/cli.md)."""
+    return re.sub(r" \[[^\]]*\]$", "", cell.strip())
+
+
+def native_table(*args, timeout=120):
+    """`mbcosim simulate ...` as a numpy structured array with one field per variable name."""
+    header, _, body = native(*args, timeout=timeout).partition("\n")
+    names = [strip_unit(c) for c in header.split(",")]
+    return np.genfromtxt(io.StringIO(body), delimiter=",", names=names)
 
 
 def python_script(script, *args, timeout=120):

@@ -1,11 +1,10 @@
 """PanelLock through fmpy: every integrator equals the native run, results are independent of the
 communication step within the solver tolerance, and a PID FMU closes a loop around it."""
 
-import io
 
 import numpy as np
 import pytest
-from conftest import DIST, native
+from conftest import DIST, native_table
 from fmpy import read_model_description, simulate_fmu
 from fmpy.fmi2 import FMU2Slave
 from fmpy import extract
@@ -19,7 +18,7 @@ def _native(stop, step, values):
     args = ["simulate", "PanelLock", "--stop", repr(stop), "--step", repr(step)]
     for k, v in values.items():
         args += ["--set", f"{k}={float(v)!r}"]
-    return np.genfromtxt(io.StringIO(native(*args, timeout=600)), delimiter=",", names=True)
+    return native_table(*args, timeout=600)
 
 
 @pytest.mark.parametrize("integrator", sorted(INTEGRATORS), ids=INTEGRATORS.values())

@@ -1,12 +1,11 @@
 """RopeBlock through fmpy, against independent references: static hook load = total weight,
 native runner, communication-step independence, hook travel = block travel, effect switches."""
 
-import io
 import math
 
 import numpy as np
 import pytest
-from conftest import DIST, native
+from conftest import DIST, native_table
 from fmpy import simulate_fmu
 
 ROPE = DIST / "RopeBlock.fmu"
@@ -23,7 +22,7 @@ def _native(stop, step, values):
     args = ["simulate", "RopeBlock", "--stop", repr(stop), "--step", repr(step)]
     for k, v in {"segments": SEG, **values}.items():
         args += ["--set", f"{k}={float(v)!r}"]
-    return np.genfromtxt(io.StringIO(native(*args, timeout=600)), delimiter=",", names=True)
+    return native_table(*args, timeout=600)
 
 
 def _energy_balance(res):

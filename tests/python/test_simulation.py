@@ -1,12 +1,10 @@
 """fmpy's simulate_fmu: same results as the native run, standard call order, step independence."""
 
-import io
 import random
 import re
 
-import numpy as np
 import pytest
-from conftest import bits, native
+from conftest import bits, native_table
 from fmpy import simulate_fmu
 
 
@@ -14,7 +12,7 @@ def _native_table(fmu, stop, step, values):
     args = ["simulate", fmu.id, "--stop", repr(stop), "--step", repr(step)]
     for k, v in values.items():
         args += ["--set", f"{k}={float(v)!r}"]
-    return np.genfromtxt(io.StringIO(native(*args)), delimiter=",", names=True)
+    return native_table(*args)
 
 
 def test_simulate_fmu_matches_the_native_run_bit_for_bit(fmu):

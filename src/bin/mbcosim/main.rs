@@ -1,0 +1,88 @@
+//! `mbcosim`: packs the FMUs, regenerates model descriptions, runs models natively, reproduces the
+//! studies. `mbcosim --help` and `mbcosim <command> --help` describe every command; docs/cli.md
+//! gives the decisions behind the options (value syntax, input schedules, CSV format, paths).
+//!
+//! Output paths (`--out`, `dist/`, `out/`, `docs/`) resolve against the current directory.
+//! `pack`, `demo` and `model-descriptions` also need the source tree (the build script and the
+//! checked-in descriptions): they find it in the current directory or above it, or at
+//! `MBCOSIM_REPO`.
+//!
+//! Packing needs a fresh cdylib, which `cargo run --bin mbcosim` does not build, so `pack` and
+//! `demo` first run `scripts/build_portable.sh` for the same profile and target directory as this
+//! executable: a glibc 2.17 build through cargo-zigbuild (installed into `.venv` on first use),
+//! stripped, its debug info in `dist/debug/` (docs/portable_binary.md). Set `MBCOSIM_NO_BUILD=1`
+//! to skip that and pack the last stripped library as it is.
+#![forbid(unsafe_code)]
+
+mod models;
+mod pack;
+mod progress;
+mod schedule;
+mod simulate;
+mod state_fields;
+mod study;
+mod values;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Multibody co-simulation models (PanelLock, RopeBlock, PidController) as FMI 2.0
+/// co-simulation FMUs: pack them, run them natively, reproduce the studies.
+#[derive(Parser)]
+#[command(name = "mbcosim", version, arg_required_else_help = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Build <DIR>/<Model>.fmu for every registered model (needs the source tree).
+    Pack(pack::PackArgs),
+    /// Rewrite modelDescription/<Model>.xml and resources/scenes/<Model>.toml from the variable
+    /// tables (needs the source tree).
+    ModelDescriptions(pack::DescriptionArgs),
+    /// Pack the FMUs, then run the demos and print their tables (needs the source tree).
+    Demo(pack::DemoArgs),
+    /// Run one model natively and write its outputs as CSV (stdout or --out).
+    Simulate(simulate::SimulateArgs),
+    /// List the registered models.
+    Models,
+    /// List a model's variables: causality, type, unit, range, start value, description.
+    Variables(models::VariablesArgs),
+    /// Work-precision report: CSV, log-log plots and report.md.
+    Report(study::ReportArgs),
+    /// The paper's Table 1 / Figs. 4-5 with flexible PanelLock panels: CSV, SVG plots and a
+    /// markdown table.
+    Table1(study::Table1Args),
+    /// Every field of a serialized FMU state, one JSON object a line (offset, len, kind, what).
+    StateFields(state_fields::StateFieldsArgs),
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.command {
+        Command::Pack(a) => pack::pack(&a),
+        Command::ModelDescriptions(a) => pack::model_descriptions(&a),
+        Command::Demo(a) => pack::demo(&a),
+        Command::Simulate(a) => simulate::simulate(&a),
+        Command::Models => {
+            models::list_models();
+            Ok(())
+        }
+        Command::Variables(a) => models::list_variables(&a),
+        Command::Report(a) => study::report(&a),
+        Command::Table1(a) => study::table1(&a),
+        Command::StateFields(a) => state_fields::state_fields(&a),
+    }
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("mbcosim: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,228 @@
+//! `pack`, `model-descriptions` and `demo`: the commands that need the source tree.
+//!
+//! The source tree is found in the current directory or above it (a `Cargo.toml` of package
+//! `mbcosim` next to `modelDescription/`), or at `MBCOSIM_REPO`; what these commands write
+//! (`dist/`, `out/`) resolves against the current directory, except the checked-in files that
+//! `model-descriptions` regenerates, which belong to the source tree.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use mbcosim::fmi::{model_description, package};
+use mbcosim::scene::{self, native, scene_file};
+
+/// True when `dir` is the root of the mbcosim source tree.
+fn is_repo(dir: &Path) -> bool {
+    dir.join("modelDescription").is_dir()
+        && std::fs::read_to_string(dir.join("Cargo.toml"))
+            .is_ok_and(|t| t.lines().any(|l| l.trim() == "name = \"mbcosim\""))
+}
+
+/// The source tree, for `what` (the command that needs it).
+pub fn repo_root(what: &str) -> Result<PathBuf, String> {
+    if let Some(dir) = std::env::var_os("MBCOSIM_REPO") {
+        let dir = PathBuf::from(dir);
+        return if is_repo(&dir) {
+            std::path::absolute(&dir).map_err(|e| format!("{}: {e}", dir.display()))
+        } else {
+            Err(format!(
+                "MBCOSIM_REPO={} is not the mbcosim source tree (no Cargo.toml of package mbcosim next to modelDescription/)",
+                dir.display()
+            ))
+        };
+    }
+    let cwd = std::env::current_dir().map_err(|e| format!("no current directory: {e}"))?;
+    cwd.ancestors()
+        .find(|d| is_repo(d))
+        .map(Path::to_path_buf)
+        .ok_or_else(|| {
+            format!(
+                "`{what}` needs the mbcosim source tree (the build script and modelDescription/), and {} is not inside it: run it from the repository root (`cargo run --release --bin mbcosim -- {what}`) or set MBCOSIM_REPO to the repository",
+                cwd.display()
+            )
+        })
+}
+
+/// The library every FMU ships, for this executable's profile and target directory: built by
+/// `scripts/build_portable.sh` (portable glibc 2.17 build through cargo-zigbuild, host build with a
+/// loud warning when that toolchain cannot be had; stripped, debug info split into
+/// `<dist>/debug/`), or with `MBCOSIM_NO_BUILD` the stripped library of the last build as it is.
+fn fresh_cdylib(repo: &Path, dist: &Path) -> Result<PathBuf, String> {
+    let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
+    let profile_dir = exe.parent().ok_or("executable has no parent folder")?;
+    let profile = profile_dir
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or("debug");
+    let target_dir = profile_dir.parent().ok_or("no target folder")?;
+    let stripped = target_dir.join("fmu").join(profile).join("libmbcosim.so");
+    if std::env::var_os("MBCOSIM_NO_BUILD").is_some() {
+        return if stripped.is_file() {
+            Ok(stripped)
+        } else {
+            Err(format!(
+                "{} not found: run `mbcosim pack` once without MBCOSIM_NO_BUILD",
+                stripped.display()
+            ))
+        };
+    }
+    // the script works in the source tree: every path it gets must be absolute
+    let debug_dir = std::path::absolute(dist.join("debug")).map_err(|e| e.to_string())?;
+    let script = repo.join("scripts").join("build_portable.sh");
+    let out = Command::new("bash")
+        .arg(&script)
+        .args(["--profile", profile, "--target-dir"])
+        .arg(target_dir)
+        .arg("--debug-dir")
+        .arg(debug_dir)
+        .stderr(std::process::Stdio::inherit())
+        .output()
+        .map_err(|e| format!("cannot run {}: {e}", script.display()))?;
+    if !out.status.success() {
+        return Err(format!("{} failed ({})", script.display(), out.status));
+    }
+    let lib = PathBuf::from(String::from_utf8_lossy(&out.stdout).trim());
+    if !lib.is_file() {
+        return Err(format!(
+            "{} named no library ({})",
+            script.display(),
+            lib.display()
+        ));
+    }
+    Ok(lib)
+}
+
+fn pack_all(what: &str, dist: &Path) -> Result<Vec<PathBuf>, String> {
+    let repo = repo_root(what)?;
+    let lib = fresh_cdylib(&repo, dist)?;
+    let descriptions = repo.join("modelDescription");
+    scene::registry()
+        .iter()
+        .map(|e| package::pack(e, &lib, &descriptions, dist))
+        .collect()
+}
+
+#[derive(clap::Args)]
+pub struct PackArgs {
+    /// Folder for the FMUs and their debug info (relative to the current directory).
+    #[arg(long, value_name = "DIR", default_value = "dist")]
+    out: PathBuf,
+}
+
+pub fn pack(a: &PackArgs) -> Result<(), String> {
+    for f in pack_all("pack", &a.out)? {
+        println!("packed {}", f.display());
+    }
+    Ok(())
+}
+
+#[derive(clap::Args)]
+pub struct DescriptionArgs {
+    /// Only report (exit 1) when a checked-in file is out of date; write nothing.
+    #[arg(long)]
+    check: bool,
+}
+
+pub fn model_descriptions(a: &DescriptionArgs) -> Result<(), String> {
+    let repo = repo_root("model-descriptions")?;
+    let dir = repo.join("modelDescription");
+    let scenes = repo.join("resources").join("scenes");
+    let mut stale = Vec::new();
+    for e in scene::registry() {
+        let info = (e.info)();
+        let path = package::description_path(&dir, info.identifier);
+        let xml = model_description::write(info)?;
+        let scene_path = scenes.join(format!("{}.toml", info.identifier));
+        for (path, text) in [(path, xml), (scene_path, scene_file::render(info))] {
+            if std::fs::read_to_string(&path).ok().as_deref() == Some(text.as_str()) {
+                continue;
+            }
+            stale.push(path.display().to_string());
+            if !a.check {
+                if let Some(parent) = path.parent() {
+                    std::fs::create_dir_all(parent).map_err(|e| e.to_string())?;
+                }
+                std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+                println!("wrote {}", path.display());
+            }
+        }
+    }
+    if a.check && !stale.is_empty() {
+        return Err(format!(
+            "out of date: {}; run `{}`",
+            stale.join(", "),
+            package::REGENERATE
+        ));
+    }
+    Ok(())
+}
+
+#[derive(clap::Args)]
+pub struct DemoArgs {
+    /// Folder for the packed FMUs (relative to the current directory).
+    #[arg(long, value_name = "DIR", default_value = "dist")]
+    dist: PathBuf,
+    /// Folder for the demos' CSV files and SVG plots (relative to the current directory).
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    out: PathBuf,
+}
+
+/// PID demo: a PI(D) controller closing the loop around `tau*dy/dt = -y + K*u`.
+fn demo_pid() -> Result<(), String> {
+    let (tau, gain, h, stop) = (0.5_f64, 2.0, 0.01, 4.0);
+    let mut pid = (scene::find_by_identifier("PidController")
+        .ok_or("PidController not registered")?
+        .create)();
+    for (name, v) in [
+        ("kp", 3.0),
+        ("ki", 2.0),
+        ("kd", 0.05),
+        ("Tf", 0.02),
+        ("Tt", 0.1),
+        ("u_min", -2.0),
+        ("u_max", 2.0),
+        ("setpoint", 1.0),
+    ] {
+        native::set_by_name(pid.as_mut(), name, v).map_err(|e| e.to_string())?;
+    }
+    pid.initialize(0.0).map_err(|e| e.to_string())?;
+    println!(
+        "\nPidController on a first-order plant (tau = {tau} s, gain {gain}), setpoint 1, step {h} s:"
+    );
+    println!("{:>6} {:>9} {:>9} {:>9}", "t [s]", "y", "u", "saturated");
+    let decay = (-h / tau).exp();
+    let mut y = 0.0;
+    let n = (stop / h).round() as usize;
+    for k in 0..=n {
+        let t = k as f64 * h;
+        let out = native::outputs(pid.as_ref()).map_err(|e| e.to_string())?;
+        if (k <= 100 && k % 20 == 0) || k % 100 == 0 {
+            println!("{t:>6.2} {y:>9.4} {:>9.4} {:>9}", out[0], out[2] != 0.0);
+        }
+        if k == n {
+            break;
+        }
+        native::set_by_name(pid.as_mut(), "measurement", y).map_err(|e| e.to_string())?;
+        pid.do_step(t, h).map_err(|e| e.to_string())?;
+        let u = native::outputs(pid.as_ref()).map_err(|e| e.to_string())?[0];
+        y = decay * y + gain * (1.0 - decay) * u;
+    }
+    Ok(())
+}
+
+/// PanelLock demo: a full deployment of the default rigid array, written to `out` as CSV and SVG
+/// plots of the latch contact forces and the outer panel's tip velocity.
+fn demo_panel_lock(out: &Path) -> Result<(), String> {
+    println!("== PanelLock: deployment and lock-up of a 3-panel array (60 s)");
+    let summary = mbcosim::scene::panel_lock::run_demo(out, 60.0, 0.01)?;
+    print!("{summary}");
+    Ok(())
+}
+
+pub fn demo(a: &DemoArgs) -> Result<(), String> {
+    for fmu in pack_all("demo", &a.dist)? {
+        println!("packed {}", fmu.display());
+    }
+    demo_panel_lock(&a.out)?;
+    demo_pid()
+}
