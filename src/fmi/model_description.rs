@@ -503,8 +503,6 @@ mod tests {
                         start: None,
                         min: None,
                         max: None,
-                        open: [false; 2],
-                        unit_note: None,
                     },
                     unit: None,
                     description: "Internal steps taken.".into(),
