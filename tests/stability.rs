@@ -2,7 +2,7 @@
 //! with finite results, constraints held, no energy growth in a passive scene and results that
 //! converge as the tolerance tightens, or stops with a message that names the cause and what to
 //! change. Each test prints its envelope table (`cargo test --release --test stability --
-//! --nocapture`); the README's envelope table is taken from it.
+//! --nocapture`); the envelope table of docs/details.md is taken from it.
 
 mod common;
 use common::particle_on_floor;
@@ -380,7 +380,7 @@ fn flexible_panels_with_many_modes_and_tiny_damping() {
                 );
                 assert!(peak > 0.0, "{case}: no lock within 35 s");
                 // gen-alpha's contact impacts gain 2-3e-3 of the released spring energy at
-                // rtol 1e-4 (README, tested envelope); the panel modes add nothing to it
+                // rtol 1e-4 (docs/details.md, tested envelope); the panel modes add nothing to it
                 assert!(energy < 5e-3, "{case}: energy grew by {energy:.2e}");
                 assert!(drift < 1e-6, "{case}: constraint residual {drift:e} m");
             }

@@ -108,7 +108,7 @@ fn check(case: &str, r: Result<(f64, f64), String>, allowed_gain: f64, stopped: 
 fn resolution_and_integrators() {
     let mut stopped = Vec::new();
     // DOPRI5 is explicit: the axial wave of a steel rope bounds its step by the segment length
-    // over the wave speed (5.2 km/s), so it runs only on the coarsest ropes here (README envelope)
+    // over the wave speed (5.2 km/s), so it runs only on the coarsest ropes here (docs/details.md, tested envelope)
     for (segments, integrators) in [
         (2.0, &[1.0, 2.0, 3.0][..]),
         (10.0, &[1.0, 2.0, 3.0][..]),

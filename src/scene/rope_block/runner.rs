@@ -152,7 +152,7 @@ impl RopeBlockSim {
         if self.sim.integrator_kind() == IntegratorKind::Bdf {
             // BDF's history reads every friction slide of a contact node as a disturbance: with
             // slings slack over their edges (nodes sliding every step) it takes rejection after
-            // rejection and its slide books go wrong (README, "Slack slings")
+            // rejection and its slide books go wrong (docs/details.md, "Slack slings")
             "use integrator = gen_alpha (the default; it handles contact nodes sliding every step, as on slack slings), a smaller rtol or h_max, or lower rope_damping / mu"
         } else {
             "use integrator = bdf, a smaller rtol or h_max, or lower rope_damping / mu"
