@@ -8,15 +8,8 @@
 
 use mbcosim::scene::CoSimModel;
 use mbcosim::scene::port::{ModelInfo, PortSpec, PortType};
-
-/// A value of the variable's own type.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Value {
-    Real(f64),
-    Integer(i32),
-    Boolean(bool),
-    String(String),
-}
+/// A value of the variable's own type: the model store's.
+pub use mbcosim::scene::store::Value;
 
 fn finite_number(name: &str, text: &str) -> Result<f64, String> {
     let digits: String = text.trim().chars().filter(|&c| c != '_').collect();
