@@ -214,6 +214,25 @@ pub struct Stats {
 }
 
 impl Stats {
+    /// One line for the `logSolver` category: accepted steps, rejected steps by cause, Newton
+    /// iterations and failures, Jacobians, factorizations, the last step size.
+    pub fn summary(&self) -> String {
+        format!(
+            "{} accepted steps, {} rejected steps ({} for the error estimate, {} for the energy check), {} Newton iterations, {} Newton failures, {} Jacobians, {} factorizations, {} right-hand sides, last step {:e} s, {} singular configurations",
+            self.steps,
+            self.rejected,
+            self.rejected_error,
+            self.rejected_energy,
+            self.newton_iterations,
+            self.newton_failures,
+            self.jacobians,
+            self.factorizations,
+            self.rhs_evaluations,
+            self.last_step,
+            self.singular_configurations
+        )
+    }
+
     /// Number of values in [`Stats::to_numbers`].
     pub const LEN: usize = 11;
 
