@@ -121,3 +121,42 @@ fn pid_declared_ranges_match_the_validation() {
         }
     }
 }
+
+/// The deployment-speed check: its estimate is the energy balance worked out by hand for the
+/// default scene, and springs too strong for the panel or the yoke are refused naming them.
+#[test]
+fn deployment_tip_speed_estimate_and_refusal() {
+    let p = PanelLockParams::default();
+    // panel spring: 0.4 N m over 175 degrees plus 0.05 N m/rad linear, into a 4.5 kg, 2 m panel
+    // (I = m L^2 / 3 = 6 kg m^2); root: 0.6 N m over 90 degrees plus 0.1 N m/rad into the 2 kg,
+    // 1 m yoke with three stowed panels at its end
+    let travel = std::f64::consts::PI - 5f64.to_radians();
+    let w = 0.4 * travel + 0.5 * 0.05 * travel * travel;
+    let panel = 2.0 * (2.0 * w / 6.0_f64).sqrt();
+    let t_r = std::f64::consts::FRAC_PI_2;
+    let w_r = 0.6 * t_r + 0.5 * 0.1 * t_r * t_r;
+    let root = (2.0 * w_r / (2.0 / 3.0 + 3.0 * 4.5_f64)).sqrt();
+    let [r, pa] = p.deployment_tip_speeds();
+    assert!((pa - panel).abs() < 1e-12 * panel, "{pa} vs {panel}");
+    assert!((r - root).abs() < 1e-12 * root, "{r} vs {root}");
+    assert!(p.validate().is_ok());
+
+    let strong = PanelLockParams {
+        panel_spring_preload: 400.0,
+        panel_areal_density: 1.5e-3,
+        ..PanelLockParams::default()
+    };
+    let e = strong.validate().unwrap_err();
+    assert!(
+        e.contains("panel_spring_preload = 400 N m") && e.contains("m/s at its tip"),
+        "{e}"
+    );
+    let yoke = PanelLockParams {
+        root_spring_preload: 600.0,
+        yoke_mass: 2e-3,
+        panel_areal_density: 1.5e-3,
+        ..PanelLockParams::default()
+    };
+    let e = yoke.validate().unwrap_err();
+    assert!(e.contains("root_spring_preload = 600 N m"), "{e}");
+}

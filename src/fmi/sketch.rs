@@ -70,7 +70,9 @@ fn frame(out: &mut String, x: f64, y: f64, name: &str, up: &str) {
 
 fn panel_lock(out: &mut String) {
     // satellite wall, root hinge, yoke, hinge bodies, panels (seen along the hinge axes z)
-    out.push_str("<rect x=\"20\" y=\"200\" width=\"60\" height=\"100\" fill=\"#ddd\" stroke=\"black\"/>\n");
+    out.push_str(
+        "<rect x=\"20\" y=\"200\" width=\"60\" height=\"100\" fill=\"#ddd\" stroke=\"black\"/>\n",
+    );
     text(out, 26.0, 220.0, "satellite", "");
     frame(out, 30.0, 290.0, "world (z: hinge axes)", "y");
     let pts = [(80.0, 250.0), (200.0, 190.0), (380.0, 130.0), (560.0, 70.0)];
@@ -86,7 +88,13 @@ fn panel_lock(out: &mut String) {
             b.1,
             if k == 0 { 4 } else { 8 }
         );
-        text(out, (a.0 + b.0) / 2.0 + 6.0, (a.1 + b.1) / 2.0 + 18.0, names[k], " fill=\"#36c\"");
+        text(
+            out,
+            (a.0 + b.0) / 2.0 + 6.0,
+            (a.1 + b.1) / 2.0 + 18.0,
+            names[k],
+            " fill=\"#36c\"",
+        );
     }
     for (k, p) in pts[..3].iter().enumerate() {
         // hinge body with its torsion spring (coil) and latch (cam with groove, pin)
@@ -102,10 +110,28 @@ fn panel_lock(out: &mut String) {
             p.0 + 5.0,
             p.1 - 5.0
         );
-        text(out, p.0 - 10.0, p.1 + 30.0, &format!("hinge {k}"), " fill=\"#a50\"");
+        text(
+            out,
+            p.0 - 10.0,
+            p.1 + 30.0,
+            &format!("hinge {k}"),
+            " fill=\"#a50\"",
+        );
     }
-    text(out, 400.0, 250.0, "hinge body (yellow), torsion spring (brown coil),", "");
-    text(out, 400.0, 265.0, "latch: pin (dot) drops into the cam groove", "");
+    text(
+        out,
+        400.0,
+        250.0,
+        "hinge body (yellow), torsion spring (brown coil),",
+        "",
+    );
+    text(
+        out,
+        400.0,
+        265.0,
+        "latch: pin (dot) drops into the cam groove",
+        "",
+    );
     text(out, 400.0, 280.0, "at the lock angle", "");
     // deployment angle of the root hinge
     out.push_str("<path d=\"M120 250 A40 40 0 0 0 116 232\" fill=\"none\" stroke=\"black\"/>\n<line x1=\"80\" y1=\"250\" x2=\"140\" y2=\"250\" stroke=\"black\" stroke-dasharray=\"3 3\"/>\n");
@@ -116,10 +142,23 @@ fn panel_lock(out: &mut String) {
 fn rope_block(out: &mut String) {
     frame(out, 30.0, 330.0, "world", "z");
     // ground, block with lugs, slings to the hook
-    out.push_str("<line x1=\"20\" y1=\"340\" x2=\"620\" y2=\"340\" stroke=\"#963\" stroke-width=\"2\"/>\n");
-    out.push_str("<rect x=\"150\" y=\"200\" width=\"340\" height=\"90\" fill=\"#ccd\" stroke=\"black\"/>\n");
-    text(out, 160.0, 305.0, "block (design frame: x along, z up from the bottom)", "");
-    let _ = writeln!(out, "<circle cx=\"320\" cy=\"245\" r=\"3\" fill=\"black\"/>");
+    out.push_str(
+        "<line x1=\"20\" y1=\"340\" x2=\"620\" y2=\"340\" stroke=\"#963\" stroke-width=\"2\"/>\n",
+    );
+    out.push_str(
+        "<rect x=\"150\" y=\"200\" width=\"340\" height=\"90\" fill=\"#ccd\" stroke=\"black\"/>\n",
+    );
+    text(
+        out,
+        160.0,
+        305.0,
+        "block (design frame: x along, z up from the bottom)",
+        "",
+    );
+    let _ = writeln!(
+        out,
+        "<circle cx=\"320\" cy=\"245\" r=\"3\" fill=\"black\"/>"
+    );
     arrow(out, 320.0, 245.0, 360.0, 245.0, "#444");
     arrow(out, 320.0, 245.0, 320.0, 215.0, "#444");
     for (lx, ex) in [(200.0, 150.0), (440.0, 490.0)] {
@@ -132,7 +171,13 @@ fn rope_block(out: &mut String) {
             lx
         );
     }
-    text(out, 160.0, 195.0, "contact node on the edge", " font-size=\"10\"");
+    text(
+        out,
+        160.0,
+        195.0,
+        "contact node on the edge",
+        " font-size=\"10\"",
+    );
     text(out, 190.0, 280.0, "lug", " font-size=\"10\"");
     out.push_str("<path d=\"M315 50 q5 -12 10 0 q0 10 -6 10\" fill=\"none\" stroke=\"black\" stroke-width=\"2\"/>\n");
     text(out, 250.0, 55.0, "hook 0", "");
@@ -178,7 +223,13 @@ pub fn svg(identifier: &str) -> Option<String> {
     let mut out = String::from(HEAD);
     draw(&mut out);
     for (name, x, y) in port_labels(identifier) {
-        text(&mut out, *x, *y, name, " fill=\"#c00\" font-family=\"monospace\"");
+        text(
+            &mut out,
+            *x,
+            *y,
+            name,
+            " fill=\"#c00\" font-family=\"monospace\"",
+        );
     }
     out.push_str("</svg>\n");
     Some(out)
@@ -193,8 +244,8 @@ mod tests {
     fn every_drawn_port_exists_in_the_variable_table() {
         for entry in registry() {
             let info = (entry.info)();
-            let svg = svg(info.identifier)
-                .unwrap_or_else(|| panic!("{} has no sketch", info.identifier));
+            let svg =
+                svg(info.identifier).unwrap_or_else(|| panic!("{} has no sketch", info.identifier));
             assert!(svg.starts_with("<svg") && svg.ends_with("</svg>\n"));
             assert!(!port_labels(info.identifier).is_empty());
             for (name, _, _) in port_labels(info.identifier) {
