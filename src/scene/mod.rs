@@ -158,6 +158,13 @@ pub trait CoSimModel: Send {
     /// Takes the messages emitted since the last call.
     fn take_log(&mut self) -> Vec<LogRecord>;
 
+    /// The integrator's work counters since the start, for the `logSolver` statistics the FMI
+    /// wrapper logs at `fmi2Terminate` and after a failed step; `None` for models without an
+    /// integrator (the default) or before initialization.
+    fn solver_stats(&self) -> Option<crate::integrator::Stats> {
+        None
+    }
+
     /// Tells the model where its data files (see [`ModelEntry::resources`]) were unpacked.
     /// Called once after creation when the importer provides the folder; the default ignores it.
     fn set_resource_dir(&mut self, _dir: &std::path::Path) -> Result<(), ModelError> {

@@ -324,4 +324,8 @@ impl CoSimModel for PanelLockModel {
     fn take_log(&mut self) -> Vec<LogRecord> {
         std::mem::take(&mut self.log)
     }
+
+    fn solver_stats(&self) -> Option<Stats> {
+        self.scene.as_ref().map(|s| s.sim.stats())
+    }
 }

@@ -508,6 +508,10 @@ impl CoSimModel for RopeBlockModel {
         std::mem::take(&mut self.log)
     }
 
+    fn solver_stats(&self) -> Option<crate::integrator::Stats> {
+        self.scene.as_ref().map(|s| s.sim.sim.stats())
+    }
+
     fn set_resource_dir(&mut self, dir: &Path) -> Result<(), ModelError> {
         self.resource_dir = Some(dir.to_path_buf());
         Ok(())
