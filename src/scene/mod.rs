@@ -25,6 +25,7 @@ pub mod port;
 pub mod rope_block;
 pub mod scene_file;
 pub mod store;
+pub mod view;
 
 use port::{ModelInfo, ValueRef};
 
@@ -157,6 +158,14 @@ pub trait CoSimModel: Send {
 
     /// Takes the messages emitted since the last call.
     fn take_log(&mut self) -> Vec<LogRecord>;
+
+    /// What the model looks like now, for visualization ([`view::Snapshot`]: shapes with SI
+    /// sizes and world-frame poses); `None` for a model that draws nothing or before
+    /// [`CoSimModel::initialize`]. Reads the state only (it may refresh cached kinematics, hence
+    /// `&mut`); the default draws nothing.
+    fn snapshot(&mut self) -> Option<view::Snapshot> {
+        None
+    }
 
     /// Tells the model where its data files (see [`ModelEntry::resources`]) were unpacked.
     /// Called once after creation when the importer provides the folder; the default ignores it.

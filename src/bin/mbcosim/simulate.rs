@@ -4,6 +4,8 @@
 //! scene file, `--set` values and the schedule's rows at `t = 0` before initialization; then at
 //! every communication point of [`Grid`] the schedule's inputs, one `do_step`, one CSV row.
 //! Rows are written as the run goes: a run that fails leaves every row up to the failure.
+//! `--replay` takes a 3D snapshot at every row and writes the replay page at the end (also after
+//! a failure, with the frames up to it).
 
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -16,6 +18,7 @@ use mbcosim::scene::scene_file;
 
 use crate::models;
 use crate::progress::Progress;
+use crate::replay::Recorder;
 use crate::schedule::Schedule;
 use crate::values;
 
@@ -72,6 +75,10 @@ pub struct SimulateArgs {
     /// Header style of the CSV.
     #[arg(long, value_enum, default_value_t = Header::Units)]
     header: Header,
+    /// Also write a self-contained HTML page that animates the run in 3D (one frame per CSV
+    /// row; play/pause, scrub, `#t=SECONDS` in the URL shows a time); PanelLock and RopeBlock.
+    #[arg(long, value_name = "FILE.html")]
+    replay: Option<PathBuf>,
     /// Print the wall time of the run to stderr.
     #[arg(long)]
     timing: bool,
@@ -211,9 +218,18 @@ struct Run<'a> {
     columns: Vec<&'static PortSpec>,
     out: Box<dyn Write + 'a>,
     progress: Progress,
+    replay: Option<Recorder>,
 }
 
 impl Run<'_> {
+    /// The replay frame of the row just written.
+    fn record(&mut self) -> Result<(), Stop> {
+        match &mut self.replay {
+            Some(r) => Ok(r.record(self.model)?),
+            None => Ok(()),
+        }
+    }
+
     fn go(&mut self, grid: Grid, at: &mut Reached) -> Result<(), Stop> {
         let mut last_flush = Instant::now();
         let mut points = grid;
@@ -224,6 +240,7 @@ impl Run<'_> {
         self.model.initialize(t0).map_err(|e| e.to_string())?;
         at.initialized = true;
         write_row(&mut self.out, t0, self.model, &self.columns)?;
+        self.record()?;
         at.rows = 1;
         at.t = t0;
         for next in points {
@@ -236,6 +253,7 @@ impl Run<'_> {
                 .map_err(|e| format!("in the step from t = {t} s to {next} s: {e}"))?;
             at.steps += 1;
             write_row(&mut self.out, next, self.model, &self.columns)?;
+            self.record()?;
             at.rows += 1;
             at.t = next;
             self.progress.update(next, at.steps);
@@ -270,6 +288,7 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
         .map(|p| Schedule::load(p, info))
         .transpose()?;
     let columns = select_outputs(info, &a.outputs)?;
+    let replay = a.replay.as_deref().map(Recorder::new).transpose()?;
 
     let mut m = (entry.create)();
     if let Some(path) = &a.scene {
@@ -301,6 +320,7 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
         columns,
         out,
         progress: Progress::new(a.progress, stop, total),
+        replay,
     };
     let header = header_line(&run.columns, a.header);
     writeln!(run.out, "{header}").map_err(|e| format!("cannot write {target}: {e}"))?;
@@ -310,16 +330,34 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
     let result = run.go(grid, &mut at);
     run.progress.finish(at.t, at.steps, result.is_ok());
     let flushed = run.out.flush();
+    let wall = wall.elapsed();
+    // the page of what ran, also after a failure (like the CSV's rows)
+    let page = match &run.replay {
+        Some(r) if r.len() > 0 => Some(r.write(id)),
+        _ => None,
+    };
     if a.timing {
         eprintln!(
             "timing: {} s wall for {} communication steps (initialization included)",
-            wall.elapsed().as_secs_f64(),
+            wall.as_secs_f64(),
             at.steps
         );
+        if let (Some(r), Some(Ok(bytes))) = (&run.replay, &page) {
+            eprintln!(
+                "timing: replay {} s for {} snapshots ({:.1} % of the run), page {bytes} bytes",
+                r.spent().as_secs_f64(),
+                r.len(),
+                100.0 * r.spent().as_secs_f64() / wall.as_secs_f64().max(1e-12)
+            );
+        }
     }
+    let page_error = match page {
+        Some(Err(e)) => Some(e),
+        _ => None,
+    };
     // a reader that closed standard output (`| head`) has all it wanted: stop quietly
     let closed = |e: &std::io::Error| a.out.is_none() && e.kind() == std::io::ErrorKind::BrokenPipe;
-    match result {
+    let outcome = match result {
         Ok(()) => match flushed {
             Err(e) if !closed(&e) => Err(format!("cannot write {target}: {e}")),
             _ => Ok(()),
@@ -336,5 +374,10 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
             "{id} stopped at t = {} s after {} of about {total} communication steps: {e}\n(the CSV on {target} holds the {} rows up to t = {} s)",
             at.t, at.steps, at.rows, at.t
         )),
+    };
+    match (outcome, page_error) {
+        (outcome, None) => outcome,
+        (Ok(()), Some(e)) => Err(e),
+        (Err(m), Some(e)) => Err(format!("{m}\n{e}")),
     }
 }
