@@ -27,10 +27,8 @@ pub enum Role {
     Hinge,
     /// A rigid ship block (RopeBlock).
     Block,
-    /// The line through a rope's points, hook to lug (RopeBlock).
+    /// A rope: the line through its points, hook to lug, with its nodes (RopeBlock).
     Rope,
-    /// Interior rope nodes that are not in contact (RopeBlock).
-    RopeNode,
     /// Rope nodes tied to a plate edge of the block (RopeBlock).
     ContactNode,
     /// A crane hook, the prescribed end of a rope (RopeBlock).
@@ -51,7 +49,6 @@ impl Role {
             Role::Hinge => "hinge",
             Role::Block => "block",
             Role::Rope => "rope",
-            Role::RopeNode => "rope_node",
             Role::ContactNode => "contact_node",
             Role::Hook => "hook",
             Role::Load => "load",
@@ -113,8 +110,9 @@ pub enum Geometry {
     Sphere { radius: f64 },
     /// Points [m] (shape frame), each drawn as a sphere of `radius` [m].
     Points { points: Vec<Vec3>, radius: f64 },
-    /// A line through `points` [m] (shape frame), in order.
-    Polyline { points: Vec<Vec3> },
+    /// A line through `points` [m] (shape frame), in order; its interior points drawn as spheres
+    /// of `node_radius` [m] (0: the line only).
+    Polyline { points: Vec<Vec3>, node_radius: f64 },
     /// A triangle mesh: vertices [m] (shape frame) and triangles as vertex indices,
     /// counter-clockwise seen from outside. Shared, so a snapshot per output point stays cheap.
     Mesh {
@@ -175,7 +173,6 @@ mod tests {
             Role::Hinge,
             Role::Block,
             Role::Rope,
-            Role::RopeNode,
             Role::ContactNode,
             Role::Hook,
             Role::Load,

@@ -5,13 +5,13 @@
 //!   origin is the centre of mass; posed by the block's position and orientation, the same
 //!   numbers as the outputs `block_x/y/z`, `block_qw/qx/qy/qz`.
 //! - **sling{r}**: a polyline through every point of rope `r`, hook end to lug end (world
-//!   frame); **sling{r}_nodes**: its interior nodes that are not in contact; **contact_nodes**:
-//!   every contact node of every rope (world frame).
+//!   frame), its interior nodes drawn as beads; **contact_nodes**: every contact node of every
+//!   rope (world frame), drawn larger.
 //! - **hook{k}**: a sphere at hook `k` (the outputs `hook{k}_x/y/z`); **load{i}**: a sphere at a
 //!   point mass; **ground**: a thin slab under the plane `z = ground_height`.
 //!
 //! The model has no size for hooks and nodes: they are drawn at a share of the block's bounding
-//! box diagonal `d` (hooks and loads `0.015 d`, contact nodes `0.008 d`, rope nodes `0.005 d`),
+//! box diagonal `d` (hooks and loads `0.015 d`, contact nodes `0.012 d`, rope nodes `0.005 d`),
 //! so they stay visible whatever the block's size.
 
 use super::RopeBlockScene;
@@ -23,7 +23,7 @@ use std::sync::Arc;
 /// Sphere radii of hooks (and loads), contact nodes and rope nodes, as shares of the block's
 /// bounding box diagonal [-].
 pub const HOOK_SHARE: f64 = 0.015;
-pub const CONTACT_NODE_SHARE: f64 = 0.008;
+pub const CONTACT_NODE_SHARE: f64 = 0.012;
 pub const ROPE_NODE_SHARE: f64 = 0.005;
 
 /// The block's drawn shell: vertices [m] in the block frame (origin at the centre of mass) and
@@ -121,29 +121,24 @@ impl RopeBlockScene {
         for r in 0..sim.structure.ropes.len() {
             let pts = sim.rope_points(r);
             let nodes = &sim.structure.ropes[r].nodes;
-            let mut free = Vec::with_capacity(nodes.len());
-            let interior = pts.len().saturating_sub(1);
-            for (i, p) in pts.iter().enumerate().take(interior).skip(1) {
-                // points are [start end, nodes in order, end end] (build.rs)
-                let in_contact = pts.len() == nodes.len() + 2 && nodes[i - 1].contact.is_some();
-                if in_contact {
-                    contacts.push(*p);
-                } else {
-                    free.push(*p);
-                }
+            // points are [start end, nodes in order, end end] (build.rs)
+            if pts.len() == nodes.len() + 2 {
+                let interior = pts[1..pts.len() - 1].iter().zip(nodes);
+                contacts.extend(
+                    interior
+                        .filter(|(_, n)| n.contact.is_some())
+                        .map(|(p, _)| *p),
+                );
             }
             shapes.push(Shape {
                 name: format!("sling{r}"),
                 role: Role::Rope,
-                geometry: Geometry::Polyline { points: pts },
+                geometry: Geometry::Polyline {
+                    points: pts,
+                    node_radius: ROPE_NODE_SHARE * d,
+                },
                 pose: Pose::world(),
             });
-            shapes.push(points(
-                format!("sling{r}_nodes"),
-                Role::RopeNode,
-                free,
-                ROPE_NODE_SHARE * d,
-            ));
         }
         shapes.push(points(
             "contact_nodes".into(),
@@ -248,7 +243,7 @@ mod tests {
             assert!(dist < 1e-3, "contact node {c} is {dist} m off every edge");
         }
         for r in 0..scene.params.slings.len() {
-            let Some(Geometry::Polyline { points }) =
+            let Some(Geometry::Polyline { points, .. }) =
                 snap.shape(&format!("sling{r}")).map(|s| &s.geometry)
             else {
                 panic!("no sling{r}")

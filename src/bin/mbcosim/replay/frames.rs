@@ -12,8 +12,9 @@
 //! effect at frame `i` is the last `g` at or before `i`. A shape missing from a frame is not
 //! drawn then. Geometry kinds: `box` (`size`: full edge lengths), `cylinder` (`radius`,
 //! `length`, axis = shape z), `sphere` (`radius`), `points` (`radius`, `points`: flat x,y,z
-//! list), `polyline` (`points`), `mesh` (`vertices`: flat x,y,z list, `triangles`: flat vertex
-//! indices). Numbers are shortest round-trip decimal forms of the model's f64 values.
+//! list), `polyline` (`points`, `node_radius`: beads on the interior points, 0 none), `mesh` (`vertices`: flat x,y,z list, `triangles`: flat vertex
+//! indices). Poses and times are shortest round-trip decimal forms of the model's f64 values
+//! (exact); geometry numbers are rounded to f32, the precision WebGL draws with.
 
 use std::collections::HashMap;
 
@@ -39,34 +40,39 @@ fn geometry(out: &mut String, g: &Geometry) {
     match g {
         Geometry::Box { size } => {
             out.push_str("{\"kind\":\"box\",\"size\":");
-            json::numbers(out, [size.x, size.y, size.z]);
+            json::numbers32(out, [size.x, size.y, size.z]);
         }
         Geometry::Cylinder { radius, length } => {
             out.push_str("{\"kind\":\"cylinder\",\"radius\":");
-            json::number(out, *radius);
+            json::number32(out, *radius);
             out.push_str(",\"length\":");
-            json::number(out, *length);
+            json::number32(out, *length);
         }
         Geometry::Sphere { radius } => {
             out.push_str("{\"kind\":\"sphere\",\"radius\":");
-            json::number(out, *radius);
+            json::number32(out, *radius);
         }
         Geometry::Points { points, radius } => {
             out.push_str("{\"kind\":\"points\",\"radius\":");
-            json::number(out, *radius);
+            json::number32(out, *radius);
             out.push_str(",\"points\":");
-            json::numbers(out, flat(points));
+            json::numbers32(out, flat(points));
         }
-        Geometry::Polyline { points } => {
-            out.push_str("{\"kind\":\"polyline\",\"points\":");
-            json::numbers(out, flat(points));
+        Geometry::Polyline {
+            points,
+            node_radius,
+        } => {
+            out.push_str("{\"kind\":\"polyline\",\"node_radius\":");
+            json::number32(out, *node_radius);
+            out.push_str(",\"points\":");
+            json::numbers32(out, flat(points));
         }
         Geometry::Mesh {
             vertices,
             triangles,
         } => {
             out.push_str("{\"kind\":\"mesh\",\"vertices\":");
-            json::numbers(out, flat(vertices));
+            json::numbers32(out, flat(vertices));
             out.push_str(",\"triangles\":");
             json::numbers(out, triangles.iter().flat_map(|t| t.map(f64::from)));
         }
@@ -171,6 +177,7 @@ mod tests {
                     role: Role::Rope,
                     geometry: Geometry::Polyline {
                         points: vec![Vec3::zeros(), Vec3::new(0.0, 0.0, z)],
+                        node_radius: 0.0,
                     },
                     pose: Pose::world(),
                 },

@@ -12,6 +12,29 @@ pub fn number(out: &mut String, x: f64) {
     }
 }
 
+/// A finite number rounded to f32 (the precision WebGL draws with; 7 significant digits), in
+/// shortest round-trip form of that f32; `null` otherwise.
+pub fn number32(out: &mut String, x: f64) {
+    let y = x as f32;
+    if y.is_finite() {
+        let _ = write!(out, "{y:?}");
+    } else {
+        out.push_str("null");
+    }
+}
+
+/// `[x0,x1,...]` rounded to f32 ([`number32`]).
+pub fn numbers32(out: &mut String, xs: impl IntoIterator<Item = f64>) {
+    out.push('[');
+    for (i, x) in xs.into_iter().enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        number32(out, x);
+    }
+    out.push(']');
+}
+
 /// `[x0,x1,...]`.
 pub fn numbers(out: &mut String, xs: impl IntoIterator<Item = f64>) {
     out.push('[');
@@ -57,6 +80,9 @@ mod tests {
         let mut s = String::new();
         numbers(&mut s, [0.1, 1e-7, 2.0, -0.0, f64::NAN, f64::INFINITY]);
         assert_eq!(s, "[0.1,1e-7,2.0,-0.0,null,null]");
+        let mut s = String::new();
+        numbers32(&mut s, [0.1, 12.345678901, 1e39, 3.0]);
+        assert_eq!(s, "[0.1,12.345679,null,3.0]");
     }
 
     #[test]

@@ -15,8 +15,7 @@ const STYLE = {
   panel: { color: 0x284f9e },
   hinge: { color: 0xe0a020 },
   block: { color: 0x9aa6b2, opacity: 0.85 },
-  rope: { color: 0x202020 },
-  rope_node: { color: 0x505a66 },
+  rope: { color: 0x303840 },
   contact_node: { color: 0xd02828 },
   hook: { color: 0xf08010 },
   load: { color: 0x7a3cb0 },
@@ -80,7 +79,12 @@ const build = (g, role) => {
       const geometry = new THREE.BufferGeometry();
       geometry.setAttribute('position', new THREE.Float32BufferAttribute(g.points, 3));
       const s = STYLE[role] || { color: 0x000000 };
-      return new THREE.Line(geometry, new THREE.LineBasicMaterial({ color: s.color }));
+      const line = new THREE.Line(geometry, new THREE.LineBasicMaterial({ color: s.color }));
+      if (!(g.node_radius > 0) || g.points.length < 9) return line;
+      const group = new THREE.Group();
+      group.add(line);
+      group.add(build({ kind: 'points', radius: g.node_radius, points: g.points.slice(3, -3) }, role));
+      return group;
     }
     case 'mesh': {
       const geometry = new THREE.BufferGeometry();
@@ -151,7 +155,7 @@ for (const i of [0, n >> 2, n >> 1, (3 * n) >> 2, n - 1]) {
 const centre = bounds.getCenter(new THREE.Vector3());
 const radius = Math.max(bounds.getSize(new THREE.Vector3()).length() / 2, 1e-3);
 const fitCamera = () => {
-  const dir = new THREE.Vector3(0.55, -1.0, 0.75).normalize();
+  const dir = new THREE.Vector3(0.5, -0.9, 1.0).normalize();
   const fov = THREE.MathUtils.degToRad(camera.fov);
   const fit = Math.min(fov, 2 * Math.atan(Math.tan(fov / 2) * camera.aspect));
   const dist = 1.05 * radius / Math.sin(fit / 2);
@@ -179,7 +183,8 @@ const scrub = document.getElementById('scrub');
 const speed = document.getElementById('speed');
 const timeText = document.getElementById('time');
 document.getElementById('title').textContent =
-  DATA.model + ' (' + n + ' frames, ' + frames[0].t + ' to ' + frames[n - 1].t + ' s)';
+  DATA.model + ': ' + n + ' frames, t = ' + frames[0].t.toFixed(3) + ' to ' +
+  frames[n - 1].t.toFixed(3) + ' s';
 scrub.max = String(n - 1);
 const t0 = frames[0].t;
 const tEnd = frames[n - 1].t;
