@@ -88,8 +88,9 @@ impl RopeBlockScene {
         if let Some(b) = sim.map.blocks.first().and_then(|b| b.index()) {
             let qo = sim.sim.system.model.bodies[b].q_offset;
             let q = &st.q[qo..qo + 7];
+            // the state's quaternion as it is (unit within rounding): the outputs' numbers
             let orientation =
-                Quat::from_quaternion(nalgebra::Quaternion::new(q[3], q[4], q[5], q[6]));
+                Quat::new_unchecked(nalgebra::Quaternion::new(q[3], q[4], q[5], q[6]));
             shapes.push(Shape {
                 name: "block".into(),
                 role: Role::Block,
