@@ -60,11 +60,16 @@ fn main() {
     let root = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default());
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-changed=tools/replay/package-lock.json");
-    // a path that does not exist yet makes cargo rerun this script on every build, so an
-    // `npm ci` after the first build is picked up
-    println!("cargo::rerun-if-changed=tools/replay/node_modules/three/package.json");
-    for f in FILES {
-        println!("cargo::rerun-if-changed=tools/replay/node_modules/three/{f}");
+    // only paths that exist: cargo reruns a build script (and rebuilds the crate) on every
+    // build while a watched path is missing. Without three.js, watch the folder `npm ci` fills.
+    let three = root.join("tools/replay/node_modules/three");
+    if three.join("package.json").is_file() {
+        println!("cargo::rerun-if-changed=tools/replay/node_modules/three/package.json");
+        for f in FILES.iter().filter(|f| three.join(f).is_file()) {
+            println!("cargo::rerun-if-changed=tools/replay/node_modules/three/{f}");
+        }
+    } else {
+        println!("cargo::rerun-if-changed=tools/replay");
     }
     let code = match embed(&root) {
         Ok(code) => code,

@@ -44,7 +44,8 @@ enumerations as integers, booleans as 0/1. Paths are relative to the current dir
 Examples:
   mbcosim simulate PidController --stop 2 --step 0.01 --set setpoint=1 --set kp=2
   mbcosim simulate PanelLock --set contact_law=hertz --outputs hinge0_angle,tip_normal_velocity --out run.csv
-  mbcosim simulate PidController --inputs schedule.csv --stop 5   # schedule.csv: time,setpoint")]
+  mbcosim simulate PidController --inputs schedule.csv --stop 5   # schedule.csv: time,setpoint
+  mbcosim simulate RopeBlock --stop 4 --set hook0_vz=0.5 --out lift.csv --replay lift.html   # 3D page")]
 pub struct SimulateArgs {
     /// Model identifier, case ignored (`mbcosim models` lists them).
     #[arg(value_parser = models::parser(), ignore_case = true)]
