@@ -232,7 +232,7 @@ def test_panel_boxes_turn_by_the_hinge_angles(panel_lock):
 def test_block_and_hook_poses_equal_the_outputs(rope_block):
     data = frames_of(rope_block)
     assert {"block", "hook0", "contact_nodes", "sling0", "sling3"} <= set(data["roles"])
-    last_mesh = None
+    contacts_geometry = None
     for row, f in paired(rope_block):
         block = f["s"]["block"]
         assert block["p"] == [float(row[c]) for c in
@@ -240,8 +240,8 @@ def test_block_and_hook_poses_equal_the_outputs(rope_block):
         assert f["s"]["hook0"]["p"][:3] == [float(row[c]) for c in ("hook0_x", "hook0_y", "hook0_z")]
         contacts = f["s"]["contact_nodes"]
         if "g" in contacts:
-            last_mesh = contacts["g"]
-        assert len(last_mesh["points"]) == 3 * int(row["contact_count"])
+            contacts_geometry = contacts["g"]
+        assert len(contacts_geometry["points"]) == 3 * int(row["contact_count"])
         sling = f["s"]["sling0"]["g"]  # rope points move every frame: written every frame
         assert sling["kind"] == "polyline" and len(sling["points"]) >= 6
     rise = float(rope_block["csv"][-1]["block_z"]) - float(rope_block["csv"][0]["block_z"])

@@ -161,6 +161,8 @@ enum Stop {
     Model(String),
     /// The CSV could not be written.
     Io(std::io::Error),
+    /// The replay snapshot could not be taken (a model that draws nothing).
+    Replay(String),
 }
 
 impl From<String> for Stop {
@@ -226,7 +228,7 @@ impl Run<'_> {
     /// The replay frame of the row just written.
     fn record(&mut self) -> Result<(), Stop> {
         match &mut self.replay {
-            Some(r) => Ok(r.record(self.model)?),
+            Some(r) => r.record(self.model).map_err(Stop::Replay),
             None => Ok(()),
         }
     }
@@ -241,9 +243,9 @@ impl Run<'_> {
         self.model.initialize(t0).map_err(|e| e.to_string())?;
         at.initialized = true;
         write_row(&mut self.out, t0, self.model, &self.columns)?;
-        self.record()?;
         at.rows = 1;
         at.t = t0;
+        self.record()?;
         for next in points {
             let t = at.t;
             if let Some(s) = &mut self.schedule {
@@ -254,9 +256,9 @@ impl Run<'_> {
                 .map_err(|e| format!("in the step from t = {t} s to {next} s: {e}"))?;
             at.steps += 1;
             write_row(&mut self.out, next, self.model, &self.columns)?;
-            self.record()?;
             at.rows += 1;
             at.t = next;
+            self.record()?;
             self.progress.update(next, at.steps);
             if last_flush.elapsed() >= Duration::from_secs(1) {
                 self.out.flush().map_err(Stop::Io)?;
@@ -367,6 +369,10 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
         Err(Stop::Io(e)) => Err(format!(
             "cannot write {target}: {e} (the run stopped at t = {} s)",
             at.t
+        )),
+        Err(Stop::Replay(e)) => Err(format!(
+            "{e}\n(the CSV on {target} holds the {} rows up to t = {} s)",
+            at.rows, at.t
         )),
         Err(Stop::Model(e)) if !at.initialized => Err(format!(
             "{id} failed to initialize: {e}\n(the CSV on {target} has its header only)"
