@@ -73,15 +73,16 @@ def chromium():
     return exe
 
 
-def browse(html, t, tmp, *mode):
-    """Runs headless Chromium on `html#t=<t>` with software WebGL; `mode`: --screenshot=... or
-    --dump-dom. Returns the completed process."""
+def browse(html, t, tmp, *mode, budget_ms=8000):
+    """Runs headless Chromium on `html#t=<t>` (`html` alone for t None) with software WebGL for
+    `budget_ms` of virtual time; `mode`: --screenshot=... or --dump-dom. Returns the completed
+    process."""
     profile = tmp / "chromium-profile"
     profile.mkdir(exist_ok=True)
     cmd = [chromium(), "--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
            "--hide-scrollbars", "--no-first-run", f"--user-data-dir={profile}",
-           f"--window-size={WIDTH},{HEIGHT}", "--virtual-time-budget=8000", *mode,
-           f"{html.resolve().as_uri()}#t={t}"]
+           f"--window-size={WIDTH},{HEIGHT}", f"--virtual-time-budget={budget_ms}", *mode,
+           html.resolve().as_uri() + ("" if t is None else f"#t={t}")]
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=180)
     assert r.returncode == 0, r.stderr[-2000:]
     return r
@@ -172,6 +173,14 @@ def test_screenshots_show_the_scene_moving(model, times, request, tmp_path):
     assert moved > 0.005, f"{model}: t = {times[0]} s and {times[1]} s differ in {moved:.2%} of the pixels only"
     for t in times:
         assert shown_time(run, t, tmp_path) == pytest.approx(t, abs=1e-9)
+
+
+def test_the_page_plays_from_the_start_without_a_time(panel_lock, tmp_path):
+    dom = browse(panel_lock["html"], None, tmp_path, "--dump-dom", budget_ms=6000).stdout
+    m = re.search(r'<span id="time">t = ([0-9.]+) s / ([0-9.]+) s', dom)
+    assert m, dom[-3000:]
+    assert 0.0 < float(m.group(1)) < float(m.group(2)), m.group(0)
+    assert '<button id="play" type="button">Pause</button>' in dom
 
 
 # --- the frames in the page against the CSV -------------------------------------------------
