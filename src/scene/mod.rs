@@ -25,6 +25,7 @@ pub mod port;
 pub mod rope_block;
 pub mod scene_file;
 pub mod store;
+pub mod view;
 
 use port::{ModelInfo, ValueRef};
 
@@ -162,6 +163,14 @@ pub trait CoSimModel: Send {
     /// wrapper logs at `fmi2Terminate` and after a failed step; `None` for models without an
     /// integrator (the default) or before initialization.
     fn solver_stats(&self) -> Option<crate::integrator::Stats> {
+        None
+    }
+
+    /// What the model looks like now, for visualization ([`view::Snapshot`]: shapes with SI
+    /// sizes and world-frame poses); `None` for a model that draws nothing or before
+    /// [`CoSimModel::initialize`]. Reads the state only (it may refresh cached kinematics, hence
+    /// `&mut`); the default draws nothing.
+    fn snapshot(&mut self) -> Option<view::Snapshot> {
         None
     }
 

@@ -7,6 +7,7 @@ use crate::scene::bytes::{ByteReader, ByteWriter};
 use crate::scene::clock::Clock;
 use crate::scene::port::ValueRef;
 use crate::scene::store::PortStore;
+use crate::scene::view::Snapshot;
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use crate::state::State;
 
@@ -319,6 +320,11 @@ impl CoSimModel for PanelLockModel {
 
     fn reset(&mut self) {
         *self = PanelLockModel::new();
+    }
+
+    fn snapshot(&mut self) -> Option<Snapshot> {
+        let start = self.clock.start();
+        self.scene.as_mut().map(|s| s.snapshot(start))
     }
 
     fn take_log(&mut self) -> Vec<LogRecord> {

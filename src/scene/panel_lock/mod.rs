@@ -56,6 +56,7 @@ mod params;
 pub mod ports;
 mod run;
 pub mod study;
+mod view;
 
 pub use build::{Layout, build};
 pub use cosim::{PanelLockModel, create};
@@ -63,3 +64,4 @@ pub use demo::run_demo;
 pub use params::{DEFAULT_PANEL_E, PanelLockParams, Reduction};
 pub use ports::info;
 pub use run::{HingeOutput, PanelLock, PanelLockOutputs};
+pub use view::SATELLITE_EDGE;
