@@ -16,10 +16,10 @@ pub fn port_labels(identifier: &str) -> &'static [Label] {
         "PanelLock" => &[
             ("root_motor_torque", 40.0, 330.0),
             ("hinge0_angle", 150.0, 250.0),
-            ("hinge1_angle", 300.0, 160.0),
-            ("hinge1_contact_force", 300.0, 110.0),
-            ("hinge1_latched", 300.0, 95.0),
-            ("tip_normal_velocity", 520.0, 40.0),
+            ("hinge1_angle", 232.0, 203.0),
+            ("hinge1_contact_force", 140.0, 135.0),
+            ("hinge1_latched", 140.0, 120.0),
+            ("tip_normal_velocity", 470.0, 40.0),
             ("root_force_x", 40.0, 345.0),
         ],
         "RopeBlock" => &[
@@ -120,19 +120,19 @@ fn panel_lock(out: &mut String) {
     }
     text(
         out,
-        400.0,
+        340.0,
         250.0,
         "hinge body (yellow), torsion spring (brown coil),",
         "",
     );
     text(
         out,
-        400.0,
+        340.0,
         265.0,
         "latch: pin (dot) drops into the cam groove",
         "",
     );
-    text(out, 400.0, 280.0, "at the lock angle", "");
+    text(out, 340.0, 280.0, "at the lock angle", "");
     // deployment angle of the root hinge
     out.push_str("<path d=\"M120 250 A40 40 0 0 0 116 232\" fill=\"none\" stroke=\"black\"/>\n<line x1=\"80\" y1=\"250\" x2=\"140\" y2=\"250\" stroke=\"black\" stroke-dasharray=\"3 3\"/>\n");
     text(out, 124.0, 244.0, "angle", " font-size=\"10\"");
