@@ -1,26 +1,38 @@
 //! Scene files: a model's parameters as data, so a variant needs no recompiling.
 //!
-//! A scene file is a small TOML document (the subset below), read when an FMU is instantiated
-//! (`resources/scene.toml` inside the FMU) and by `mbcosim simulate --scene FILE`:
+//! A scene file is a TOML document (TOML 1.1, read by the `toml` crate), read when an FMU is
+//! instantiated (`resources/scene.toml` inside the FMU) and by `mbcosim simulate --scene FILE`:
 //!
 //! ```toml
 //! # comments run to the end of the line
 //! model = "PanelLock"          # optional; when present it must name the model
 //!
 //! [parameters]
-//! n_panels = 3                 # integers
+//! n_panels = 3                 # integers (also 0x1F, 0o17, 0b11, 1_000)
 //! contact_stiffness = 1.0e7    # reals (an integer literal is accepted for a real)
 //! latches = true               # booleans
 //! integrator = "bdf"           # enumerations: item name, any case (or its number)
 //! "some.dotted[name]" = 0.5    # names outside [A-Za-z0-9_-] are quoted
 //! ```
 //!
+//! Any TOML syntax is read: basic and literal strings with all their escapes, multi-line
+//! strings, `_` between digits, `parameters = { .. }` or `parameters.name = ..` for the table.
+//! What is not a parameter value is refused with the file and line: arrays, inline tables and
+//! date-times as values, other tables (`[settings]`, `[parameters.sub]`, `[[parameters]]`),
+//! keys other than `model` outside `[parameters]`, and dotted keys inside it (`a.b = 1` is a
+//! table `a` in TOML: a name that holds `.` is quoted, `"a.b" = 1`).
+//!
 //! Every key of `[parameters]` is a parameter of the model's variable table (the names in
 //! `modelDescription.xml`); units are those of the table (SI). Unknown names, outputs, wrong types,
-//! out-of-range values, NaN/Inf and duplicate keys are refused with the file and line. The default
-//! scene of each model is rendered from its variable table by [`render`] (the files under
-//! `resources/scenes/` of the repository, checked against the table by a test), so the defaults
-//! exist once, in the table.
+//! out-of-range values, NaN/Inf (`nan`, `inf`, `+inf`, and reals that overflow as `1e999`),
+//! integers beyond 64 bits and duplicate keys are refused with the file and line; TOML syntax
+//! errors keep the crate's wording, with the file, line and column. The default scene of each
+//! model is rendered from its variable table by [`render`] (the files under `resources/scenes/`
+//! of the repository, checked against the table by a test), so the defaults exist once, in the
+//! table.
+
+use toml::Spanned;
+use toml::de::{DeString, DeTable, DeValue};
 
 use super::CoSimModel;
 use super::port::{Causality, ModelInfo, PortSpec, PortType};
@@ -57,160 +69,422 @@ pub struct SceneEntry {
 pub struct SceneFile {
     /// The `model` key, when given.
     pub model: Option<String>,
+    /// The line of the `model` key (0 when it is absent), for messages.
+    pub model_line: usize,
     /// The parameter values in file order.
     pub entries: Vec<SceneEntry>,
 }
 
 /// Parses `text`; `origin` (a file name) prefixes every message.
+///
+/// The text is read by the `toml` crate into its spanned document tree (every key and value
+/// keeps its byte range), which gives each message its line. TOML syntax errors come first, with
+/// the crate's wording; then the document is checked against the scene layout, in file order.
+/// No input makes this panic: it runs inside `fmi2Instantiate`.
 pub fn parse(text: &str, origin: &str) -> Result<SceneFile, String> {
+    let src = Source { text, origin };
+    let (doc, errors) = DeTable::parse_recoverable(text);
+    if !errors.is_empty() {
+        return Err(src.syntax_error(doc.get_ref(), &errors));
+    }
     let mut file = SceneFile::default();
-    let mut in_parameters = false;
-    for (k, raw) in text.lines().enumerate() {
-        let line = k + 1;
-        let at = |msg: String| format!("{origin}:{line}: {msg}");
-        let s = strip_comment(raw).trim();
-        if s.is_empty() {
-            continue;
-        }
-        if let Some(header) = s.strip_prefix('[') {
-            let name = header
-                .strip_suffix(']')
-                .ok_or_else(|| at(format!("unterminated table header `{s}`")))?
-                .trim();
-            if name != "parameters" {
-                return Err(at(format!(
-                    "unknown table `[{name}]`: a scene file has only `[parameters]`"
-                )));
-            }
-            if in_parameters {
-                return Err(at("`[parameters]` appears twice".into()));
-            }
-            in_parameters = true;
-            continue;
-        }
-        let (key, rest) = split_key(s).map_err(at)?;
-        let value = parse_value(rest.trim()).map_err(|e| at(format!("`{key}`: {e}")))?;
-        if !in_parameters {
-            match (key.as_str(), value) {
-                ("model", SceneValue::String(m)) if file.model.is_none() => file.model = Some(m),
-                ("model", _) => return Err(at("`model` must be given once, as a string".into())),
-                _ => {
-                    return Err(at(format!(
-                        "`{key}` is outside `[parameters]` (only `model` may stand there)"
-                    )));
+    for (key, value) in in_file_order(doc.get_ref()) {
+        let pos = key.span().start;
+        match key.get_ref().as_ref() {
+            "model" => match value.get_ref() {
+                DeValue::String(m) => {
+                    file.model = Some(m.to_string());
+                    file.model_line = src.line(pos);
                 }
-            }
-            continue;
+                _ => return Err(src.at(pos, "`model` must be given once, as a string")),
+            },
+            "parameters" => match value.get_ref() {
+                // `[parameters]`, `parameters = { .. }` and `parameters.name = ..` are one table
+                DeValue::Table(table) => {
+                    for (k, v) in in_file_order(table) {
+                        file.entries.push(src.entry(k, v)?);
+                    }
+                }
+                DeValue::Array(_) if form(key, value) == Form::Header => {
+                    return Err(src.at(
+                        pos,
+                        "`[[parameters]]` is an array of tables: a scene file has one `[parameters]` table",
+                    ));
+                }
+                other => {
+                    return Err(src.at(
+                        pos,
+                        format!(
+                            "`parameters` must be the table `[parameters]`, not {}",
+                            a_type(other)
+                        ),
+                    ));
+                }
+            },
+            name => return Err(src.outside(name, key, value)),
         }
-        if let Some(prev) = file.entries.iter().find(|e| e.name == key) {
-            return Err(at(format!(
-                "`{key}` is set twice (first on line {})",
-                prev.line
-            )));
-        }
-        file.entries.push(SceneEntry {
-            name: key,
-            value,
-            line,
-        });
     }
     Ok(file)
 }
 
-/// `s` without a `#` comment (a `#` inside a string is kept).
-fn strip_comment(s: &str) -> &str {
-    let mut in_string = false;
-    let mut escaped = false;
-    for (i, c) in s.char_indices() {
-        match c {
-            _ if escaped => escaped = false,
-            '\\' if in_string => escaped = true,
-            '"' => in_string = !in_string,
-            '#' if !in_string => return &s[..i],
+type Key<'i> = Spanned<DeString<'i>>;
+type Val<'i> = Spanned<DeValue<'i>>;
+
+/// How a table or array came to be in the document.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Form {
+    /// `[name]` or `[[name]]`: the value's span is the header, which holds the key.
+    Header,
+    /// Made on the way to a deeper key: `a` of the dotted key `a.b = 1` or of the header `[a.b]`
+    /// (the value's span is the key's).
+    Implicit,
+    /// Written after `=`: a scalar, an inline table `{ .. }` or an array `[ .. ]`.
+    Value,
+}
+
+fn form(key: &Key<'_>, value: &Val<'_>) -> Form {
+    let (k, v) = (key.span(), value.span());
+    if k == v {
+        Form::Implicit
+    } else if v.start <= k.start && k.end <= v.end {
+        Form::Header
+    } else {
+        Form::Value
+    }
+}
+
+/// The entries of `table` in the order of the file (the tree keeps them sorted by name).
+fn in_file_order<'t, 'i>(table: &'t DeTable<'i>) -> Vec<(&'t Key<'i>, &'t Val<'i>)> {
+    let mut v: Vec<_> = table.iter().collect();
+    v.sort_by_key(|(k, _)| k.span().start);
+    v
+}
+
+/// "an array", "a date-time", ... for messages.
+fn a_type(v: &DeValue<'_>) -> &'static str {
+    match v {
+        DeValue::String(_) => "a string",
+        DeValue::Integer(_) => "an integer",
+        DeValue::Float(_) => "a real",
+        DeValue::Boolean(_) => "a boolean",
+        DeValue::Datetime(_) => "a date-time",
+        DeValue::Array(_) => "an array",
+        DeValue::Table(_) => "an inline table",
+    }
+}
+
+/// The text being parsed and its name, for messages; every position is a byte offset that may
+/// come from the parser, so each use is clamped or checked rather than indexed.
+struct Source<'a> {
+    text: &'a str,
+    origin: &'a str,
+}
+
+impl Source<'_> {
+    /// The 1-based line of byte offset `pos`.
+    fn line(&self, pos: usize) -> usize {
+        let bytes = self.text.as_bytes();
+        let end = pos.min(bytes.len());
+        bytes
+            .get(..end)
+            .map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count())
+            + 1
+    }
+
+    /// Byte range of the line holding `pos`, without its newline.
+    fn line_range(&self, pos: usize) -> std::ops::Range<usize> {
+        let bytes = self.text.as_bytes();
+        let pos = pos.min(bytes.len());
+        let start = bytes
+            .get(..pos)
+            .and_then(|b| b.iter().rposition(|&c| c == b'\n'))
+            .map_or(0, |i| i + 1);
+        let end = bytes
+            .get(pos..)
+            .and_then(|b| b.iter().position(|&c| c == b'\n'))
+            .map_or(bytes.len(), |i| pos + i);
+        start..end
+    }
+
+    /// The 1-based column (in characters) of `pos`.
+    fn column(&self, pos: usize) -> usize {
+        let start = self.line_range(pos).start;
+        let pos = pos.min(self.text.len()).max(start);
+        self.text
+            .get(start..pos)
+            .map_or(pos - start, |s| s.chars().count())
+            + 1
+    }
+
+    fn at(&self, pos: usize, msg: impl std::fmt::Display) -> String {
+        format!("{}:{}: {msg}", self.origin, self.line(pos))
+    }
+
+    /// The source text of `span` (empty if the span does not fit the text).
+    fn slice(&self, span: std::ops::Range<usize>) -> &str {
+        self.text.get(span).unwrap_or("")
+    }
+
+    /// The first line of the source text of `value`, shortened for a message.
+    fn snippet(&self, value: &Val<'_>) -> String {
+        let raw = self.slice(value.span());
+        let first = raw.lines().next().unwrap_or("").trim();
+        let mut out: String = first.chars().take(40).collect();
+        if out.len() < raw.trim().len() {
+            out.push_str(" ...");
+        }
+        out
+    }
+
+    /// The table header (`[a.b]`, `[[a]]`) of the line holding `pos`, if that line is one.
+    fn header_at(&self, pos: usize) -> Option<&str> {
+        header_of(self.slice(self.line_range(pos)))
+    }
+
+    /// `name = value` of `[parameters]` as a scene entry.
+    fn entry(&self, key: &Key<'_>, value: &Val<'_>) -> Result<SceneEntry, String> {
+        let name = key.get_ref();
+        let pos = key.span().start;
+        let raw = self.slice(value.span());
+        let cannot_read = |what: &str| {
+            self.at(
+                pos,
+                format!(
+                    "`{name}`: cannot read {what} `{}` (expected a number, true/false or a \"string\")",
+                    self.snippet(value)
+                ),
+            )
+        };
+        let v = match value.get_ref() {
+            DeValue::Integer(i) => match i64::from_str_radix(i.as_str(), i.radix()) {
+                Ok(i) => SceneValue::Integer(i),
+                Err(_) => {
+                    return Err(self.at(
+                        pos,
+                        format!(
+                            "`{name}`: `{raw}` does not fit in a 64-bit integer (a real is written with `.` or an exponent)"
+                        ),
+                    ));
+                }
+            },
+            DeValue::Float(f) => {
+                // the crate has checked the syntax: what Rust cannot read is a nan or inf form
+                let x = f.as_str().parse::<f64>().unwrap_or(f64::NAN);
+                if !x.is_finite() {
+                    return Err(self.at(
+                        pos,
+                        format!("`{name}`: `{raw}` refused: values must be finite"),
+                    ));
+                }
+                SceneValue::Real(x)
+            }
+            DeValue::Boolean(b) => SceneValue::Boolean(*b),
+            DeValue::String(s) => SceneValue::String(s.to_string()),
+            DeValue::Datetime(_) => return Err(cannot_read("a date-time")),
+            DeValue::Array(_) | DeValue::Table(_) => match form(key, value) {
+                Form::Value => return Err(cannot_read(a_type(value.get_ref()))),
+                Form::Implicit if self.header_at(pos).is_none() => {
+                    let (path, leaf) = dotted_path(key, value);
+                    return Err(self.at(
+                        leaf,
+                        format!(
+                            "`{path}` is a dotted key, which TOML reads as tables; quote a parameter name that holds `.`: `\"{}\" = ...`",
+                            path.replace('"', "")
+                        ),
+                    ));
+                }
+                Form::Header | Form::Implicit => {
+                    let header = self.header_at(pos).unwrap_or("[parameters.?]");
+                    return Err(self.at(
+                        pos,
+                        format!("unknown table `{header}`: a scene file has only `[parameters]`"),
+                    ));
+                }
+            },
+        };
+        Ok(SceneEntry {
+            name: name.to_string(),
+            value: v,
+            line: self.line(pos),
+        })
+    }
+
+    /// The message for `name`, a key outside `[parameters]` other than `model`.
+    fn outside(&self, name: &str, key: &Key<'_>, value: &Val<'_>) -> String {
+        let pos = key.span().start;
+        let is_table = matches!(value.get_ref(), DeValue::Table(_) | DeValue::Array(_));
+        match (is_table, form(key, value), self.header_at(pos)) {
+            (true, Form::Header | Form::Implicit, Some(header)) => self.at(
+                pos,
+                format!("unknown table `{header}`: a scene file has only `[parameters]`"),
+            ),
+            (true, Form::Implicit, None) => {
+                let (path, leaf) = dotted_path(key, value);
+                self.at(
+                    leaf,
+                    format!(
+                        "`{path}` is outside `[parameters]` (only `model` may stand there); it is a dotted key, which TOML reads as tables"
+                    ),
+                )
+            }
+            _ => self.at(
+                pos,
+                format!(
+                    "`{}` is outside `[parameters]` (only `model` may stand there)",
+                    name
+                ),
+            ),
+        }
+    }
+
+    /// The message for the TOML errors of the crate: those on the first line that has one,
+    /// with their columns; a duplicate key is named, with the line of its first definition.
+    fn syntax_error(&self, doc: &DeTable<'_>, errors: &[toml::de::Error]) -> String {
+        let first_line = errors
+            .iter()
+            .filter_map(|e| e.span())
+            .map(|s| self.line(s.start))
+            .min();
+        let Some(line) = first_line else {
+            let all: Vec<&str> = errors.iter().map(|e| e.message()).collect();
+            return format!("{}: {}", self.origin, all.join("; "));
+        };
+        let mut causes: Vec<(usize, String)> = Vec::new();
+        for e in errors {
+            let Some(span) = e.span() else { continue };
+            if self.line(span.start) != line {
+                continue;
+            }
+            let cause = if e.message() == "duplicate key" {
+                self.duplicate(doc, span.clone())
+            } else {
+                format!("{} (column {})", e.message(), self.column(span.start))
+            };
+            if !causes.iter().any(|(_, c)| *c == cause) {
+                causes.push((span.start, cause));
+            }
+        }
+        causes.sort_by_key(|(p, _)| *p);
+        let causes: Vec<String> = causes.into_iter().map(|(_, c)| c).collect();
+        format!("{}:{line}: {}", self.origin, causes.join("; "))
+    }
+
+    /// "`a` is set twice (first on line 2): duplicate key" for the key at `span` (TOML refuses a key or table defined twice).
+    fn duplicate(&self, doc: &DeTable<'_>, span: std::ops::Range<usize>) -> String {
+        let line = self.line(span.start);
+        if let Some(header) = self.header_at(span.start) {
+            let first = self
+                .text
+                .lines()
+                .take(line.saturating_sub(1))
+                .position(|l| header_of(l).is_some_and(|h| same_header(h, header)))
+                .map(|i| format!(" (first on line {})", i + 1))
+                .unwrap_or_default();
+            return format!("`{header}` appears twice{first}: duplicate key");
+        }
+        let raw = self.slice(span.clone());
+        let name = if raw.starts_with('"') || raw.starts_with('\'') {
+            DeValue::parse(raw)
+                .ok()
+                .and_then(|v| v.get_ref().as_str().map(str::to_string))
+                .unwrap_or_else(|| raw.to_string())
+        } else {
+            raw.to_string()
+        };
+        // a dotted key is shown as written (`a.b`), a plain one by its name
+        let line_start = self.line_range(span.start).start;
+        let written = self.slice(line_start..span.end).trim_start();
+        let shown = if written == raw {
+            name.as_str()
+        } else {
+            written
+        };
+        let first = earlier_key(doc, &name, span.start)
+            .map(|p| format!(" (first on line {})", self.line(p)))
+            .unwrap_or_default();
+        format!("`{shown}` is set twice{first}: duplicate key")
+    }
+}
+
+/// The path of the first leaf under the implicit table `key` (`a.b.c` of `a.b.c = 1`), with
+/// the position of the leaf's key.
+fn dotted_path(key: &Key<'_>, value: &Val<'_>) -> (String, usize) {
+    let mut path = key_text(key.get_ref());
+    let mut pos = key.span().start;
+    let (mut k, mut v) = (key, value);
+    while let (DeValue::Table(t), Form::Implicit) = (v.get_ref(), form(k, v)) {
+        let Some(&(next_k, next_v)) = in_file_order(t).first() else {
+            break;
+        };
+        path.push('.');
+        path.push_str(&key_text(next_k.get_ref()));
+        pos = next_k.span().start;
+        (k, v) = (next_k, next_v);
+    }
+    (path, pos)
+}
+
+/// The position of the last key named `name` that starts before `before`, anywhere in `doc`.
+fn earlier_key(doc: &DeTable<'_>, name: &str, before: usize) -> Option<usize> {
+    let mut best = None;
+    let mut consider = |k: &Key<'_>| {
+        let p = k.span().start;
+        if k.get_ref() == name && p < before && best.is_none_or(|b| p > b) {
+            best = Some(p);
+        }
+    };
+    let mut stack: Vec<&DeValue<'_>> = Vec::new();
+    for (k, v) in doc.iter() {
+        consider(k);
+        stack.push(v.get_ref());
+    }
+    while let Some(v) = stack.pop() {
+        match v {
+            DeValue::Table(t) => {
+                for (k, v) in t.iter() {
+                    consider(k);
+                    stack.push(v.get_ref());
+                }
+            }
+            DeValue::Array(a) => stack.extend(a.iter().map(|v| v.get_ref())),
             _ => {}
         }
     }
-    s
+    best
 }
 
-/// Splits `key = value` into the key (bare or quoted) and the text after `=`.
-fn split_key(s: &str) -> Result<(String, &str), String> {
-    if s.starts_with('"') {
-        let (key, used) = parse_string(s)?;
-        let rest = s[used..].trim_start();
-        let rest = rest
-            .strip_prefix('=')
-            .ok_or_else(|| format!("expected `=` after the key \"{key}\""))?;
-        return Ok((key, rest));
+/// The table header that `line` starts with (`[a."b.c"]`, `[[a]]`), if it is a header line.
+fn header_of(line: &str) -> Option<&str> {
+    let s = line.trim_start();
+    if !s.starts_with('[') {
+        return None;
     }
-    let (key, rest) = s
-        .split_once('=')
-        .ok_or_else(|| format!("expected `name = value`, got `{s}`"))?;
-    let key = key.trim();
-    if key.is_empty()
-        || !key
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-    {
-        return Err(format!(
-            "bad key `{key}`: bare keys use A-Z a-z 0-9 _ - only; quote other names"
-        ));
-    }
-    Ok((key.to_string(), rest))
-}
-
-/// A basic string at the start of `s`; returns it and the number of bytes used.
-fn parse_string(s: &str) -> Result<(String, usize), String> {
-    let mut out = String::new();
-    let mut chars = s.char_indices().skip(1);
-    while let Some((i, c)) = chars.next() {
+    let double = s.starts_with("[[");
+    let (mut basic, mut literal, mut escaped) = (false, false, false);
+    for (i, c) in s.char_indices() {
         match c {
-            '"' => return Ok((out, i + 1)),
-            '\\' => match chars.next().map(|(_, c)| c) {
-                Some('"') => out.push('"'),
-                Some('\\') => out.push('\\'),
-                Some('n') => out.push('\n'),
-                Some('t') => out.push('\t'),
-                other => return Err(format!("unsupported escape `\\{}`", other.unwrap_or(' '))),
-            },
-            c => out.push(c),
+            _ if escaped => escaped = false,
+            '\\' if basic => escaped = true,
+            '"' if !literal => basic = !basic,
+            '\'' if !basic => literal = !literal,
+            ']' if !basic && !literal => {
+                let end = if double && s.get(i + 1..).is_some_and(|r| r.starts_with(']')) {
+                    i + 2
+                } else {
+                    i + 1
+                };
+                return s.get(..end);
+            }
+            _ => {}
         }
     }
-    Err("unterminated string".into())
+    None
 }
 
-fn parse_value(s: &str) -> Result<SceneValue, String> {
-    match s {
-        "" => return Err("missing value".into()),
-        "true" => return Ok(SceneValue::Boolean(true)),
-        "false" => return Ok(SceneValue::Boolean(false)),
-        _ => {}
-    }
-    if s.starts_with('"') {
-        let (v, used) = parse_string(s)?;
-        if !s[used..].trim().is_empty() {
-            return Err(format!(
-                "unexpected text after the string: `{}`",
-                &s[used..]
-            ));
-        }
-        return Ok(SceneValue::String(v));
-    }
-    let digits: String = s.chars().filter(|&c| c != '_').collect();
-    if let Ok(i) = digits.parse::<i64>() {
-        return Ok(SceneValue::Integer(i));
-    }
-    let lower = digits.to_ascii_lowercase();
-    if lower.contains("inf") || lower.contains("nan") {
-        return Err(format!("`{s}` refused: values must be finite"));
-    }
-    match digits.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(SceneValue::Real(v)),
-        Ok(_) => Err(format!("`{s}` refused: values must be finite")),
-        Err(_) => Err(format!(
-            "cannot read `{s}` (expected a number, true/false or a \"string\")"
-        )),
-    }
+/// Two headers name the same table (whitespace around the names aside).
+fn same_header(a: &str, b: &str) -> bool {
+    let squeeze = |s: &str| s.chars().filter(|c| !c.is_whitespace()).collect::<String>();
+    squeeze(a) == squeeze(b)
 }
 
 /// Applies `file` to `model` (before initialization): every entry goes through the model's own
@@ -221,8 +495,12 @@ pub fn apply(model: &mut dyn CoSimModel, file: &SceneFile, origin: &str) -> Resu
     if let Some(m) = &file.model
         && m != info.identifier
     {
+        let line = match file.model_line {
+            0 => String::new(),
+            n => format!(" (line {n})"),
+        };
         return Err(format!(
-            "{origin}: the scene is for model `{m}`, not `{}`",
+            "{origin}: the scene is for model `{m}`, not `{}`{line}",
             info.identifier
         ));
     }
@@ -352,6 +630,8 @@ fn quote(s: &str) -> String {
             '\\' => out.push_str("\\\\"),
             '\n' => out.push_str("\\n"),
             '\t' => out.push_str("\\t"),
+            // TOML refuses the other control characters in a basic string
+            c if c < ' ' || c == '\u{7f}' => out.push_str(&format!("\\u{:04X}", c as u32)),
             c => out.push(c),
         }
     }

@@ -74,7 +74,7 @@ def test_edited_scene_sets_the_defaults_and_survives_reset(fmu, tmp_path):
         ("[parameters]\nno_such_parameter = 1\n", "has no parameter named `no_such_parameter`"),
         ("[parameters]\nx = nan\n", "refused: values must be finite"),
         ('model = "SomethingElse"\n', "the scene is for model `SomethingElse`"),
-        ("[parameters\n", "unterminated table header"),
+        ("[parameters\n", "unclosed table, expected `]`"),
     ],
 )
 def test_broken_scene_refuses_instantiation_with_the_cause(fmu, tmp_path, text, cause):
