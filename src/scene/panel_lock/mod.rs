@@ -56,6 +56,7 @@ mod params;
 pub mod ports;
 mod run;
 pub mod study;
+pub mod trace;
 
 pub use build::{Layout, build};
 pub use cosim::{PanelLockModel, create};
