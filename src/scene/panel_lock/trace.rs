@@ -24,8 +24,17 @@ pub struct ForceTrace {
 
 impl StepHook for ForceTrace {
     fn after_step(&mut self, sys: &mut System, st: &mut State) -> Result<StepAction, SolverError> {
+        self.record(sys, st);
+        Ok(StepAction::Continue)
+    }
+}
+
+impl ForceTrace {
+    /// Appends the forces of the latch memory at `st.t` (after its update), and any peak located
+    /// between the last two recorded steps and this one.
+    fn record(&mut self, sys: &System, st: &State) {
         let Some(range) = sys.memory_range("latch") else {
-            return Ok(StepAction::Continue);
+            return;
         };
         let mem = &st.memory[range];
         let n = mem.len() / MEMORY_PER_LATCH;
@@ -48,13 +57,14 @@ impl StepHook for ForceTrace {
             f.push(now);
         }
         self.t.push(st.t);
-        Ok(StepAction::Continue)
     }
-}
 
-impl ForceTrace {
-    /// Advances `scene` to `t` [s] recording every accepted step.
+    /// Advances `scene` to `t` [s] recording every accepted step (and, on the first call, the
+    /// start: no force yet, as the latch memory holds it).
     pub fn advance(&mut self, scene: &mut PanelLock, t: f64) -> Result<(), SolverError> {
+        if self.t.is_empty() {
+            self.record(&scene.sim.system, &scene.sim.state);
+        }
         scene.sim.advance_with(t, self)
     }
 
