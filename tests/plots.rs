@@ -55,7 +55,10 @@ fn force_plot_reaches_the_located_peak_that_the_samples_miss() {
         "plotted {plotted} N against the located peak {} N",
         c.peak_force
     );
-    assert!(sampled < c.peak_force, "the 0.01 s samples reach the peak here");
+    assert!(
+        sampled < c.peak_force,
+        "the 0.01 s samples reach the peak here"
+    );
     // the located peak and the trace agree exactly (same parabola, same samples)
     assert!((c.trace.peak().1 - c.peak_force).abs() <= 1e-9 * c.peak_force);
 }
@@ -79,5 +82,24 @@ fn study_plots_pass_the_layout_checks_with_three_cases() {
             plot.texts.iter().any(|t| t.text.contains('[')),
             "no unit in the labels"
         );
+    }
+}
+
+/// The committed plots written by the current plot code pass the layout checks (the Table 1
+/// plots and the work-precision plots join this list when they are regenerated).
+#[test]
+fn committed_plots_pass_the_layout_checks() {
+    let docs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs");
+    for name in [
+        "panel_lock_contact_force.svg",
+        "panel_lock_tip_velocity.svg",
+        "rope_lift_tensions.svg",
+        "rope_lift_contacts.svg",
+        "rope_turnover_tensions.svg",
+        "rope_turnover_contacts.svg",
+    ] {
+        let svg = std::fs::read_to_string(docs.join(name)).unwrap();
+        let plot = parse(&svg).unwrap_or_else(|e| panic!("{name}: {e}"));
+        check(&plot).unwrap_or_else(|e| panic!("{name}: {e}"));
     }
 }
