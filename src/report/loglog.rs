@@ -2,7 +2,7 @@
 //! lines, failures drawn as crosses on the top edge, and one annotation per series (e.g. the
 //! observed order).
 
-use super::plot_style::{escape, style, text_width};
+use super::plot_style::{escape, fitting_size, style, text_width};
 use std::fmt::Write;
 
 /// One series: points `(x, y)` (both > 0), failed runs at `x` (drawn as crosses), a note.
@@ -108,9 +108,15 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[LogSerie
     );
     let _ = write!(
         s,
-        r#"<text x="18" y="{0}" text-anchor="middle" transform="rotate(-90 18 {0})">{1}</text>"#,
+        r#"<text x="18" y="{0}" text-anchor="middle" font-size="{2:.1}" transform="rotate(-90 18 {0})">{1}</text>"#,
         t + DATA_H / 2.0,
-        escape(y_label)
+        escape(y_label),
+        // the rotated label is centred on the data area: shrink it to stay on the canvas
+        fitting_size(
+            y_label,
+            FONT,
+            2.0 * (t + DATA_H / 2.0).min(h - t - DATA_H / 2.0) - 8.0
+        )
     );
     for (i, se) in series.iter().enumerate() {
         let st = style(i);

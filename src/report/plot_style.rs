@@ -54,6 +54,12 @@ pub fn text_width(text: &str, size: f64) -> f64 {
     0.62 * size * text.chars().count() as f64
 }
 
+/// Font size [px] at most `size` at which `text` fits in `room` px (by [`text_width`]).
+pub fn fitting_size(text: &str, size: f64, room: f64) -> f64 {
+    let w = text_width(text, size);
+    if w <= room { size } else { size * room / w }
+}
+
 /// `s` with `&`, `<` and `>` escaped for SVG text and attributes.
 pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;")

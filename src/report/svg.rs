@@ -8,7 +8,7 @@
 //! curves are `polyline`s of class `series`, the legend is the `g` of class `legend`.
 //! Lengths are px.
 
-use super::plot_style::{envelope, escape, style, text_width};
+use super::plot_style::{envelope, escape, fitting_size, style, text_width};
 use std::fmt::Write;
 
 /// One curve: a name for the legend and its points (x, y) in increasing x.
@@ -173,9 +173,15 @@ pub fn line_plot_marked(
     );
     let _ = write!(
         s,
-        r#"<text x="16" y="{0:.1}" text-anchor="middle" transform="rotate(-90 16 {0:.1})">{1}</text>"#,
+        r#"<text x="16" y="{0:.1}" text-anchor="middle" font-size="{2:.1}" transform="rotate(-90 16 {0:.1})">{1}</text>"#,
         t + DATA_H / 2.0,
-        escape(y_label)
+        escape(y_label),
+        // the rotated label is centred on the data area: shrink it to stay on the canvas
+        fitting_size(
+            y_label,
+            FONT,
+            2.0 * (t + DATA_H / 2.0).min(h - t - DATA_H / 2.0) - 8.0
+        )
     );
     let bucket = 0.5 * (x1 - x0) / DATA_W;
     for (i, se) in series.iter().enumerate() {

@@ -129,7 +129,7 @@ fn quantity_words(name: &str) -> String {
         "peak_force" => "largest latch contact force".into(),
         "first_peak_force" => "root latch impact force".into(),
         "lock_time" => "root lock time".into(),
-        "energy" => "Energy balance error, relative to the spring energy released".into(),
+        "energy" => "Energy balance error / spring energy released".into(),
         "drift" => "Constraint residual at the end".into(),
         "root_angle" => "root hinge angle".into(),
         "outer_angle" => "outer hinge angle".into(),
