@@ -85,21 +85,34 @@ fn study_plots_pass_the_layout_checks_with_three_cases() {
     }
 }
 
-/// The committed plots written by the current plot code pass the layout checks (the Table 1
-/// plots and the work-precision plots join this list when they are regenerated).
+/// The committed plots written by the current plot code pass the layout checks: the demo plots
+/// and every work-precision plot (the Table 1 plots join when they are regenerated).
 #[test]
 fn committed_plots_pass_the_layout_checks() {
     let docs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs");
-    for name in [
+    let mut files: Vec<std::path::PathBuf> = [
         "panel_lock_contact_force.svg",
         "panel_lock_tip_velocity.svg",
         "rope_lift_tensions.svg",
         "rope_lift_contacts.svg",
         "rope_turnover_tensions.svg",
         "rope_turnover_contacts.svg",
-    ] {
-        let svg = std::fs::read_to_string(docs.join(name)).unwrap();
-        let plot = parse(&svg).unwrap_or_else(|e| panic!("{name}: {e}"));
-        check(&plot).unwrap_or_else(|e| panic!("{name}: {e}"));
+    ]
+    .iter()
+    .map(|n| docs.join(n))
+    .collect();
+    for dir in [docs.join("report"), docs.join("report/rope")] {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let path = e.unwrap().path();
+            if path.extension().is_some_and(|x| x == "svg") {
+                files.push(path);
+            }
+        }
+    }
+    assert!(files.len() >= 20, "{} plots", files.len());
+    for f in files {
+        let svg = std::fs::read_to_string(&f).unwrap();
+        let plot = parse(&svg).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        check(&plot).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
     }
 }
