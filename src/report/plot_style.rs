@@ -1,4 +1,4 @@
-//! What the SVG plots share: one style (colour and dash pattern) per series, never repeated
+//! What the SVG plots share: one style (colour and dash pattern) per series, neither repeated
 //! within a plot of up to [`MAX_DISTINCT`] series; a text-width estimate to size the canvas
 //! around titles and legends; XML escaping; and a peak-keeping thinning of dense series.
 //!
@@ -12,9 +12,20 @@ const COLORS: [&str; 10] = [
 ];
 
 /// SVG `stroke-dasharray` of a series ("" = solid), lengths in px.
-const DASHES: [&str; 5] = ["", "7 3", "2 2", "9 3 2 3", "4 4"];
+const DASHES: [&str; 10] = [
+    "",
+    "7 3",
+    "2 2",
+    "9 3 2 3",
+    "4 4",
+    "12 3",
+    "1 3",
+    "7 2 2 2 2 2",
+    "3 3 9 3",
+    "14 4 2 4",
+];
 
-/// Series a plot can hold with every colour and every (colour, dash) pair distinct.
+/// Series a plot can hold with every colour and every dash pattern distinct.
 pub const MAX_DISTINCT: usize = COLORS.len();
 
 /// Stroke colour and dash pattern of series `i` of a plot.
@@ -39,8 +50,7 @@ impl Style {
     }
 }
 
-/// Style of series `i`: colour `i mod 10`, dash `i mod 5`, so the first ten differ in colour
-/// and dash pattern both change from one series to the next.
+/// Style of series `i`: colour and dash pattern `i mod 10`, so the first ten differ in both.
 pub fn style(i: usize) -> Style {
     Style {
         color: COLORS[i % COLORS.len()],
@@ -72,7 +82,7 @@ pub fn escape(s: &str) -> String {
 /// the lowest, the highest and the last point of each bucket, in x order. The extremes are kept
 /// exactly, so a plot drawn from the result shows every peak of the input at its true height.
 pub fn envelope(points: &[(f64, f64)], x0: f64, bucket: f64) -> Vec<(f64, f64)> {
-    if !(bucket > 0.0) || points.len() < 8 {
+    if bucket.is_nan() || bucket <= 0.0 || points.len() < 8 {
         return points.to_vec();
     }
     let mut out = Vec::new();
@@ -114,9 +124,7 @@ mod tests {
         for a in 0..styles.len() {
             for b in a + 1..styles.len() {
                 assert_ne!(styles[a].color, styles[b].color);
-            }
-            if a > 0 {
-                assert_ne!(styles[a].dash, styles[a - 1].dash);
+                assert_ne!(styles[a].dash, styles[b].dash);
             }
         }
         assert_eq!(style(0).stroke_attrs(), r##"stroke="#1f77b4""##);

@@ -1,7 +1,6 @@
 //! Checks of a plot written by [`super::svg`] or [`super::loglog`], read back from its SVG text:
 //! the legend lies outside the data area and holds all its text, every curve stays inside the
-//! data area, no two curves share a colour or a (colour, dash) pair, and no text runs off the
-//! canvas. Text extents use the same width estimate as the layout
+//! data area, no two curves share a colour or a dash pattern, and no text runs off the canvas. Text extents use the same width estimate as the layout
 //! ([`super::plot_style::text_width`]). Lengths are px.
 
 use super::plot_style::text_width;
@@ -352,6 +351,7 @@ mod tests {
                 "cut off",
             ),
             ("#222", "#111", "share colour"),
+            (r#" stroke-dasharray="2 2""#, "", "share dash"),
             ("190,170", "250,170", "leaves the data area"),
             (">b</text>", ">a long entry</text>", "out of the legend box"),
             (r#"<text x="210" y="54">b</text>"#, "", "legend entries"),
