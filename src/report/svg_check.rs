@@ -1,6 +1,7 @@
 //! Checks of a plot written by [`super::svg`] or [`super::loglog`], read back from its SVG text:
 //! the legend lies outside the data area and holds all its text, every curve stays inside the
-//! data area, no two curves share a colour or a dash pattern, and no text runs off the canvas. Text extents use the same width estimate as the layout
+//! data area, no two curves share a colour or a dash pattern, and no text runs off the canvas.
+//! Text extents use the same width estimate as the layout
 //! ([`super::plot_style::text_width`]). Lengths are px.
 
 use super::plot_style::text_width;
@@ -294,6 +295,12 @@ pub fn check(p: &Plot) -> Result<(), String> {
                     o.name, s.name, s.color
                 ));
             }
+            if o.dash == s.dash {
+                return Err(format!(
+                    "curves {:?} and {:?} share dash pattern {:?}",
+                    o.name, s.name, s.dash
+                ));
+            }
         }
     }
     for t in &p.texts {
@@ -357,7 +364,9 @@ mod tests {
             (r#"<text x="210" y="54">b</text>"#, "", "legend entries"),
         ] {
             let bad = GOOD.replacen(from, to, 1);
-            let err = check(&parse(&bad).unwrap()).unwrap_err();
+            let Err(err) = check(&parse(&bad).unwrap()) else {
+                panic!("{what}: not caught");
+            };
             assert!(err.contains(what), "{what}: {err}");
         }
     }
