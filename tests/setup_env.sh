@@ -4,6 +4,11 @@
 #   - apt: libclang-dev (bindgen for the fmi-sys/fmi dev-dependencies), python3-venv, libtbb12
 #     (ecospy's libecosc.so links libtbb.so.12), valgrind (the adversarial harness's memcheck run,
 #     tests/python/test_adversarial.py); only if missing
+#   - apt: chromium (the replay page test loads the page headless, tests/python/test_replay.py),
+#     npm (only where no npm is installed); only if missing
+#   - three.js for the replay pages: `npm ci` in tools/replay (the version pinned in its
+#     package-lock.json, embedded into mbcosim at build time, docs/replay.md); only if another or
+#     no version is installed
 #   - a Python venv in .venv with the pinned tools of tests/python/requirements.txt
 # Expects the repository root as the current directory.
 
@@ -22,11 +27,24 @@ dpkg -s libclang-dev >/dev/null 2>&1 || missing+=(libclang-dev)
 python3 -c 'import ensurepip, venv' >/dev/null 2>&1 || missing+=(python3-venv)
 dpkg -s libtbb12 >/dev/null 2>&1 || missing+=(libtbb12)
 command -v valgrind >/dev/null 2>&1 || missing+=(valgrind)
+command -v chromium >/dev/null 2>&1 || missing+=(chromium)
+command -v npm >/dev/null 2>&1 || missing+=(npm)
 if [ ${#missing[@]} -gt 0 ]; then
     echo "installing: ${missing[*]}"
     apt_install "${missing[@]}"
 else
-    echo "libclang-dev, python3-venv, libtbb12 and valgrind present"
+    echo "libclang-dev, python3-venv, libtbb12, valgrind, chromium and npm present"
+fi
+
+log "three.js for the replay pages (tools/replay)"
+three_version() {
+    python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); print(d["packages"]["node_modules/three"]["version"] if "packages" in d else d["version"])' "$1" 2>/dev/null
+}
+three_pinned="$(three_version tools/replay/package-lock.json)"
+if [ "$(three_version tools/replay/node_modules/three/package.json)" != "$three_pinned" ]; then
+    (cd tools/replay && npm ci --ignore-scripts --no-audit --no-fund)
+else
+    echo "three $three_pinned present"
 fi
 
 log "python venv (.venv)"

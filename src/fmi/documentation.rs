@@ -53,22 +53,48 @@ fn start(p: &PortSpec) -> String {
     .unwrap_or_default()
 }
 
-fn range(p: &PortSpec) -> String {
-    let (lo, hi) = match &p.ty {
-        PortType::Real { min, max, .. } => (min.map(fmt_real), max.map(fmt_real)),
-        PortType::Integer { min, max, .. } => {
-            (min.map(|v| v.to_string()), max.map(|v| v.to_string()))
+/// The range column: `[lo, hi]` for inclusive bounds; an open bound (the validation refuses
+/// it, the declared value is the next float inside) as `(lo` or `hi)`.
+pub fn range(p: &PortSpec) -> String {
+    let (lo, hi, open) = match &p.ty {
+        PortType::Real { min, max, open, .. } => (
+            min.map(|v| fmt_real(if open[0] { v.next_down() } else { v })),
+            max.map(|v| fmt_real(if open[1] { v.next_up() } else { v })),
+            *open,
+        ),
+        PortType::Integer { min, max, .. } => (
+            min.map(|v| v.to_string()),
+            max.map(|v| v.to_string()),
+            [false; 2],
+        ),
+        PortType::Enumeration { items, .. } => {
+            (Some("1".into()), Some(items.len().to_string()), [false; 2])
         }
-        PortType::Enumeration { items, .. } => (Some("1".into()), Some(items.len().to_string())),
-        _ => (None, None),
+        _ => (None, None, [false; 2]),
     };
     match (lo, hi) {
         (None, None) => String::new(),
         (lo, hi) => format!(
-            "[{}, {}]",
-            lo.unwrap_or("-inf".into()),
-            hi.unwrap_or("+inf".into())
+            "{}{}, {}{}",
+            if open[0] || lo.is_none() { "(" } else { "[" },
+            lo.as_deref().unwrap_or("-inf"),
+            hi.as_deref().unwrap_or("+inf"),
+            if open[1] || hi.is_none() { ")" } else { "]" },
         ),
+    }
+}
+
+/// The unit column: the declared unit, else the documentation-only note, else `1`.
+pub fn unit(p: &PortSpec) -> &'static str {
+    match (&p.ty, p.unit) {
+        (_, Some(u)) => u,
+        (
+            PortType::Real {
+                unit_note: Some(n), ..
+            },
+            None,
+        ) => n,
+        _ => "1",
     }
 }
 
@@ -102,7 +128,7 @@ fn table(out: &mut String, title: &str, ports: &[&PortSpec], with_start: bool) {
             escape(&p.name),
             escape(&type_name(p)),
             p.variability.name(),
-            escape(p.unit.unwrap_or("1")),
+            escape(unit(p)),
             escape(&p.description)
         );
     }
@@ -127,6 +153,10 @@ td,th{{border:1px solid #bbb;padding:0.2em 0.5em;text-align:left;vertical-align:
         id = escape(info.identifier),
         desc = escape(info.description)
     );
+    if let Some(svg) = super::sketch::svg(info.identifier) {
+        out.push_str("<h2>Sketch</h2>\n<p>Schematic, not to scale; port names in red.</p>\n");
+        out.push_str(&svg);
+    }
     table(&mut out, "Parameters", &of(Causality::Parameter), true);
     table(
         &mut out,

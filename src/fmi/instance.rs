@@ -436,10 +436,27 @@ impl Instance {
         Ok(fmi2OK)
     }
 
-    /// `fmi2Terminate`.
+    /// `fmi2Terminate`: logs the solver statistics (category logSolver).
     pub fn terminate(&mut self) -> Outcome {
+        self.log_solver_stats("at fmi2Terminate");
         self.machine.state = State::Terminated;
         Ok(fmi2OK)
+    }
+
+    /// Logs the model's integrator counters since the start (category logSolver); nothing for
+    /// models without an integrator or before initialization.
+    fn log_solver_stats(&self, when: &str) {
+        if let Some(stats) = self.model.solver_stats() {
+            self.log.log(
+                fmi2OK,
+                Category::Solver,
+                &format!(
+                    "solver statistics {when}, t = {} s: {}",
+                    self.model.time(),
+                    stats.summary()
+                ),
+            );
+        }
     }
 
     /// `fmi2Reset`: back to `instantiated` with default parameters; FMU states stay valid.
@@ -467,9 +484,10 @@ impl Instance {
                 ));
             }
         }
-        self.model
-            .do_step(t, h)
-            .map_err(|e| format!("step from t = {t} s with h = {h} s failed: {e}"))?;
+        if let Err(e) = self.model.do_step(t, h) {
+            self.log_solver_stats(&format!("after the failed step from t = {t} s"));
+            return Err(format!("step from t = {t} s with h = {h} s failed: {e}"));
+        }
         finite_outputs(self.model.as_ref())
             .map_err(|e| format!("the step from t = {t} s with h = {h} s {e}"))?;
         self.machine.last_successful_time = self.model.time();

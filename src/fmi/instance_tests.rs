@@ -682,3 +682,34 @@ fn instances_move_between_threads() {
     .unwrap();
     assert_eq!(h.step(0.1, 0.1), fmi2OK);
 }
+
+#[test]
+fn panel_lock_logs_solver_statistics_at_terminate() {
+    use crate::scene::panel_lock;
+    let h = H::new(ModelEntry::new(panel_lock::info, panel_lock::create), true);
+    h.init();
+    assert_eq!(h.step(0.0, 0.05), fmi2OK);
+    let vr = panel_lock::ports::ivr::STEPS;
+    let mut steps = -1;
+    assert_eq!(unsafe { fmi2GetInteger(h.c, &vr, 1, &mut steps) }, fmi2OK);
+    assert!(steps > 0, "{steps}");
+    h.take_log();
+    assert_eq!(unsafe { fmi2Terminate(h.c) }, fmi2OK);
+    let log = h.take_log();
+    let stats = log
+        .iter()
+        .find(|m| m.1 == Category::Solver && m.2.contains("solver statistics at fmi2Terminate"))
+        .unwrap_or_else(|| panic!("no logSolver statistics in {log:?}"));
+    assert!(
+        stats.2.contains(&format!(": {steps} accepted steps, ")),
+        "{}",
+        stats.2
+    );
+    assert!(stats.2.contains("Newton iterations"), "{}", stats.2);
+    // a model without an integrator promises none
+    let h = H::new(ModelEntry::new(pid::info, pid::create), true);
+    h.init();
+    h.take_log();
+    assert_eq!(unsafe { fmi2Terminate(h.c) }, fmi2OK);
+    assert!(h.take_log().iter().all(|m| m.1 != Category::Solver));
+}

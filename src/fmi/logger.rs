@@ -62,7 +62,7 @@ pub const CATEGORIES: [(Category, &CStr, &str); 6] = [
     (
         Category::Solver,
         c"logSolver",
-        "Solver statistics and step-size decisions.",
+        "Solver statistics at fmi2Terminate and after a failed step (accepted steps, rejected steps by cause, Newton iterations and failures, Jacobians, factorizations, last step size), the use of the experiment tolerance, set-up notes; models without an integrator (PidController) emit none.",
     ),
 ];
 

@@ -21,6 +21,7 @@ pub mod logger;
 pub mod machine;
 pub mod model_description;
 pub mod package;
+pub mod sketch;
 pub mod snapshot;
 #[cfg(test)]
 mod test_probe;

@@ -97,7 +97,9 @@ fn initial_attr(p: &PortSpec) -> Option<&'static str> {
 fn type_element(p: &PortSpec) -> (&'static str, Attrs) {
     let mut a: Attrs = Vec::new();
     let name = match &p.ty {
-        PortType::Real { start, min, max } => {
+        PortType::Real {
+            start, min, max, ..
+        } => {
             if let Some(u) = p.unit {
                 a.push(("unit", u.to_string()));
             }
@@ -470,6 +472,8 @@ mod tests {
                         start: None,
                         min: None,
                         max: None,
+                        open: [false; 2],
+                        unit_note: None,
                     },
                     unit: Some("kg"),
                     description: "Total mass.".into(),
@@ -484,6 +488,8 @@ mod tests {
                         start: None,
                         min: None,
                         max: None,
+                        open: [false; 2],
+                        unit_note: None,
                     },
                     unit: Some("J"),
                     description: "Energy.".into(),
@@ -536,6 +542,8 @@ mod tests {
             start: None,
             min: None,
             max: None,
+            open: [false; 2],
+            unit_note: None,
         };
         assert!(write(&bad).unwrap_err().contains("needs a start value"));
     }

@@ -52,6 +52,13 @@ impl IntegratorKind {
 /// (differences of nearly equal numbers) are round-off, and error control would chase noise.
 pub const MIN_RTOL: f64 = 1e3 * f64::EPSILON;
 
+/// Smallest absolute tolerance accepted, in the state's SI units (m, rad, m/s, rad/s). Below it
+/// the weight of a quantity at rest is smaller than the round-off of the quantities it is
+/// computed from (unit-scale ones carry about 2e-16), so error tests and Newton tests there can
+/// never pass: with atol 1e-20 every integrator failed in its first step on PanelLock's default
+/// scene, blaming stiffness or singular accelerations.
+pub const MIN_ATOL: f64 = 1e-15;
+
 /// Smallest `h_max` accepted [s]: the adaptive integrators' first-step guesses are bounded below
 /// by it.
 pub const MIN_H_MAX: f64 = 1e-8;
@@ -149,6 +156,12 @@ impl Settings {
         if !(self.atol.is_finite() && self.atol > 0.0) {
             return Err(format!("atol must be finite and > 0, got {}", self.atol));
         }
+        if self.atol < MIN_ATOL {
+            return Err(format!(
+                "atol {:e} is below its floor of {MIN_ATOL:e} (m, rad, m/s, rad/s): below it error and Newton tests compare round-off with the tolerance; use atol >= {MIN_ATOL:e}",
+                self.atol
+            ));
+        }
         if !(self.h_max.is_finite() && self.h_max > 0.0) {
             return Err(format!("h_max must be finite and > 0, got {}", self.h_max));
         }
@@ -214,6 +227,25 @@ pub struct Stats {
 }
 
 impl Stats {
+    /// One line for the `logSolver` category: accepted steps, rejected steps by cause, Newton
+    /// iterations and failures, Jacobians, factorizations, the last step size.
+    pub fn summary(&self) -> String {
+        format!(
+            "{} accepted steps, {} rejected steps ({} for the error estimate, {} for the energy check), {} Newton iterations, {} Newton failures, {} Jacobians, {} factorizations, {} right-hand sides, last step {:e} s, {} singular configurations",
+            self.steps,
+            self.rejected,
+            self.rejected_error,
+            self.rejected_energy,
+            self.newton_iterations,
+            self.newton_failures,
+            self.jacobians,
+            self.factorizations,
+            self.rhs_evaluations,
+            self.last_step,
+            self.singular_configurations
+        )
+    }
+
     /// Number of values in [`Stats::to_numbers`].
     pub const LEN: usize = 11;
 

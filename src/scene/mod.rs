@@ -25,6 +25,7 @@ pub mod port;
 pub mod rope_block;
 pub mod scene_file;
 pub mod store;
+pub mod view;
 
 use port::{ModelInfo, ValueRef};
 
@@ -157,6 +158,21 @@ pub trait CoSimModel: Send {
 
     /// Takes the messages emitted since the last call.
     fn take_log(&mut self) -> Vec<LogRecord>;
+
+    /// The integrator's work counters since the start, for the `logSolver` statistics the FMI
+    /// wrapper logs at `fmi2Terminate` and after a failed step; `None` for models without an
+    /// integrator (the default) or before initialization.
+    fn solver_stats(&self) -> Option<crate::integrator::Stats> {
+        None
+    }
+
+    /// What the model looks like now, for visualization ([`view::Snapshot`]: shapes with SI
+    /// sizes and world-frame poses); `None` for a model that draws nothing or before
+    /// [`CoSimModel::initialize`]. Reads the state only (it may refresh cached kinematics, hence
+    /// `&mut`); the default draws nothing.
+    fn snapshot(&mut self) -> Option<view::Snapshot> {
+        None
+    }
 
     /// Tells the model where its data files (see [`ModelEntry::resources`]) were unpacked.
     /// Called once after creation when the importer provides the folder; the default ignores it.

@@ -50,6 +50,13 @@ pub enum PortType {
         min: Option<f64>,
         /// Inclusive upper bound.
         max: Option<f64>,
+        /// The validation's set is open at `min` (`open[0]`) or `max` (`open[1]`): the bound it
+        /// refuses is the next float past the declared one (see [`PortSpec::with_open_min`]),
+        /// and the documentation shows it as `(b, ...` or `..., b)`.
+        open: [bool; 2],
+        /// Unit shown in the documentation where none can be declared (`N/m^n`, with an
+        /// exponent that is itself a parameter); `None`: the declared unit.
+        unit_note: Option<&'static str>,
     },
     /// Integer value.
     Integer {
@@ -225,6 +232,8 @@ impl PortSpec {
                 start: Some(start),
                 min: None,
                 max: None,
+                open: [false; 2],
+                unit_note: None,
             },
             unit,
             description: description.to_string(),
@@ -267,6 +276,8 @@ impl PortSpec {
                 start: Some(start),
                 min: None,
                 max: None,
+                open: [false; 2],
+                unit_note: None,
             },
             unit,
             description: description.to_string(),
@@ -289,6 +300,8 @@ impl PortSpec {
                 start: None,
                 min: None,
                 max: None,
+                open: [false; 2],
+                unit_note: None,
             },
             unit,
             description: description.to_string(),
@@ -314,6 +327,35 @@ impl PortSpec {
             PortType::Real { min, .. } => *min = Some(lo),
             PortType::Integer { min, .. } => *min = Some(lo as i32),
             _ => {}
+        }
+        self
+    }
+
+    /// Declares a real port's set open at `lo`: the declared (inclusive) minimum is the smallest
+    /// float above `lo`, and the documentation shows `(lo, ...`.
+    pub fn with_open_min(mut self, lo: f64) -> Self {
+        if let PortType::Real { min, open, .. } = &mut self.ty {
+            *min = Some(lo.next_up());
+            open[0] = true;
+        }
+        self
+    }
+
+    /// Declares a real port's set open at `hi`: the declared (inclusive) maximum is the largest
+    /// float below `hi`, and the documentation shows `..., hi)`.
+    pub fn with_open_max(mut self, hi: f64) -> Self {
+        if let PortType::Real { max, open, .. } = &mut self.ty {
+            *max = Some(hi.next_down());
+            open[1] = true;
+        }
+        self
+    }
+
+    /// The unit the documentation shows for a real port declared without one (see
+    /// `PortType::Real::unit_note`).
+    pub fn with_unit_note(mut self, note: &'static str) -> Self {
+        if let PortType::Real { unit_note, .. } = &mut self.ty {
+            *unit_note = Some(note);
         }
         self
     }
@@ -423,7 +465,9 @@ impl ModelInfo {
                 errs.push(format!("`{n}`: an input cannot be constant"));
             }
             match &p.ty {
-                PortType::Real { start, min, max } => {
+                PortType::Real {
+                    start, min, max, ..
+                } => {
                     for (what, v) in [("start", start), ("min", min), ("max", max)] {
                         if v.is_some_and(|v| !v.is_finite()) {
                             errs.push(format!("`{n}`: {what} must be finite"));

@@ -94,14 +94,14 @@ pub fn check_real(port: &PortSpec, v: f64) -> Result<(), ModelError> {
             && v < *lo
         {
             return Err(ModelError::InvalidValue(format!(
-                "`{name}` = {v} is below its minimum {lo}"
+                "`{name}` = {v:?} is below its minimum {lo:?}"
             )));
         }
         if let Some(hi) = max
             && v > *hi
         {
             return Err(ModelError::InvalidValue(format!(
-                "`{name}` = {v} is above its maximum {hi}"
+                "`{name}` = {v:?} is above its maximum {hi:?}"
             )));
         }
     }
@@ -500,7 +500,7 @@ mod tests {
         let mut s = PortStore::new(info());
         s.set_real(0, 3.0).unwrap();
         let e = s.set_real(0, -1.0).unwrap_err().to_string();
-        assert!(e.contains("`mass` = -1 is below its minimum 0"), "{e}");
+        assert!(e.contains("`mass` = -1.0 is below its minimum 0.0"), "{e}");
         let e = s.set_real(1, f64::NAN).unwrap_err().to_string();
         assert!(e.contains("must be finite"), "{e}");
         let e = s.set_real(3, 1.0).unwrap_err().to_string();

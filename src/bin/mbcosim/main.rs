@@ -17,6 +17,7 @@
 mod models;
 mod pack;
 mod progress;
+mod replay;
 mod schedule;
 mod simulate;
 mod state_fields;

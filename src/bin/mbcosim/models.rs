@@ -60,7 +60,9 @@ pub fn type_text(p: &PortSpec) -> String {
     };
     let start = |s: Option<String>| s.map(|s| format!(" = {s}")).unwrap_or_default();
     match &p.ty {
-        PortType::Real { start: s, min, max } => format!(
+        PortType::Real {
+            start: s, min, max, ..
+        } => format!(
             "Real{}{}",
             start(s.map(|v| format!("{v:?}"))),
             range(min.map(|v| format!("{v:?}")), max.map(|v| format!("{v:?}")))

@@ -4,6 +4,8 @@
 //! scene file, `--set` values and the schedule's rows at `t = 0` before initialization; then at
 //! every communication point of [`Grid`] the schedule's inputs, one `do_step`, one CSV row.
 //! Rows are written as the run goes: a run that fails leaves every row up to the failure.
+//! `--replay` takes a 3D snapshot at every row and writes the replay page at the end (also after
+//! a failure, with the frames up to it).
 
 use std::io::{BufWriter, Write};
 use std::path::PathBuf;
@@ -16,6 +18,7 @@ use mbcosim::scene::scene_file;
 
 use crate::models;
 use crate::progress::Progress;
+use crate::replay::Recorder;
 use crate::schedule::Schedule;
 use crate::values;
 
@@ -41,7 +44,8 @@ enumerations as integers, booleans as 0/1. Paths are relative to the current dir
 Examples:
   mbcosim simulate PidController --stop 2 --step 0.01 --set setpoint=1 --set kp=2
   mbcosim simulate PanelLock --set contact_law=hertz --outputs hinge0_angle,tip_normal_velocity --out run.csv
-  mbcosim simulate PidController --inputs schedule.csv --stop 5   # schedule.csv: time,setpoint")]
+  mbcosim simulate PidController --inputs schedule.csv --stop 5   # schedule.csv: time,setpoint
+  mbcosim simulate RopeBlock --stop 4 --set hook0_vz=0.5 --out lift.csv --replay lift.html   # 3D page")]
 pub struct SimulateArgs {
     /// Model identifier, case ignored (`mbcosim models` lists them).
     #[arg(value_parser = models::parser(), ignore_case = true)]
@@ -72,6 +76,10 @@ pub struct SimulateArgs {
     /// Header style of the CSV.
     #[arg(long, value_enum, default_value_t = Header::Units)]
     header: Header,
+    /// Also write a self-contained HTML page that animates the run in 3D (one frame per CSV
+    /// row; play/pause, scrub, `#t=SECONDS` in the URL shows a time); PanelLock and RopeBlock.
+    #[arg(long, value_name = "FILE.html")]
+    replay: Option<PathBuf>,
     /// Print the wall time of the run to stderr.
     #[arg(long)]
     timing: bool,
@@ -153,6 +161,8 @@ enum Stop {
     Model(String),
     /// The CSV could not be written.
     Io(std::io::Error),
+    /// The replay snapshot could not be taken (a model that draws nothing).
+    Replay(String),
 }
 
 impl From<String> for Stop {
@@ -211,9 +221,18 @@ struct Run<'a> {
     columns: Vec<&'static PortSpec>,
     out: Box<dyn Write + 'a>,
     progress: Progress,
+    replay: Option<Recorder>,
 }
 
 impl Run<'_> {
+    /// The replay frame of the row just written.
+    fn record(&mut self) -> Result<(), Stop> {
+        match &mut self.replay {
+            Some(r) => r.record(self.model).map_err(Stop::Replay),
+            None => Ok(()),
+        }
+    }
+
     fn go(&mut self, grid: Grid, at: &mut Reached) -> Result<(), Stop> {
         let mut last_flush = Instant::now();
         let mut points = grid;
@@ -226,6 +245,7 @@ impl Run<'_> {
         write_row(&mut self.out, t0, self.model, &self.columns)?;
         at.rows = 1;
         at.t = t0;
+        self.record()?;
         for next in points {
             let t = at.t;
             if let Some(s) = &mut self.schedule {
@@ -238,6 +258,7 @@ impl Run<'_> {
             write_row(&mut self.out, next, self.model, &self.columns)?;
             at.rows += 1;
             at.t = next;
+            self.record()?;
             self.progress.update(next, at.steps);
             if last_flush.elapsed() >= Duration::from_secs(1) {
                 self.out.flush().map_err(Stop::Io)?;
@@ -270,6 +291,7 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
         .map(|p| Schedule::load(p, info))
         .transpose()?;
     let columns = select_outputs(info, &a.outputs)?;
+    let replay = a.replay.as_deref().map(Recorder::new).transpose()?;
 
     let mut m = (entry.create)();
     if let Some(path) = &a.scene {
@@ -301,6 +323,7 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
         columns,
         out,
         progress: Progress::new(a.progress, stop, total),
+        replay,
     };
     let header = header_line(&run.columns, a.header);
     writeln!(run.out, "{header}").map_err(|e| format!("cannot write {target}: {e}"))?;
@@ -310,16 +333,34 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
     let result = run.go(grid, &mut at);
     run.progress.finish(at.t, at.steps, result.is_ok());
     let flushed = run.out.flush();
+    let wall = wall.elapsed();
+    // the page of what ran, also after a failure (like the CSV's rows)
+    let page = match &run.replay {
+        Some(r) if r.len() > 0 => Some(r.write(id)),
+        _ => None,
+    };
     if a.timing {
         eprintln!(
             "timing: {} s wall for {} communication steps (initialization included)",
-            wall.elapsed().as_secs_f64(),
+            wall.as_secs_f64(),
             at.steps
         );
+        if let (Some(r), Some(Ok(bytes))) = (&run.replay, &page) {
+            eprintln!(
+                "timing: replay {} s for {} snapshots ({:.1} % of the run), page {bytes} bytes",
+                r.spent().as_secs_f64(),
+                r.len(),
+                100.0 * r.spent().as_secs_f64() / wall.as_secs_f64().max(1e-12)
+            );
+        }
     }
+    let page_error = match page {
+        Some(Err(e)) => Some(e),
+        _ => None,
+    };
     // a reader that closed standard output (`| head`) has all it wanted: stop quietly
     let closed = |e: &std::io::Error| a.out.is_none() && e.kind() == std::io::ErrorKind::BrokenPipe;
-    match result {
+    let outcome = match result {
         Ok(()) => match flushed {
             Err(e) if !closed(&e) => Err(format!("cannot write {target}: {e}")),
             _ => Ok(()),
@@ -329,6 +370,10 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
             "cannot write {target}: {e} (the run stopped at t = {} s)",
             at.t
         )),
+        Err(Stop::Replay(e)) => Err(format!(
+            "{e}\n(the CSV on {target} holds the {} rows up to t = {} s)",
+            at.rows, at.t
+        )),
         Err(Stop::Model(e)) if !at.initialized => Err(format!(
             "{id} failed to initialize: {e}\n(the CSV on {target} has its header only)"
         )),
@@ -336,5 +381,10 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
             "{id} stopped at t = {} s after {} of about {total} communication steps: {e}\n(the CSV on {target} holds the {} rows up to t = {} s)",
             at.t, at.steps, at.rows, at.t
         )),
+    };
+    match (outcome, page_error) {
+        (outcome, None) => outcome,
+        (Ok(()), Some(e)) => Err(e),
+        (Err(m), Some(e)) => Err(format!("{m}\n{e}")),
     }
 }

@@ -7,6 +7,7 @@ use crate::scene::bytes::{ByteReader, ByteWriter};
 use crate::scene::clock::Clock;
 use crate::scene::port::ValueRef;
 use crate::scene::store::PortStore;
+use crate::scene::view::Snapshot;
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use crate::state::State;
 
@@ -321,7 +322,16 @@ impl CoSimModel for PanelLockModel {
         *self = PanelLockModel::new();
     }
 
+    fn snapshot(&mut self) -> Option<Snapshot> {
+        let start = self.clock.start();
+        self.scene.as_mut().map(|s| s.snapshot(start))
+    }
+
     fn take_log(&mut self) -> Vec<LogRecord> {
         std::mem::take(&mut self.log)
+    }
+
+    fn solver_stats(&self) -> Option<Stats> {
+        self.scene.as_ref().map(|s| s.sim.stats())
     }
 }

@@ -57,6 +57,7 @@ pub mod ports;
 mod run;
 pub mod study;
 pub mod trace;
+mod view;
 
 pub use build::{Layout, build};
 pub use cosim::{PanelLockModel, create};
@@ -64,3 +65,4 @@ pub use demo::run_demo;
 pub use params::{DEFAULT_PANEL_E, PanelLockParams, Reduction};
 pub use ports::info;
 pub use run::{HingeOutput, PanelLock, PanelLockOutputs};
+pub use view::SATELLITE_EDGE;

@@ -318,12 +318,10 @@ impl PanelLockParams {
         self.panel_areal_density * self.panel_length * self.panel_width
     }
 
-    /// Checks every value; `Err` names the parameter and the accepted range.
-    pub fn validate(&self) -> Result<(), String> {
-        if !(1..=6).contains(&self.n_panels) {
-            return Err(format!("n_panels must be 1..=6, got {}", self.n_panels));
-        }
-        let positive = [
+    /// The parameters [`Self::validate`] wants finite and > 0, within [`ENVELOPE_DECADES`]
+    /// either side of their default.
+    fn positive_values(&self) -> [(&'static str, f64); 16] {
+        [
             ("panel_length", self.panel_length),
             ("panel_width", self.panel_width),
             ("panel_areal_density", self.panel_areal_density),
@@ -340,38 +338,13 @@ impl PanelLockParams {
             ("contact_exponent", self.contact_exponent),
             ("restitution", self.restitution),
             ("satellite_mass", self.satellite_mass),
-        ];
-        for (name, v) in positive {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{name} must be finite and > 0, got {v}"));
-            }
-        }
-        // The envelope (issue #25, docs/adversarial_harness.md): six decades either side of the
-        // default. Beyond it mass and stiffness ratios overflow the inertia tensors or make the
-        // Newton matrix singular, and the failure could not name the parameter.
-        let d = Self::default();
-        let defaults = [
-            d.panel_length,
-            d.panel_width,
-            d.panel_areal_density,
-            d.panel_thickness,
-            d.yoke_length,
-            d.yoke_mass,
-            d.hinge_mass,
-            d.hinge_gyration_radius,
-            d.cam_radius,
-            d.groove_width,
-            d.groove_depth,
-            d.pin_radius,
-            d.contact_stiffness,
-            d.contact_exponent,
-            d.restitution,
-            d.satellite_mass,
-        ];
-        for ((name, v), d) in positive.iter().zip(defaults) {
-            envelope(name, *v, d, true)?;
-        }
-        let non_negative = [
+        ]
+    }
+
+    /// The parameters [`Self::validate`] wants finite and >= 0, at most [`ENVELOPE_DECADES`]
+    /// above their default.
+    fn non_negative_values(&self) -> [(&'static str, f64); 9] {
+        [
             ("root_spring_preload", self.root_spring_preload),
             ("root_spring_stiffness", self.root_spring_stiffness),
             ("panel_spring_preload", self.panel_spring_preload),
@@ -381,24 +354,34 @@ impl PanelLockParams {
             ("cable_damping", self.cable_damping),
             ("stop_stiffness", self.stop_stiffness),
             ("stop_damping", self.stop_damping),
-        ];
+        ]
+    }
+
+    /// Checks every value; `Err` names the parameter and the accepted range.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(1..=6).contains(&self.n_panels) {
+            return Err(format!("n_panels must be 1..=6, got {}", self.n_panels));
+        }
+        let d = Self::default();
+        let positive = self.positive_values();
+        for (name, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{name} must be finite and > 0, got {v}"));
+            }
+        }
+        // The envelope (issue #25, docs/adversarial_harness.md): three decades either side of
+        // the default (six until the declared ranges came from it, docs/fmu_docs.md). Beyond it mass and stiffness ratios overflow the inertia tensors or make the
+        // Newton matrix singular, and the failure could not name the parameter.
+        for ((name, v), (_, d)) in positive.iter().zip(d.positive_values()) {
+            envelope(name, *v, d, true)?;
+        }
+        let non_negative = self.non_negative_values();
         for (name, v) in non_negative {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(format!("{name} must be finite and >= 0, got {v}"));
             }
         }
-        let defaults = [
-            d.root_spring_preload,
-            d.root_spring_stiffness,
-            d.panel_spring_preload,
-            d.panel_spring_stiffness,
-            d.hinge_damping,
-            d.cable_stiffness,
-            d.cable_damping,
-            d.stop_stiffness,
-            d.stop_damping,
-        ];
-        for ((name, v), d) in non_negative.iter().zip(defaults) {
+        for ((name, v), (_, d)) in non_negative.iter().zip(d.non_negative_values()) {
             envelope(name, *v, d, false)?;
         }
         if self.latches {
@@ -453,13 +436,154 @@ impl PanelLockParams {
                 "cable_loop is on but cable_stiffness is 0: switch the loop off instead".into(),
             );
         }
+        self.validate_deployment_speed()?;
         self.validate_flexible()?;
         self.settings.validate().map(|_| ())
     }
+
+    /// Upper estimates of the tip speeds [m/s] the deployment springs give at lock, with the
+    /// springs' whole work (preload over the travel plus the linear part) going into the lightest
+    /// thing each one drives: the outer panel about its hinge (`m L^2 / 3`), and for the root
+    /// spring the yoke with the stowed panels at its end (`(m_yoke / 3 + n m_panel) L_yoke^2`).
+    /// Damping, gravity, cable loops and the satellite's recoil are left out (all lower it).
+    pub fn deployment_tip_speeds(&self) -> [f64; 2] {
+        let work = |preload: f64, stiffness: f64, travel: f64| {
+            preload * travel + 0.5 * stiffness * travel * travel
+        };
+        let m_p = self.panel_mass();
+        let w_p = work(
+            self.panel_spring_preload,
+            self.panel_spring_stiffness,
+            self.panel_lock_angle - self.panel_stowed_angle,
+        );
+        let panel = (6.0 * w_p / m_p).sqrt();
+        let w_r = work(
+            self.root_spring_preload,
+            self.root_spring_stiffness,
+            self.root_lock_angle - self.root_stowed_angle,
+        );
+        let m_r = self.yoke_mass / 3.0 + self.n_panels as f64 * m_p;
+        let root = (2.0 * w_r / m_r).sqrt();
+        [root, panel]
+    }
+
+    /// Refuses springs that would throw the array into the latches faster than
+    /// [`MAX_DEPLOYMENT_TIP_SPEED`] (see [`Self::deployment_tip_speeds`]).
+    fn validate_deployment_speed(&self) -> Result<(), String> {
+        let [root, panel] = self.deployment_tip_speeds();
+        let d = Self::default().deployment_tip_speeds();
+        if panel > MAX_DEPLOYMENT_TIP_SPEED {
+            return Err(format!(
+                "panel_spring_preload = {} N m and panel_spring_stiffness = {} N m/rad over the \
+                 travel panel_lock_angle - panel_stowed_angle = {:.4} rad would swing the outer \
+                 panel (panel_areal_density x panel_length x panel_width = {:.4e} kg) to about \
+                 {panel:.3e} m/s at its tip; the latch's contact law is for impacts far below \
+                 the elastic wave speed: keep it below {MAX_DEPLOYMENT_TIP_SPEED} m/s (default \
+                 scene: {:.2} m/s) with a weaker spring or a heavier panel",
+                self.panel_spring_preload,
+                self.panel_spring_stiffness,
+                self.panel_lock_angle - self.panel_stowed_angle,
+                self.panel_mass(),
+                d[1]
+            ));
+        }
+        if root > MAX_DEPLOYMENT_TIP_SPEED {
+            return Err(format!(
+                "root_spring_preload = {} N m and root_spring_stiffness = {} N m/rad over the \
+                 travel root_lock_angle - root_stowed_angle = {:.4} rad would swing the yoke \
+                 (yoke_mass = {} kg, yoke_length = {} m, carrying the stowed panels) to about \
+                 {root:.3e} m/s at its tip; the latch's contact law is for impacts far below the \
+                 elastic wave speed: keep it below {MAX_DEPLOYMENT_TIP_SPEED} m/s (default scene: \
+                 {:.2} m/s) with a weaker spring or a heavier yoke",
+                self.root_spring_preload,
+                self.root_spring_stiffness,
+                self.root_lock_angle - self.root_stowed_angle,
+                self.yoke_mass,
+                self.yoke_length,
+                d[0]
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Largest deployment tip speed [m/s] [`PanelLockParams::validate`] accepts (upper estimate,
+/// [`PanelLockParams::deployment_tip_speeds`]): 2 % of the elastic wave speed of aluminium
+/// (about 5 km/s), where a quasi-static contact law such as Hertz with Lankarani-Nikravesh
+/// damping stops being a model of the impact; 70 times the default scene's 1.4 m/s, and above
+/// every parameter alone within [`ENVELOPE_DECADES`] of its default (44 m/s at most).
+pub const MAX_DEPLOYMENT_TIP_SPEED: f64 = 100.0;
+
+/// The range [`PanelLockParams::validate`] accepts for the real parameter `name` on its own (the
+/// others at their defaults; relations between parameters, such as the latch geometry or
+/// `panel_nonstructural_mass < panel_areal_density`, are in the parameters' descriptions):
+/// inclusive bounds, and which of them are open (the bound itself refused). `None` for names
+/// the checks below do not cover.
+pub fn declared_range(name: &str) -> Option<DeclaredRange> {
+    let d = PanelLockParams::default();
+    let k = 10f64.powi(ENVELOPE_DECADES);
+    let closed = |lo: Option<f64>, hi: Option<f64>| DeclaredRange {
+        min: lo,
+        max: hi,
+        open: [false; 2],
+    };
+    if let Some((_, v)) = d.positive_values().iter().find(|(n, _)| *n == name) {
+        // restitution: also <= 1
+        let hi = if name == "restitution" { 1.0 } else { v * k };
+        return Some(closed(Some(v / k), Some(hi)));
+    }
+    if let Some((_, v)) = d.non_negative_values().iter().find(|(n, _)| *n == name) {
+        return Some(closed(Some(0.0), (*v > 0.0).then_some(v * k)));
+    }
+    let pi = std::f64::consts::PI;
+    Some(match name {
+        // lock - 0.2 > stowed >= 0
+        "root_lock_angle" | "panel_lock_angle" => DeclaredRange {
+            min: Some(0.2),
+            max: Some(pi),
+            open: [true, false],
+        },
+        // stowed < lock - 0.2 <= pi - 0.2
+        "root_stowed_angle" | "panel_stowed_angle" => DeclaredRange {
+            min: Some(0.0),
+            max: Some(pi - 0.2),
+            open: [false, true],
+        },
+        "gravity" => closed(Some(-9.81 * k), Some(9.81 * k)),
+        "modal_damping_ratio" => DeclaredRange {
+            min: Some(0.0),
+            max: Some(1.0),
+            open: [false, true],
+        },
+        "atol" => closed(Some(crate::integrator::MIN_ATOL), None),
+        "panel_youngs_modulus" => DeclaredRange {
+            min: Some(0.0),
+            max: None,
+            open: [true, false],
+        },
+        "panel_poisson" => DeclaredRange {
+            min: Some(-1.0),
+            max: Some(0.5),
+            open: [true, true],
+        },
+        "panel_nonstructural_mass" => closed(Some(0.0), None),
+        "rtol" => closed(Some(crate::integrator::MIN_RTOL), None),
+        "h_max" => closed(Some(crate::integrator::MIN_H_MAX), None),
+        _ => return None,
+    })
+}
+
+/// A parameter's range as [`declared_range`] gives it: bounds as the validation writes them,
+/// `open[0]` / `open[1]` when it refuses the bound itself.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DeclaredRange {
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub open: [bool; 2],
 }
 
 /// Decades either side of a parameter's default that [`PanelLockParams::validate`] accepts.
-pub const ENVELOPE_DECADES: i32 = 6;
+pub const ENVELOPE_DECADES: i32 = 3;
 
 /// `v` within [`ENVELOPE_DECADES`] of `default` (above only unless `both_sides`; a zero default
 /// has no envelope).

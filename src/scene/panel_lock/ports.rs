@@ -19,18 +19,22 @@ pub struct RealParam {
     pub description: &'static str,
     pub get: fn(&PanelLockParams) -> f64,
     pub set: fn(&mut PanelLockParams, f64),
-    pub min: Option<f64>,
+    /// Unit shown in the documentation where none can be declared.
+    pub unit_note: Option<&'static str>,
 }
 
 macro_rules! real_param {
-    ($name:literal, $field:ident, $unit:expr, $min:expr, $desc:literal) => {
+    ($name:literal, $field:ident, $unit:expr, $desc:literal) => {
+        real_param!($name, $field, $unit, None, $desc)
+    };
+    ($name:literal, $field:ident, $unit:expr, $note:expr, $desc:literal) => {
         RealParam {
             name: $name,
             unit: $unit,
             description: $desc,
             get: |p| p.$field,
             set: |p, v| p.$field = v,
-            min: $min,
+            unit_note: $note,
         }
     };
 }
@@ -41,197 +45,165 @@ pub static REAL_PARAMS: &[RealParam] = &[
         "panel_length",
         panel_length,
         Some("m"),
-        Some(0.0),
         "Panel length along the deployment direction."
     ),
     real_param!(
         "panel_width",
         panel_width,
         Some("m"),
-        Some(0.0),
         "Panel width along the hinge axis."
     ),
     real_param!(
         "panel_areal_density",
         panel_areal_density,
         Some("kg/m2"),
-        Some(0.0),
         "Panel mass per area (honeycomb with cells)."
     ),
     real_param!(
         "panel_thickness",
         panel_thickness,
         Some("m"),
-        Some(0.0),
         "Panel thickness (for its inertia)."
     ),
     real_param!(
         "yoke_length",
         yoke_length,
         Some("m"),
-        Some(0.0),
         "Yoke length from root hinge to first panel hinge."
     ),
-    real_param!("yoke_mass", yoke_mass, Some("kg"), Some(0.0), "Yoke mass."),
+    real_param!("yoke_mass", yoke_mass, Some("kg"), "Yoke mass."),
     real_param!(
         "hinge_mass",
         hinge_mass,
         Some("kg"),
-        Some(0.0),
         "Mass of each hinge body."
     ),
     real_param!(
         "hinge_gyration_radius",
         hinge_gyration_radius,
         Some("m"),
-        Some(0.0),
         "Radius of gyration of each hinge body."
     ),
     real_param!(
         "root_spring_preload",
         root_spring_preload,
         Some("N.m"),
-        Some(0.0),
         "Root deployment spring torque at the lock angle."
     ),
     real_param!(
         "root_spring_stiffness",
         root_spring_stiffness,
         Some("N.m/rad"),
-        Some(0.0),
         "Root deployment spring stiffness."
     ),
     real_param!(
         "panel_spring_preload",
         panel_spring_preload,
         Some("N.m"),
-        Some(0.0),
         "Panel-hinge deployment spring torque at the lock angle."
     ),
     real_param!(
         "panel_spring_stiffness",
         panel_spring_stiffness,
         Some("N.m/rad"),
-        Some(0.0),
         "Panel-hinge deployment spring stiffness."
     ),
     real_param!(
         "hinge_damping",
         hinge_damping,
         Some("N.m.s/rad"),
-        Some(0.0),
         "Viscous damping of every hinge shaft."
     ),
     real_param!(
         "root_lock_angle",
         root_lock_angle,
         Some("rad"),
-        Some(0.0),
-        "Root hinge deployment angle at lock-up."
+        "Root hinge deployment angle at lock-up; more than 0.2 rad above root_stowed_angle, and less than pi rad above it."
     ),
     real_param!(
         "panel_lock_angle",
         panel_lock_angle,
         Some("rad"),
-        Some(0.0),
-        "Panel hinge deployment angle at lock-up."
+        "Panel hinge deployment angle at lock-up; more than 0.2 rad above panel_stowed_angle, and less than pi rad above it."
     ),
     real_param!(
         "root_stowed_angle",
         root_stowed_angle,
         Some("rad"),
-        Some(0.0),
-        "Root hinge angle when stowed (t = 0)."
+        "Root hinge angle when stowed (t = 0); below root_lock_angle - 0.2 rad."
     ),
     real_param!(
         "panel_stowed_angle",
         panel_stowed_angle,
         Some("rad"),
-        Some(0.0),
-        "Panel hinge angle when stowed (t = 0)."
+        "Panel hinge angle when stowed (t = 0); below panel_lock_angle - 0.2 rad."
     ),
     real_param!(
         "stop_stiffness",
         stop_stiffness,
         Some("N.m/rad"),
-        Some(0.0),
         "Stiffness of the stow stops (folded stack on its snubbers)."
     ),
     real_param!(
         "stop_damping",
         stop_damping,
         Some("N.m.s/rad"),
-        Some(0.0),
         "Damping of the stow stops."
     ),
     real_param!(
         "cam_radius",
         cam_radius,
         Some("m"),
-        Some(0.0),
-        "Latch cam radius."
+        "Latch cam radius; larger than groove_depth + groove_width / 2 (with latches)."
     ),
     real_param!(
         "groove_width",
         groove_width,
         Some("m"),
-        Some(0.0),
-        "Latch groove width."
+        "Latch groove width; at least 2 pin_radius (with latches)."
     ),
     real_param!(
         "groove_depth",
         groove_depth,
         Some("m"),
-        Some(0.0),
-        "Latch groove depth."
+        "Latch groove depth; at least pin_radius, below cam_radius (with latches)."
     ),
-    real_param!(
-        "pin_radius",
-        pin_radius,
-        Some("m"),
-        Some(0.0),
-        "Latch pin radius."
-    ),
+    real_param!("pin_radius", pin_radius, Some("m"), "Latch pin radius."),
     real_param!(
         "contact_stiffness",
         contact_stiffness,
         None,
-        Some(0.0),
-        "Pin/groove contact stiffness k in N/m^n (F = k delta^n ...)."
+        Some("N/m^n"),
+        "Pin/groove contact stiffness k in N/m^n with n = contact_exponent (F = k delta^n ...); no unit is declared because its dimension depends on n."
     ),
     real_param!(
         "contact_exponent",
         contact_exponent,
         None,
-        Some(0.0),
         "Contact force exponent n (1.5 for metals)."
     ),
     real_param!(
         "restitution",
         restitution,
         None,
-        Some(0.0),
         "Coefficient of restitution of the damped contact laws, in (0, 1]."
     ),
     real_param!(
         "cable_stiffness",
         cable_stiffness,
         Some("N.m/rad"),
-        Some(0.0),
-        "Closed cable loop stiffness (per rad of the inboard hinge)."
+        "Closed cable loop stiffness (per rad of the inboard hinge); > 0 with cable_loop."
     ),
     real_param!(
         "cable_damping",
         cable_damping,
         Some("N.m.s/rad"),
-        Some(0.0),
         "Closed cable loop damping."
     ),
     real_param!(
         "satellite_mass",
         satellite_mass,
         Some("kg"),
-        Some(0.0),
         "Satellite mass (free-floating satellite only)."
     ),
     RealParam {
@@ -240,26 +212,23 @@ pub static REAL_PARAMS: &[RealParam] = &[
         description: "Gravity along -z (the hinge axes) when gravity_on.",
         get: |p| p.gravity.unwrap_or(9.81),
         set: |p, v| p.gravity = p.gravity.map(|_| v),
-        min: None,
+        unit_note: None,
     },
     real_param!(
         "modal_damping_ratio",
         modal_damping_ratio,
         None,
-        Some(0.0),
         "Modal damping ratio of the flexible panels' modes (flexible_panels only)."
     ),
     real_param!(
         "panel_youngs_modulus",
         panel_youngs_modulus,
         Some("Pa"),
-        Some(0.0),
         "Equivalent Young's modulus of the honeycomb panel plate (flexible_panels only)."
     ),
     real_param!(
         "panel_poisson",
         panel_poisson,
-        None,
         None,
         "Equivalent Poisson ratio of the panel plate (flexible_panels only)."
     ),
@@ -267,8 +236,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
         "panel_nonstructural_mass",
         panel_nonstructural_mass,
         Some("kg/m2"),
-        Some(0.0),
-        "Non-structural areal mass (cells, harness), part of panel_areal_density (flexible_panels only)."
+        "Non-structural areal mass (cells, harness), part of panel_areal_density and below it (flexible_panels only)."
     ),
     RealParam {
         name: "rtol",
@@ -276,7 +244,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
         description: "Relative error tolerance of the integrator.",
         get: |p| p.settings.rtol,
         set: |p, v| p.settings.rtol = v,
-        min: Some(crate::integrator::MIN_RTOL),
+        unit_note: None,
     },
     RealParam {
         name: "atol",
@@ -284,7 +252,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
         description: "Absolute error tolerance of the integrator (m, rad, m/s, rad/s).",
         get: |p| p.settings.atol,
         set: |p, v| p.settings.atol = v,
-        min: Some(0.0),
+        unit_note: Some("m, rad, m/s, rad/s"),
     },
     RealParam {
         name: "h_max",
@@ -292,7 +260,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
         description: "Largest internal step.",
         get: |p| p.settings.h_max,
         set: |p, v| p.settings.h_max = v,
-        min: Some(crate::integrator::MIN_H_MAX),
+        unit_note: None,
     },
 ];
 
@@ -498,8 +466,17 @@ pub fn info() -> &'static ModelInfo {
         ports.push(integer("n_modes", ivr::N_MODES, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_modes as i32), min: Some(0), max: Some(400) }, "Craig-Bampton modes per flexible panel (structure); must be 0 with rigid panels."));
         for (i, p) in REAL_PARAMS.iter().enumerate() {
             let mut spec = PortSpec::real_parameter(p.name, i as ValueRef, Variability::Fixed, (p.get)(&d), p.unit, p.description);
-            if let Some(lo) = p.min {
-                spec = spec.with_min(lo);
+            // the range the validation accepts (tests/declared_ranges.rs keeps them equal)
+            if let Some(r) = super::params::declared_range(p.name) {
+                if let Some(lo) = r.min {
+                    spec = if r.open[0] { spec.with_open_min(lo) } else { spec.with_min(lo) };
+                }
+                if let Some(hi) = r.max {
+                    spec = if r.open[1] { spec.with_open_max(hi) } else { spec.with_max(hi) };
+                }
+            }
+            if let Some(note) = p.unit_note {
+                spec = spec.with_unit_note(note);
             }
             ports.push(spec);
         }

@@ -33,6 +33,7 @@ use crate::scene::clock::Clock;
 use crate::scene::panel_lock::ports::integrator_of;
 use crate::scene::port::{PortType, ValueRef};
 use crate::scene::store::PortStore;
+use crate::scene::view::Snapshot;
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -504,8 +505,17 @@ impl CoSimModel for RopeBlockModel {
         self.resource_dir = dir;
     }
 
+    fn snapshot(&mut self) -> Option<Snapshot> {
+        let start = self.clock.start();
+        self.scene.as_mut().map(|s| s.snapshot(start))
+    }
+
     fn take_log(&mut self) -> Vec<LogRecord> {
         std::mem::take(&mut self.log)
+    }
+
+    fn solver_stats(&self) -> Option<crate::integrator::Stats> {
+        self.scene.as_ref().map(|s| s.sim.sim.stats())
     }
 
     fn set_resource_dir(&mut self, dir: &Path) -> Result<(), ModelError> {

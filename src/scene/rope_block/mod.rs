@@ -23,6 +23,7 @@ pub mod runner;
 pub mod scene;
 pub mod statics;
 pub mod structure;
+pub mod view;
 
 pub use cosim::{RopeBlockModel, create};
 pub use manager::{ContactSettings, Counters, Edit, NodeReport};

@@ -27,6 +27,7 @@ use super::params::RopeBlockParams;
 use super::runner::RopeBlockSim;
 use super::statics;
 use super::structure::EndSpec;
+use super::view::BlockLook;
 use super::{ContactSettings, NodeReport};
 use crate::integrator::Settings;
 use crate::math::Vec3;
@@ -127,6 +128,8 @@ pub struct RopeBlockScene {
     names: Vec<String>,
     /// Centre of mass in the design frame [m] (to report positions in the design frame).
     com: Vec3,
+    /// The block's shell as drawn by [`RopeBlockScene::snapshot`].
+    pub(super) look: BlockLook,
 }
 
 impl RopeBlockScene {
@@ -144,7 +147,9 @@ impl RopeBlockScene {
     /// The scene around an existing simulation of `params` (e.g. one restored from bytes):
     /// nothing is built or settled.
     pub fn from_sim(params: RopeBlockParams, sim: RopeBlockSim) -> Result<Self, String> {
-        let (com, _) = shell_mass_properties(&params.design_mesh()?, params.block_mass);
+        let design = params.design_mesh()?;
+        let (com, _) = shell_mass_properties(&design, params.block_mass);
+        let look = BlockLook::new(&design, &com);
         let mut names: Vec<String> = vec!["time".into()];
         for k in 0..params.hooks.len() {
             for c in ["x", "y", "z", "load", "fz"] {
@@ -178,6 +183,7 @@ impl RopeBlockScene {
             sim,
             names,
             com,
+            look,
         })
     }
 
@@ -188,6 +194,7 @@ impl RopeBlockScene {
             sim,
             names: self.names.clone(),
             com: self.com,
+            look: self.look.clone(),
         }
     }
 
