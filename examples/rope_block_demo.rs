@@ -57,6 +57,27 @@ fn read_csv(path: &std::path::Path) -> Result<(Vec<String>, Vec<Vec<f64>>), Stri
     Ok((names, cols))
 }
 
+/// Legend name in words of a CSV column: `sling2.tension_lug` is "sling 2 tension at the lug".
+fn words(column: &str) -> String {
+    let (part, what) = column.split_once('.').unwrap_or((column, ""));
+    let digits = part.trim_start_matches(|c: char| c.is_ascii_alphabetic());
+    let kind = &part[..part.len() - digits.len()];
+    let kind = if kind == "contact" {
+        "contact node"
+    } else {
+        kind
+    };
+    let what = match what {
+        "load" => "load",
+        "tension_lug" => "tension at the lug",
+        "tension_hook" => "tension at the hook",
+        "normal" => "normal force",
+        "friction" => "friction force",
+        other => other,
+    };
+    format!("{kind} {digits} {what}")
+}
+
 /// Tension and contact-force plots [kN] over time [s] from a demo CSV.
 fn plots(csv: &std::path::Path, dir: &std::path::Path, stem: &str) -> Result<(), String> {
     let (names, cols) = read_csv(csv)?;
@@ -69,7 +90,7 @@ fn plots(csv: &std::path::Path, dir: &std::path::Path, stem: &str) -> Result<(),
             .filter(|(_, n)| pick(n))
             .map(|(i, n)| {
                 let pts = t.iter().zip(&cols[i]).map(|(a, b)| (*a, b / 1e3)).collect();
-                (n.clone(), pts)
+                (words(n), pts)
             })
             .filter(|(_, p): &(String, Vec<(f64, f64)>)| p.iter().any(|q| q.1 != 0.0))
             .collect()
@@ -83,17 +104,22 @@ fn plots(csv: &std::path::Path, dir: &std::path::Path, stem: &str) -> Result<(),
             })
             .collect();
         let path = dir.join(format!("{stem}_{name}.svg"));
-        std::fs::write(&path, line_plot(title, "time [s]", "force [kN]", &s))
+        std::fs::write(&path, line_plot(title, "Time [s]", "Force [kN]", &s))
             .map_err(|e| format!("cannot write {}: {e}", path.display()))
+    };
+    let scene = if stem.contains("turnover") {
+        "RopeBlock turnover"
+    } else {
+        "RopeBlock lift"
     };
     write(
         "tensions",
-        &format!("{stem}: hook loads and sling tensions at the lugs"),
+        &format!("{scene}: hook loads and sling tensions at the lugs"),
         series(&|n| n.ends_with(".load") || n.ends_with(".tension_lug")),
     )?;
     write(
         "contacts",
-        &format!("{stem}: contact-node normal and friction forces (slots 0-3)"),
+        &format!("{scene}: normal and friction forces of contact nodes 0 to 3"),
         series(&|n| {
             ["contact0.", "contact1.", "contact2.", "contact3."]
                 .iter()

@@ -167,9 +167,16 @@ fn crossing_time(a: (f64, f64, f64), b: (f64, f64, f64), target: f64) -> f64 {
 /// The vertex value of the parabola through three samples when the middle one is a local maximum
 /// (0 otherwise).
 fn parabola_peak(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> f64 {
+    parabola_vertex(a, b, c).map_or(0.0, |v| v.1)
+}
+
+/// Time and value `(t, f)` of the peak located from three samples `(t, f)` when the middle one
+/// is a local maximum: the vertex of the parabola through them, or the middle sample itself when
+/// the parabola does not open downwards. What the latch's peak tracker records (memory slot 6).
+pub fn parabola_vertex(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> Option<(f64, f64)> {
     let ((ta, fa), (tb, fb), (tc, fc)) = (a, b, c);
     if !(fb > 0.0 && fb >= fa && fb >= fc && ta < tb && tb < tc) {
-        return 0.0;
+        return None;
     }
     // Newton form: f = fb + p (t - tb) + q (t - tb)^2 through the three points
     let (da, dc) = (ta - tb, tc - tb);
@@ -177,9 +184,9 @@ fn parabola_peak(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> f64 {
     let q = (sc - sa) / (dc - da);
     let p = sa - q * da;
     if q >= 0.0 {
-        return fb;
+        return Some((tb, fb));
     }
-    fb - p * p / (4.0 * q)
+    Some((tb - p / (2.0 * q), fb - p * p / (4.0 * q)))
 }
 
 /// All latches of a scene.

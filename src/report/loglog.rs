@@ -2,6 +2,7 @@
 //! lines, failures drawn as crosses on the top edge, and one annotation per series (e.g. the
 //! observed order).
 
+use super::plot_style::{escape, fitting_size, style, text_width};
 use std::fmt::Write;
 
 /// One series: points `(x, y)` (both > 0), failed runs at `x` (drawn as crosses), a note.
@@ -11,10 +12,6 @@ pub struct LogSeries {
     pub failures: Vec<f64>,
     pub note: String,
 }
-
-const COLORS: [&str; 8] = [
-    "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2",
-];
 
 /// Decade range `[10^lo, 10^hi]` covering `values` (finite and > 0).
 fn decades(values: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -30,10 +27,21 @@ fn decades(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo, if hi > lo { hi } else { lo + 1.0 })
 }
 
-/// An SVG document (820 x 420 px): log10 axes with a grid line per decade, `series` as markers
-/// and lines, failures as crosses at the top, the notes in the legend.
+/// Size of the data area [px]; font sizes of labels, notes and the title [px]; legend row [px].
+const DATA_W: f64 = 560.0;
+const DATA_H: f64 = 340.0;
+const FONT: f64 = 12.0;
+const NOTE_FONT: f64 = 11.0;
+const TITLE_FONT: f64 = 14.0;
+const ROW: f64 = 32.0;
+const SAMPLE: f64 = 30.0;
+
+/// An SVG document: log10 axes with a grid line per decade, `series` as markers joined by lines
+/// (own colour and dash each), failures as crosses along the top of the data area, and the
+/// legend (name and note per series) right of the data area on a canvas sized to hold it. Marks
+/// its parts as [`super::svg`] does (`data-scale="log"`, ranges in decades) for
+/// [`super::svg_check`].
 pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[LogSeries]) -> String {
-    let (w, h, l, r, t, b) = (820.0, 420.0, 70.0, 230.0, 30.0, 45.0);
     let (x0, x1) = decades(series.iter().flat_map(|s| {
         s.points
             .iter()
@@ -41,33 +49,37 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[LogSerie
             .chain(s.failures.iter().copied())
     }));
     let (y0, y1) = decades(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
-    let sx = |x: f64| l + (x.log10() - x0) / (x1 - x0) * (w - l - r);
-    let sy = |y: f64| h - b - (y.log10() - y0) / (y1 - y0) * (h - t - b);
+    let failed_note = "\u{d7} along the top: run failed";
+    let legend_text = series
+        .iter()
+        .map(|s| text_width(&s.name, FONT).max(text_width(&s.note, NOTE_FONT)))
+        .fold(text_width(failed_note, NOTE_FONT), f64::max);
+    let (l, t, b) = (80.0, 36.0, 50.0);
+    let (lx, lw) = (l + DATA_W + 16.0, 10.0 + SAMPLE + 8.0 + legend_text + 10.0);
+    let lh = 8.0 + ROW * series.len() as f64 + 20.0;
+    let w = (lx + lw + 10.0).max(text_width(title, TITLE_FONT) + 20.0);
+    let h = t + DATA_H.max(lh) + b;
+    let sx = |x: f64| l + (x.log10() - x0) / (x1 - x0) * DATA_W;
+    let sy = |y: f64| t + DATA_H - (y.log10() - y0) / (y1 - y0) * DATA_H;
+    let bottom = t + DATA_H;
     let mut s = String::new();
     let _ = write!(
         s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="12"><rect width="100%" height="100%" fill="white"/>"#
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.0} {h:.0}" font-family="sans-serif" font-size="{FONT}"><rect width="100%" height="100%" fill="white"/>"#
     );
     let _ = write!(
         s,
-        r#"<text x="{}" y="18" text-anchor="middle" font-size="14">{}</text>"#,
-        (l + w - r) / 2.0,
+        r#"<text x="{:.1}" y="22" text-anchor="middle" font-size="{TITLE_FONT}">{}</text>"#,
+        w / 2.0,
         escape(title)
-    );
-    let _ = write!(
-        s,
-        r#"<rect x="{l}" y="{t}" width="{}" height="{}" fill="none" stroke="black"/>"#,
-        w - l - r,
-        h - t - b
     );
     let mut d = x0;
     while d <= x1 + 1e-9 {
         let x = sx(10f64.powf(d));
         let _ = write!(
             s,
-            r##"<line x1="{x:.1}" y1="{t}" x2="{x:.1}" y2="{}" stroke="#ddd"/><text x="{x:.1}" y="{}" text-anchor="middle">1e{d:.0}</text>"##,
-            h - b,
-            h - b + 16.0
+            r##"<line x1="{x:.1}" y1="{t}" x2="{x:.1}" y2="{bottom}" stroke="#ddd"/><text x="{x:.1}" y="{}" text-anchor="middle">1e{d:.0}</text>"##,
+            bottom + 16.0
         );
         d += 1.0;
     }
@@ -77,7 +89,7 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[LogSerie
         let _ = write!(
             s,
             r##"<line x1="{l}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">1e{d:.0}</text>"##,
-            w - r,
+            l + DATA_W,
             l - 6.0,
             y + 4.0
         );
@@ -85,19 +97,30 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[LogSerie
     }
     let _ = write!(
         s,
+        r#"<rect class="data" x="{l}" y="{t}" width="{DATA_W}" height="{DATA_H}" fill="none" stroke="black" data-scale="log" data-x0="{x0}" data-x1="{x1}" data-y0="{y0}" data-y1="{y1}"/>"#
+    );
+    let _ = write!(
+        s,
         r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#,
-        (l + w - r) / 2.0,
-        h - 8.0,
+        l + DATA_W / 2.0,
+        bottom + 38.0,
         escape(x_label)
     );
     let _ = write!(
         s,
-        r#"<text x="16" y="{0}" text-anchor="middle" transform="rotate(-90 16 {0})">{1}</text>"#,
-        (t + h - b) / 2.0,
-        escape(y_label)
+        r#"<text x="18" y="{0}" text-anchor="middle" font-size="{2:.1}" transform="rotate(-90 18 {0})">{1}</text>"#,
+        t + DATA_H / 2.0,
+        escape(y_label),
+        // the rotated label is centred on the data area: shrink it to stay on the canvas
+        fitting_size(
+            y_label,
+            FONT,
+            2.0 * (t + DATA_H / 2.0).min(h - t - DATA_H / 2.0) - 8.0
+        )
     );
     for (i, se) in series.iter().enumerate() {
-        let c = COLORS[i % COLORS.len()];
+        let st = style(i);
+        let c = st.color;
         let pts: Vec<(f64, f64)> = se
             .points
             .iter()
@@ -110,7 +133,9 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[LogSerie
             .collect();
         let _ = write!(
             s,
-            r#"<polyline fill="none" stroke="{c}" stroke-width="1.2" points="{}"/>"#,
+            r#"<polyline class="series" data-name="{}" fill="none" {} stroke-width="1.3" points="{}"/>"#,
+            escape(&se.name),
+            st.stroke_attrs(),
             path.join(" ")
         );
         for (x, y) in &pts {
@@ -131,34 +156,38 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[LogSerie
                 y - 4.0
             );
         }
-        let ly = t + 14.0 + 30.0 * i as f64;
+    }
+    let _ = write!(
+        s,
+        r##"<g class="legend"><rect class="legend-box" x="{lx:.1}" y="{t}" width="{lw:.1}" height="{lh:.1}" fill="white" stroke="#999"/>"##
+    );
+    let tx = lx + 10.0 + SAMPLE + 8.0;
+    for (i, se) in series.iter().enumerate() {
+        let st = style(i);
+        let y = t + 8.0 + ROW * i as f64 + 10.0;
         let _ = write!(
             s,
-            r##"<circle cx="{}" cy="{}" r="4" fill="{c}"/><text x="{}" y="{}" fill="{c}">{}</text><text x="{}" y="{}" fill="#444" font-size="11">{}</text>"##,
-            w - r + 14.0,
-            ly - 4.0,
-            w - r + 24.0,
-            ly,
+            r##"<line x1="{:.1}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" {} stroke-width="2"/><circle cx="{:.1}" cy="{y:.1}" r="3" fill="{}"/><text x="{tx:.1}" y="{:.1}">{}</text><text x="{tx:.1}" y="{:.1}" fill="#444" font-size="{NOTE_FONT}">{}</text>"##,
+            lx + 10.0,
+            lx + 10.0 + SAMPLE,
+            st.stroke_attrs(),
+            lx + 10.0 + SAMPLE / 2.0,
+            st.color,
+            y + 4.0,
             escape(&se.name),
-            w - r + 24.0,
-            ly + 13.0,
+            y + 17.0,
             escape(&se.note)
         );
     }
     let _ = write!(
         s,
-        r##"<text x="{}" y="{}" fill="#444" font-size="11">x on top: run failed</text>"##,
-        w - r + 14.0,
-        h - b
+        r##"<text x="{:.1}" y="{:.1}" fill="#444" font-size="{NOTE_FONT}">{}</text></g>"##,
+        lx + 10.0,
+        t + lh - 8.0,
+        failed_note
     );
     s.push_str("</svg>\n");
     s
-}
-
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 #[cfg(test)]
@@ -184,5 +213,6 @@ mod tests {
         assert_eq!(svg.matches("<circle").count(), 3);
         assert!(svg.contains("order 4.0"));
         assert!(svg.contains("<path d=\"M"));
+        crate::report::svg_check::check(&crate::report::svg_check::parse(&svg).unwrap()).unwrap();
     }
 }

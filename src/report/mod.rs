@@ -1,8 +1,11 @@
-//! Plain-file reports: CSV tables and SVG line plots (no plotting dependency).
+//! Plain-file reports: CSV tables and SVG line plots, written by hand (docs/plots.md says why
+//! not with a plotting crate).
 
 pub mod loglog;
+pub mod plot_style;
 pub mod spectrum;
 pub mod svg;
+pub mod svg_check;
 pub mod workprec;
 
 use std::io::Write;

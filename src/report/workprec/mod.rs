@@ -9,6 +9,7 @@
 pub mod flex;
 pub mod output;
 pub mod panel;
+pub mod replot;
 pub mod rope;
 
 use crate::integrator::{IntegratorKind, Settings, Stats};

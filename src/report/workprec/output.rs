@@ -78,19 +78,65 @@ pub fn plot(st: &Study, q: usize) -> String {
             }
         })
         .collect();
+    let what = quantity_words(quantity.name);
+    let title = match quantity.error {
+        super::ErrorKind::Intrinsic => format!(
+            "{}: {} over CPU time",
+            problem_words(st.name),
+            what.to_lowercase()
+        ),
+        _ => format!(
+            "{}: error of the {what} over CPU time",
+            problem_words(st.name)
+        ),
+    };
     loglog_plot(
-        &format!("{}: {} error", st.name, quantity.name),
-        "CPU time [s] (median)",
-        &format!("{} error{}", quantity.name, unit_suffix(quantity)),
+        &title,
+        "CPU time per run, median [s]",
+        &error_label(quantity),
         &series,
     )
 }
 
-fn unit_suffix(q: &super::Quantity) -> String {
+/// The y-axis label of quantity `q`'s error, in words with its unit.
+fn error_label(q: &super::Quantity) -> String {
+    let what = quantity_words(q.name);
     match q.error {
-        super::ErrorKind::Relative => " (relative)".into(),
-        _ if q.unit.is_empty() => String::new(),
-        _ => format!(" [{}]", q.unit),
+        super::ErrorKind::Relative => format!("Relative error of the {what} [-]"),
+        super::ErrorKind::Intrinsic if q.unit.is_empty() => format!("{what} [-]"),
+        super::ErrorKind::Intrinsic => format!("{what} [{}]", q.unit),
+        super::ErrorKind::Absolute => format!("Error of the {what} [{}]", q.unit),
+    }
+}
+
+/// A problem's name in words for plot titles (the name itself when not listed).
+fn problem_words(name: &str) -> String {
+    match name {
+        "panel_rigid" => "PanelLock, rigid panels".into(),
+        "panel_smooth" => "PanelLock, smooth deployment".into(),
+        "panel_flex" => "PanelLock, flexible panels".into(),
+        "panel_modes" => "PanelLock, modes per flexible panel".into(),
+        "panel_mesh" => "PanelLock, plate mesh of the flexible panels".into(),
+        "rope_lift" => "RopeBlock lift".into(),
+        "rope_nodes" => "RopeBlock lift, segments per sling".into(),
+        other => other.replace('_', " "),
+    }
+}
+
+/// A quantity's name in words for plot labels (the name with spaces when not listed).
+fn quantity_words(name: &str) -> String {
+    match name {
+        "peak_force" => "largest latch contact force".into(),
+        "first_peak_force" => "root latch impact force".into(),
+        "lock_time" => "root lock time".into(),
+        "energy" => "Energy balance error / spring energy released".into(),
+        "drift" => "Constraint residual at the end".into(),
+        "root_angle" => "root hinge angle".into(),
+        "outer_angle" => "outer hinge angle".into(),
+        "frequency" => "post-lock frequency".into(),
+        "peak_hook_load" => "largest hook load".into(),
+        "block_z" => "final block height".into(),
+        other => other.replace('_', " "),
     }
 }
 

@@ -56,6 +56,7 @@ mod params;
 pub mod ports;
 mod run;
 pub mod study;
+pub mod trace;
 mod view;
 
 pub use build::{Layout, build};

@@ -6,10 +6,15 @@
 //! interpolates between steps). Post-lock frequency: the dominant peak of the amplitude spectrum
 //! ([`crate::report::spectrum`]) of the outer panel's tip velocity normal to the panel, over the
 //! window from [`SETTLE`] after the last hinge locked to the end of the run.
+//!
+//! The force plot is drawn from the wall force at every accepted integrator step with the
+//! located peaks merged in ([`super::trace::ForceTrace`]), not from the output samples: a
+//! lock-up impact lasts milliseconds and falls between 0.01 s samples.
 
+use super::trace::ForceTrace;
 use super::{PanelLock, PanelLockParams};
 use crate::report::spectrum::{amplitude_spectrum, dominant_frequency};
-use crate::report::svg::{Series, line_plot};
+use crate::report::svg::{Markers, Series, line_plot, line_plot_marked};
 use crate::report::write_csv;
 use std::path::Path;
 
@@ -48,6 +53,8 @@ pub struct CaseResult {
     pub steps: u64,
     /// All work counters of the integrator.
     pub stats: crate::integrator::Stats,
+    /// Wall forces at every accepted step and the located peaks (for the force plot).
+    pub trace: ForceTrace,
 }
 
 impl CaseResult {
@@ -83,8 +90,11 @@ pub fn run_case(p: PanelLockParams, t_end: f64, dt: f64) -> Result<CaseResult, S
     let mut s = PanelLock::new(p)?;
     let steps = (t_end / dt).round() as usize;
     let (mut t, mut tip, mut forces) = (Vec::new(), Vec::new(), vec![Vec::new(); nh]);
+    let mut trace = ForceTrace::default();
     for i in 0..=steps {
-        s.advance_to(i as f64 * dt).map_err(|e| e.to_string())?;
+        trace
+            .advance(&mut s, i as f64 * dt)
+            .map_err(|e| e.to_string())?;
         let o = s.outputs();
         t.push(o.t);
         tip.push(o.tip_normal_velocity);
@@ -115,6 +125,7 @@ pub fn run_case(p: PanelLockParams, t_end: f64, dt: f64) -> Result<CaseResult, S
         cpu,
         steps: s.sim.stats().steps,
         stats: s.sim.stats(),
+        trace,
     };
     if r.window_start().is_finite() {
         r.frequency = post_lock_frequency(r.window(), dt);
@@ -223,15 +234,6 @@ pub fn table1(dir: &Path, base: &PanelLockParams, t_end: f64, dt: f64) -> Result
     let hdr: Vec<&str> = header.iter().map(String::as_str).collect();
     write_csv(&dir.join("panel_lock_table1.csv"), &hdr, &rows).map_err(io)?;
     // time series: t, then per case tip velocity and largest wall force
-    let labels: Vec<String> = cases
-        .iter()
-        .map(|c| {
-            format!(
-                "k = {:.0e}, n = {}",
-                c.contact_stiffness, c.contact_exponent
-            )
-        })
-        .collect();
     let max_force = |c: &CaseResult, i: usize| c.forces.iter().map(|f| f[i]).fold(0.0, f64::max);
     let mut header = vec!["t".to_string()];
     for (j, _) in cases.iter().enumerate() {
@@ -258,6 +260,42 @@ pub fn table1(dir: &Path, base: &PanelLockParams, t_end: f64, dt: f64) -> Result
     )
     .map_err(io)?;
     // plots
+    let flex = if base.flexible_panels {
+        "flexible"
+    } else {
+        "rigid"
+    };
+    let write = |name: &str, svg: String| std::fs::write(dir.join(name), svg).map_err(io);
+    write(
+        "panel_lock_table1_tip_velocity.svg",
+        tip_velocity_plot(&cases, flex),
+    )?;
+    write(
+        "panel_lock_table1_contact_force.svg",
+        force_plot(&cases, flex),
+    )?;
+    write(
+        "panel_lock_table1_spectrum.svg",
+        spectrum_plot(&cases, flex, dt),
+    )?;
+    let md = markdown(&cases, base);
+    std::fs::write(dir.join("panel_lock_table1.md"), &md).map_err(io)?;
+    Ok(md)
+}
+
+/// Legend name of a case: its contact law in words.
+fn case_label(c: &CaseResult) -> String {
+    format!(
+        "k = {:.0e} N/m^{n}, n = {n}",
+        c.contact_stiffness,
+        n = c.contact_exponent
+    )
+}
+
+/// Fig. 5: the outer panel's tip velocity normal to the panel [m/s] over time [s], per case;
+/// `flex` is "flexible" or "rigid".
+pub fn tip_velocity_plot(cases: &[CaseResult], flex: &str) -> String {
+    let labels: Vec<String> = cases.iter().map(case_label).collect();
     let tip: Vec<Series> = cases
         .iter()
         .zip(&labels)
@@ -271,28 +309,46 @@ pub fn table1(dir: &Path, base: &PanelLockParams, t_end: f64, dt: f64) -> Result
                 .collect(),
         })
         .collect();
-    let svg = line_plot(
-        "PanelLock (flexible panels): outer panel tip velocity normal to the panel (Fig. 5)",
-        "time [s]",
-        "velocity [m/s]",
+    line_plot(
+        &format!("PanelLock, {flex} panels: outer panel tip velocity normal to the panel (Fig. 5)"),
+        "Time [s]",
+        "Tip velocity normal to the panel [m/s]",
         &tip,
-    );
-    std::fs::write(dir.join("panel_lock_table1_tip_velocity.svg"), svg).map_err(io)?;
+    )
+}
+
+/// Fig. 4: the largest latch wall force of any hinge [N] over time [s], per case, from every
+/// accepted step with the located peaks (ringed, value in the legend).
+pub fn force_plot(cases: &[CaseResult], flex: &str) -> String {
+    let labels: Vec<String> = cases
+        .iter()
+        .map(|c| format!("{} (peak {:.0} N)", case_label(c), c.peak_force))
+        .collect();
     let force: Vec<Series> = cases
         .iter()
         .zip(&labels)
         .map(|(c, l)| Series {
             name: l,
-            points: (0..c.t.len()).map(|i| (c.t[i], max_force(c, i))).collect(),
+            points: c.trace.largest(),
         })
         .collect();
-    let svg = line_plot(
-        "PanelLock (flexible panels): largest latch wall force of any hinge (Fig. 4)",
-        "time [s]",
-        "force [N]",
+    let peaks = Markers {
+        name: "peak (located between steps)",
+        points: cases.iter().map(|c| c.trace.peak()).collect(),
+    };
+    line_plot_marked(
+        &format!("PanelLock, {flex} panels: largest latch contact force of any hinge (Fig. 4)"),
+        "Time [s]",
+        "Latch contact force [N]",
         &force,
-    );
-    std::fs::write(dir.join("panel_lock_table1_contact_force.svg"), svg).map_err(io)?;
+        Some(&peaks),
+    )
+}
+
+/// Amplitude spectrum [m/s] over frequency [Hz] of the tip velocity in each case's post-lock
+/// window (`dt`: its sample step [s]).
+pub fn spectrum_plot(cases: &[CaseResult], flex: &str, dt: f64) -> String {
+    let labels: Vec<String> = cases.iter().map(case_label).collect();
     let freqs: Vec<f64> = (0..=400).map(|i| 0.005 * i as f64).collect();
     let spec: Vec<Series> = cases
         .iter()
@@ -306,14 +362,10 @@ pub fn table1(dir: &Path, base: &PanelLockParams, t_end: f64, dt: f64) -> Result
                 .collect(),
         })
         .collect();
-    let svg = line_plot(
-        "PanelLock (flexible panels): post-lock spectrum of the tip velocity",
-        "frequency [Hz]",
-        "amplitude [m/s]",
+    line_plot(
+        &format!("PanelLock, {flex} panels: spectrum of the tip velocity after the last lock-up"),
+        "Frequency [Hz]",
+        "Amplitude of the tip velocity [m/s]",
         &spec,
-    );
-    std::fs::write(dir.join("panel_lock_table1_spectrum.svg"), svg).map_err(io)?;
-    let md = markdown(&cases, base);
-    std::fs::write(dir.join("panel_lock_table1.md"), &md).map_err(io)?;
-    Ok(md)
+    )
 }
