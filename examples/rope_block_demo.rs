@@ -22,17 +22,7 @@ fn main() -> Result<(), String> {
             File::create(&path).map_err(|e| format!("cannot create {}: {e}", path.display()))?;
         let s = run(demo, None, duration, 0.05, &mut BufWriter::new(f))?;
         plots(&path, &dir, file.trim_end_matches(".csv"))?;
-        println!(
-            "{demo:?}: {} rows to {}, peak hook load {:.1} kN, peak sling tension {:.1} kN, up to {} contact nodes, {:.1} s simulated in {:.2} s ({:.0}x real time)",
-            s.rows,
-            path.display(),
-            s.peak_hook_load / 1e3,
-            s.peak_sling_tension / 1e3,
-            s.max_contacts,
-            s.simulated,
-            s.wall,
-            s.simulated / s.wall
-        );
+        println!("{demo:?}: {}", s.describe(&path));
     }
     Ok(())
 }

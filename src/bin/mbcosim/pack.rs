@@ -235,17 +235,7 @@ fn demo_rope_block(out: &Path) -> Result<(), String> {
         0.05,
         &mut std::io::BufWriter::new(file),
     )?;
-    println!(
-        "{} rows to {}: peak hook load {:.1} kN, peak sling tension {:.1} kN, up to {} contact nodes; {:.1} s simulated in {:.2} s ({:.0}x real time)",
-        s.rows,
-        path.display(),
-        s.peak_hook_load / 1e3,
-        s.peak_sling_tension / 1e3,
-        s.max_contacts,
-        s.simulated,
-        s.wall,
-        s.simulated / s.wall
-    );
+    println!("{}", s.describe(&path));
     Ok(())
 }
 

@@ -36,6 +36,24 @@ pub struct DemoSummary {
     pub wall: f64,
 }
 
+impl DemoSummary {
+    /// One line for a person: rows written to `path`, the peaks [kN], contact nodes and the
+    /// real-time factor.
+    pub fn describe(&self, path: &std::path::Path) -> String {
+        format!(
+            "{} rows to {}: peak hook load {:.1} kN, peak sling tension {:.1} kN, up to {} contact nodes; {:.1} s simulated in {:.2} s ({:.0}x real time)",
+            self.rows,
+            path.display(),
+            self.peak_hook_load / 1e3,
+            self.peak_sling_tension / 1e3,
+            self.max_contacts,
+            self.simulated,
+            self.wall,
+            self.simulated / self.wall
+        )
+    }
+}
+
 /// How long crane B lowers in the turnover demo [s].
 pub const TURNOVER_LOWERING: f64 = 32.0;
 
