@@ -220,7 +220,8 @@ fn demo_panel_lock(out: &Path) -> Result<(), String> {
 }
 
 /// RopeBlock demo: the default lift (200 t block on four slings over the deck edges), hoisted
-/// at 0.2 m/s from 1 s to 9 s, written to `out/rope_lift.csv`.
+/// at 0.2 m/s from 1 s to 9 s, written to `out/rope_lift.csv` with two SVG plots
+/// (`rope_lift_tensions.svg`, `rope_lift_contacts.svg`).
 fn demo_rope_block(out: &Path) -> Result<(), String> {
     use mbcosim::scene::rope_block::demo::{Demo, run};
     println!("\n== RopeBlock: a 200 t block lifted on four slings (12 s, hoist 0.2 m/s)");
@@ -236,6 +237,15 @@ fn demo_rope_block(out: &Path) -> Result<(), String> {
         &mut std::io::BufWriter::new(file),
     )?;
     println!("{}", s.describe(&path));
+    let plots = mbcosim::scene::rope_block::demo_plots::write_plots(
+        &path,
+        out,
+        "rope_lift",
+        "RopeBlock lift",
+    )?;
+    for p in plots {
+        println!("plot: {}", p.display());
+    }
     Ok(())
 }
 

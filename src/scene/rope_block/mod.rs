@@ -12,6 +12,7 @@
 pub mod build;
 pub mod cosim;
 pub mod demo;
+pub mod demo_plots;
 mod dependencies;
 pub mod edit;
 pub mod manager;
