@@ -3,10 +3,14 @@
 
 use mbcosim::contact::ContactLaw;
 use mbcosim::integrator::{IntegratorKind, Settings};
-use mbcosim::scene::panel_lock::{PanelLock, PanelLockParams};
+use mbcosim::scene::panel_lock::{ErrorControl, PanelLock, PanelLockParams};
 
+/// The default scene on BDF at `rtol`, the error held per step (the tolerances of these tests
+/// were chosen for that, the default before docs/panel_lock_defaults.md).
 fn params(rtol: f64) -> PanelLockParams {
     PanelLockParams {
+        integrator: IntegratorKind::Bdf,
+        error_control: ErrorControl::PerStep,
         settings: Settings {
             rtol,
             atol: rtol * 1e-2,

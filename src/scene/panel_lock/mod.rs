@@ -62,7 +62,7 @@ mod view;
 pub use build::{Layout, build};
 pub use cosim::{PanelLockModel, create};
 pub use demo::run_demo;
-pub use params::{DEFAULT_PANEL_E, PanelLockParams, Reduction};
+pub use params::{DEFAULT_PANEL_E, ErrorControl, PanelLockParams, Reduction};
 pub use ports::info;
 pub use run::{HingeOutput, PanelLock, PanelLockOutputs};
 pub use view::SATELLITE_EDGE;

@@ -14,6 +14,23 @@ pub enum Reduction {
     FreeInterface,
 }
 
+/// Over what the adaptive integrators hold their local error tolerance (sets
+/// [`Settings::error_per_unit_step`] when the scene is built, [`PanelLockParams::solver_settings`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum ErrorControl {
+    /// Per unit step with rigid panels, per step with flexible ones: per step, an impact and the
+    /// deployment before it accumulate the error of every step (generalized-alpha at rtol 1e-3:
+    /// 1.4 % on the rigid scene's peak lock force, against 0.07 % per unit step); per unit step,
+    /// neither generalized-alpha nor BDF starts the flexible panels' modal transient at t = 0
+    /// (the steps it asks for fall to round-off) (docs/panel_lock_defaults.md).
+    #[default]
+    ByPanels,
+    /// The whole tolerance for every step.
+    PerStep,
+    /// The tolerance per second of simulated time, shared among the steps.
+    PerUnitStep,
+}
+
 /// Everything that defines a PanelLock run. SI units; angles in radians.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PanelLockParams {
@@ -95,9 +112,11 @@ pub struct PanelLockParams {
     pub modal_damping_ratio: f64,
     /// Reduction method of the flexible panels.
     pub reduction: Reduction,
-    /// Integrator and its settings.
+    /// Integrator and its settings (`settings.error_per_unit_step` is replaced by what
+    /// `error_control` says when the scene is built).
     pub integrator: IntegratorKind,
     pub settings: Settings,
+    pub error_control: ErrorControl,
 }
 
 impl Default for PanelLockParams {
@@ -147,23 +166,25 @@ impl Default for PanelLockParams {
             panel_mesh: [8, 4],
             modal_damping_ratio: 0.005,
             reduction: Reduction::CraigBampton,
-            integrator: IntegratorKind::Bdf,
+            // the cheapest setting measured to hold the peak lock force, the root lock time and
+            // the flexible panels' post-lock frequency within 1 % with a margin of 4x or more,
+            // rigid and flexible (docs/panel_lock_defaults.md; was BDF rtol 1e-6 per step:
+            // 2.8x the CPU rigid, 108x flexible)
+            integrator: IntegratorKind::GenAlpha,
             settings: Settings {
-                rtol: 1e-6,
-                atol: 1e-8,
+                rtol: DEFAULT_RTOL,
+                atol: DEFAULT_ATOL,
                 h_max: 0.02,
-                // per step, as before: per unit step gen-alpha cost 10x at rtol 1e-6 (0.51 ->
-                // 5.4 s for the 30 s deployment) with no visible gain against a BDF reference
-                // (the post-lock vibration, damped by design, dominates); BDF's damped panel
-                // modes of the flexible variant forced more than 2e5 steps after the first lock
-                // (tests/panel_lock_flex.rs), and its rigid deployment cost 3.6 times the CPU
-                // (docs/integrator_error_control.md)
-                error_per_unit_step: false,
                 ..Settings::default()
             },
+            error_control: ErrorControl::ByPanels,
         }
     }
 }
+
+/// Default relative and absolute error tolerances (absolute in m, rad, m/s, rad/s).
+pub const DEFAULT_RTOL: f64 = 3e-4;
+pub const DEFAULT_ATOL: f64 = 3e-6;
 
 /// Default equivalent Young's modulus of the panel plate [Pa]; see the scene documentation.
 pub const DEFAULT_PANEL_E: f64 = 3.0e9;
@@ -438,7 +459,21 @@ impl PanelLockParams {
         }
         self.validate_deployment_speed()?;
         self.validate_flexible()?;
-        self.settings.validate().map(|_| ())
+        self.solver_settings().validate().map(|_| ())
+    }
+
+    /// The integrator settings the scene runs with: `settings` with the error held per step or
+    /// per unit step as `error_control` says.
+    pub fn solver_settings(&self) -> Settings {
+        let per_unit_step = match self.error_control {
+            ErrorControl::ByPanels => !self.flexible_panels,
+            ErrorControl::PerStep => false,
+            ErrorControl::PerUnitStep => true,
+        };
+        Settings {
+            error_per_unit_step: per_unit_step,
+            ..self.settings
+        }
     }
 
     /// Upper estimates of the tip speeds [m/s] the deployment springs give at lock, with the

@@ -241,7 +241,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
     RealParam {
         name: "rtol",
         unit: None,
-        description: "Relative error tolerance of the integrator.",
+        description: "Relative error tolerance of the adaptive integrators: held per second of simulated time with rigid panels, per step with flexible panels.",
         get: |p| p.settings.rtol,
         set: |p, v| p.settings.rtol = v,
         unit_note: None,
@@ -416,6 +416,22 @@ pub fn integrator_of(code: i32) -> IntegratorKind {
     IntegratorKind::ALL[(code.clamp(1, 3) - 1) as usize]
 }
 
+/// Enumeration item number (1-based) of an integrator.
+pub fn integrator_code(kind: IntegratorKind) -> i32 {
+    IntegratorKind::ALL
+        .iter()
+        .position(|k| *k == kind)
+        .map_or(0, |i| i as i32 + 1)
+}
+
+/// Enumeration item number (1-based) of a contact law.
+pub fn law_code(law: LawKind) -> i32 {
+    LawKind::ALL
+        .iter()
+        .position(|k| *k == law)
+        .map_or(0, |i| i as i32 + 1)
+}
+
 /// Contact law from its enumeration item number.
 pub fn law_of(code: i32) -> LawKind {
     [
@@ -452,8 +468,8 @@ pub fn info() -> &'static ModelInfo {
         let d = PanelLockParams::default();
         let mut ports = Vec::new();
         ports.push(integer("n_panels", ivr::N_PANELS, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_panels as i32), min: Some(1), max: Some(6) }, "Number of panels outboard of the yoke (structure)."));
-        ports.push(integer("integrator", ivr::INTEGRATOR, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "Integrator", items: INTEGRATORS, start: Some(2) }, "Time integrator."));
-        ports.push(integer("contact_law", ivr::CONTACT_LAW, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "ContactLaw", items: CONTACT_LAWS, start: Some(2) }, "Pin/groove contact force law."));
+        ports.push(integer("integrator", ivr::INTEGRATOR, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "Integrator", items: INTEGRATORS, start: Some(integrator_code(d.integrator)) }, "Time integrator."));
+        ports.push(integer("contact_law", ivr::CONTACT_LAW, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "ContactLaw", items: CONTACT_LAWS, start: Some(law_code(d.contact_law)) }, "Pin/groove contact force law."));
         for (vr, (name, start, desc)) in [
             (bvr::FLEXIBLE_PANELS, ("flexible_panels", d.flexible_panels, "Flexible panels: modal bodies from a plate FE model reduced by Craig-Bampton at the hinge nodes (structure); off: rigid panels.")),
             (bvr::LATCHES, ("latches", d.latches, "Latch (pin and groove) at every hinge.")),

@@ -56,7 +56,7 @@ impl PanelLock {
     /// Builds and initializes the scene at t = 0.
     pub fn new(params: PanelLockParams) -> Result<Self, String> {
         let (model, layout) = build(&params)?;
-        let sim = Simulation::new(model, params.integrator, params.settings, 0.0)?;
+        let sim = Simulation::new(model, params.integrator, params.solver_settings(), 0.0)?;
         Ok(PanelLock {
             params,
             layout,
