@@ -18,11 +18,12 @@ def main(argv=None):
     where.add_argument("--workers", type=int, help="embedded LocalCluster size (default: one per core)")
     where.add_argument("--serial", action="store_true", help="no Dask: every case in this process")
     r.add_argument("--out", help="output folder (default: out/study/<study name>)")
+    r.add_argument("--fmu", help="run this FMU file instead of the one the study names")
     r.add_argument("--retry-failed", action="store_true", help="run failed cases again on resume")
     r.add_argument("--no-progress", action="store_true")
     args = ap.parse_args(argv)
 
-    study = spec.load(args.study)
+    study = spec.load(args.study, fmu=args.fmu)
     out = pathlib.Path(args.out or pathlib.Path("out") / "study" / study.name)
     t0 = time.perf_counter()
     table = driver.run(study, out, scheduler=args.scheduler, workers=args.workers,

@@ -140,7 +140,8 @@ def _simulate(fmu_bytes, settings, values):
         for i in range(n):
             for name, sched in schedules.items():
                 _set(fmu, md, by_name[name], _at(sched, t[i]))
-            fmu.doStep(currentCommunicationPoint=t[i], communicationStepSize=step)
+            # communication points exactly i * step (not a sum of steps)
+            fmu.doStep(currentCommunicationPoint=t[i], communicationStepSize=t[i + 1] - t[i])
             data[i + 1] = _read(fmu, outputs)
         fmu.terminate()
     except Exception as e:

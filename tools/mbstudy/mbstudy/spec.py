@@ -46,8 +46,9 @@ def _need(table, key, where):
     return table[key]
 
 
-def load(path) -> Study:
-    """Reads and checks a study file; the FMU path is relative to the file."""
+def load(path, fmu=None) -> Study:
+    """Reads and checks a study file; the FMU path is relative to the file (`fmu`: another
+    FMU file instead)."""
     path = pathlib.Path(path).resolve()
     with open(path, "rb") as f:
         d = tomllib.load(f)
@@ -56,7 +57,7 @@ def load(path) -> Study:
     if unknown:
         raise ValueError(f"{path}: unknown tables {sorted(unknown)} (known: {sorted(known)})")
     s = _need(d, "study", str(path))
-    fmu = (path.parent / _need(s, "fmu", "[study]")).resolve()
+    fmu = pathlib.Path(fmu).resolve() if fmu else (path.parent / _need(s, "fmu", "[study]")).resolve()
     stop, step = float(_need(s, "stop_time", "[study]")), float(_need(s, "step", "[study]"))
     if not (stop > 0 and step > 0 and step <= stop):
         raise ValueError(f"[study]: need 0 < step <= stop_time (got step {step}, stop_time {stop})")

@@ -27,7 +27,11 @@ class Store:
         """Rows already in the journal, by case id (a torn last line is ignored)."""
         rows = {}
         if self.journal.exists():
-            for line in self.journal.read_text().splitlines():
+            text = self.journal.read_text()
+            if text and not text.endswith("\n"):  # torn by a kill mid-write: cut it off
+                text = text[: text.rfind("\n") + 1]
+                self.journal.write_text(text)
+            for line in text.splitlines():
                 try:
                     row = json.loads(line)
                 except json.JSONDecodeError:
@@ -51,7 +55,8 @@ class Store:
         rows = sorted(rows, key=lambda r: r["case_index"])
         columns = []
         for r in rows:
-            columns += [c for c in r if c not in columns]
+            columns += [c for c in r if c not in columns and c not in RUN_COLUMNS]
+        columns += list(RUN_COLUMNS)
         table = pa.table({c: _column(c, [r.get(c) for r in rows]) for c in columns})
         pq.write_table(table, self.dir / "results.parquet")
         with open(self.dir / "results.csv", "w", newline="") as f:
