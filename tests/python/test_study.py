@@ -199,6 +199,7 @@ def test_a_killed_worker_is_survived(tmp_path):
     # unless it had reported just before the kill)
     by_key = {f"mbstudy-case-{r['case_id']}": r for r in rows}
     assert set(cases_in_hand) <= set(by_key)
+    assert any(not by_key[k]["worker"].endswith(f":{pid}") for k in cases_in_hand)
 
 
 def test_shipped_studies_describe_the_issue_cases():
