@@ -111,6 +111,10 @@ def _simulate(fmu_bytes, settings, values):
     for name in list(start) + list(schedules) + list(settings["outputs"]):
         if name not in by_name:
             raise ValueError(f"{md.modelName} has no variable {name!r}")
+    scheduled = {v for points in settings["inputs"].values() for _, v in points if isinstance(v, str)}
+    unused = [k for k in values if k not in by_name and k not in scheduled]
+    if unused:
+        raise ValueError(f"{unused} are neither {md.modelName} variables nor used by an input schedule")
     outputs = [by_name[n] for n in settings["outputs"]]
 
     env = _next_env[0]
