@@ -1,7 +1,7 @@
-"""Cases per minute of a RopeBlock study (20 segments per sling, 3 s, hoist from 1 s) run
+"""Cases per minute of a RopeBlock study (20 segments per sling, 3 s or --stop, hoist from 1 s) run
 serially in one process and on a LocalCluster of 1 and of 2 single-threaded worker processes
 (cluster start not counted), and the scheduler's overhead per task: the wall time per empty task
-on a 1-worker cluster. Usage: study_scaling.py FMU [--cases N]."""
+on a 1-worker cluster. Usage: study_scaling.py FMU [--cases N] [--stop S]."""
 
 import argparse
 import os
@@ -17,7 +17,7 @@ STUDY = """
 [study]
 name = "bench"
 fmu = "{fmu}"
-stop_time = 3.0
+stop_time = {stop}
 step = 0.05
 [fixed]
 segments = 20
@@ -42,10 +42,11 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("fmu")
     ap.add_argument("--cases", type=int, default=60)
+    ap.add_argument("--stop", type=float, default=3.0, help="simulated time per case [s]")
     ap.add_argument("--empty-tasks", type=int, default=2000)
     a = ap.parse_args()
     tmp = pathlib.Path(tempfile.mkdtemp(prefix="mbstudy-bench-"))
-    (tmp / "bench.toml").write_text(STUDY.format(fmu=pathlib.Path(a.fmu).resolve(), cases=a.cases))
+    (tmp / "bench.toml").write_text(STUDY.format(fmu=pathlib.Path(a.fmu).resolve(), cases=a.cases, stop=a.stop))
     study = spec.load(tmp / "bench.toml")
     print(f"load average before: {os.getloadavg()[0]:.2f} (cores: {os.cpu_count()})")
 
