@@ -102,6 +102,23 @@ def test_cluster_run_equals_serial_bit_for_bit_and_records_the_failing_cases(ser
     assert all(r["status"] == "done" for r in rows if r["block_mass"] > 0)
 
 
+def test_an_existing_cluster_given_by_its_scheduler_address(serial, tmp_path):
+    """`--scheduler ADDRESS`: the command connects to a running cluster (here one started in
+    this process, 1 worker) instead of starting its own."""
+    from distributed import LocalCluster
+
+    study, ref = serial
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None) as cluster:
+        done = subprocess.run([str(MBSTUDY), "run", str(study.path), "--scheduler", cluster.scheduler_address,
+                               "--out", str(tmp_path / "out"), "--no-progress"],
+                              capture_output=True, text=True, timeout=300)
+        assert done.returncode == 0, done.stderr
+    table = pq.read_table(tmp_path / "out" / "results.parquet")
+    assert results(table).equals(results(ref))
+    assert len(set(table.column("worker").to_pylist())) == 1  # the cluster's one worker
+
+
 def test_summary_figures_match_fmpy_simulate_fmu(serial):
     """One case again through fmpy's own simulate_fmu (its input table, its output sampling),
     reduced with plain numpy."""

@@ -4,7 +4,6 @@ by its scheduler address. Finished cases go to the store as they come; a case th
 row with its message; a task whose worker died is run again by Dask (tasks are pure)."""
 
 import os
-import time
 
 from tqdm import tqdm
 
