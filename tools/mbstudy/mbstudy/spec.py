@@ -27,9 +27,12 @@ class Study:
     plots: list  # [{"kind": "xy" | "histogram", ...}]
 
     def run_settings(self) -> dict:
-        """What every case shares and what changes its results (part of every case id)."""
+        """What every case shares and what changes its results (part of every case id): the
+        FMU, the study's settings and the code that runs and reduces a case."""
+        code = b"".join((pathlib.Path(__file__).parent / m).read_bytes() for m in ("fmu_run.py", "summary.py"))
         return {
             "fmu_sha256": hashlib.sha256(self.fmu.read_bytes()).hexdigest(),
+            "code_sha256": hashlib.sha256(code).hexdigest(),
             "stop_time": self.stop_time,
             "step": self.step,
             "fixed": self.fixed,

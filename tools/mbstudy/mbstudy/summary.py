@@ -7,13 +7,14 @@ PAD = 64
 
 
 def spectrum_peak(t, x, band):
-    """Frequency [Hz] of the largest amplitude of the mean-removed signal `x` (uniform steps
-    `t`) inside `band`, from a zero-padded real FFT; NaN if fewer than 8 samples or no peak."""
+    """Frequency [Hz] of the largest amplitude of the mean-removed, Hann-windowed signal `x`
+    (uniform steps `t`) inside `band`, from a zero-padded real FFT; NaN if fewer than 8 samples
+    or no peak. The window keeps the truncation of a decaying signal from raising false peaks."""
     if len(x) < 8:
         return float("nan")
     dt = (t[-1] - t[0]) / (len(t) - 1)
     n = PAD * len(x)
-    amp = np.abs(np.fft.rfft(x - np.mean(x), n))
+    amp = np.abs(np.fft.rfft(np.hanning(len(x)) * (x - np.mean(x)), n))
     f = np.fft.rfftfreq(n, dt)
     inside = (f >= band[0]) & (f <= band[1])
     if not inside.any() or not np.isfinite(amp[inside]).all() or amp[inside].max() <= 0.0:
