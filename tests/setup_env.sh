@@ -10,6 +10,7 @@
 #     package-lock.json, embedded into mbcosim at build time, docs/replay.md); only if another or
 #     no version is installed
 #   - a Python venv in .venv with the pinned tools of tests/python/requirements.txt
+#   - the mbstudy command (tools/mbstudy, an editable install into .venv)
 # Expects the repository root as the current directory.
 
 log() { printf '\n== %s\n' "$*"; }
@@ -60,3 +61,10 @@ else
     echo "up to date"
 fi
 
+log "mbstudy (tools/mbstudy, editable: the parameter-study command)"
+if ! .venv/bin/python -c 'import mbstudy, pathlib, sys; sys.exit(pathlib.Path(mbstudy.__file__).resolve().parents[1] != pathlib.Path("tools/mbstudy").resolve())' >/dev/null 2>&1 \
+    || [ ! -x .venv/bin/mbstudy ]; then
+    .venv/bin/python -m pip install -q --no-build-isolation --no-deps -e tools/mbstudy
+else
+    echo "up to date"
+fi

@@ -2,7 +2,7 @@
 //! lines, failures drawn as crosses on the top edge, and one annotation per series (e.g. the
 //! observed order).
 
-use super::plot_style::{escape, fitting_size, style, text_width};
+use super::plot_style::{axis_labels, escape, style, text_width};
 use std::fmt::Write;
 
 /// One series: points `(x, y)` (both > 0), failed runs at `x` (drawn as crosses), a note.
@@ -99,25 +99,7 @@ pub fn loglog_plot(title: &str, x_label: &str, y_label: &str, series: &[LogSerie
         s,
         r#"<rect class="data" x="{l}" y="{t}" width="{DATA_W}" height="{DATA_H}" fill="none" stroke="black" data-scale="log" data-x0="{x0}" data-x1="{x1}" data-y0="{y0}" data-y1="{y1}"/>"#
     );
-    let _ = write!(
-        s,
-        r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#,
-        l + DATA_W / 2.0,
-        bottom + 38.0,
-        escape(x_label)
-    );
-    let _ = write!(
-        s,
-        r#"<text x="18" y="{0}" text-anchor="middle" font-size="{2:.1}" transform="rotate(-90 18 {0})">{1}</text>"#,
-        t + DATA_H / 2.0,
-        escape(y_label),
-        // the rotated label is centred on the data area: shrink it to stay on the canvas
-        fitting_size(
-            y_label,
-            FONT,
-            2.0 * (t + DATA_H / 2.0).min(h - t - DATA_H / 2.0) - 8.0
-        )
-    );
+    axis_labels(&mut s, (l, t, DATA_W, DATA_H), h, FONT, x_label, y_label);
     for (i, se) in series.iter().enumerate() {
         let st = style(i);
         let c = st.color;

@@ -114,6 +114,36 @@ pub fn envelope(points: &[(f64, f64)], x0: f64, bucket: f64) -> Vec<(f64, f64)> 
     out
 }
 
+/// The two axis labels of a plot whose data area spans `left`..`left + width` and
+/// `top`..`top + height` on a canvas `canvas_h` high [px], in font size `font` [px]: the x
+/// label 38 px below the data area, the y label rotated, centred on the data area and shrunk
+/// to stay on the canvas.
+pub fn axis_labels(
+    s: &mut String,
+    (left, top, width, height): (f64, f64, f64, f64),
+    canvas_h: f64,
+    font: f64,
+    x_label: &str,
+    y_label: &str,
+) {
+    use std::fmt::Write;
+    let _ = write!(
+        s,
+        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+        left + width / 2.0,
+        top + height + 38.0,
+        escape(x_label)
+    );
+    let mid = top + height / 2.0;
+    let _ = write!(
+        s,
+        r#"<text x="16" y="{0:.1}" text-anchor="middle" font-size="{2:.1}" transform="rotate(-90 16 {0:.1})">{1}</text>"#,
+        mid,
+        escape(y_label),
+        fitting_size(y_label, font, 2.0 * mid.min(canvas_h - mid) - 8.0)
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

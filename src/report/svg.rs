@@ -8,7 +8,7 @@
 //! curves are `polyline`s of class `series`, the legend is the `g` of class `legend`.
 //! Lengths are px.
 
-use super::plot_style::{envelope, escape, fitting_size, style, text_width};
+use super::plot_style::{axis_labels, envelope, escape, style, text_width};
 use std::fmt::Write;
 
 /// One curve: a name for the legend and its points (x, y) in increasing x.
@@ -164,25 +164,7 @@ pub fn line_plot_marked(
         s,
         r#"<rect class="data" x="{l:.1}" y="{t}" width="{DATA_W}" height="{DATA_H}" fill="none" stroke="black" data-x0="{x0:e}" data-x1="{x1:e}" data-y0="{y0:e}" data-y1="{y1:e}"/>"#
     );
-    let _ = write!(
-        s,
-        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
-        l + DATA_W / 2.0,
-        bottom + 38.0,
-        escape(x_label)
-    );
-    let _ = write!(
-        s,
-        r#"<text x="16" y="{0:.1}" text-anchor="middle" font-size="{2:.1}" transform="rotate(-90 16 {0:.1})">{1}</text>"#,
-        t + DATA_H / 2.0,
-        escape(y_label),
-        // the rotated label is centred on the data area: shrink it to stay on the canvas
-        fitting_size(
-            y_label,
-            FONT,
-            2.0 * (t + DATA_H / 2.0).min(h - t - DATA_H / 2.0) - 8.0
-        )
-    );
+    axis_labels(&mut s, (l, t, DATA_W, DATA_H), h, FONT, x_label, y_label);
     let bucket = 0.5 * (x1 - x0) / DATA_W;
     for (i, se) in series.iter().enumerate() {
         let pts: Vec<(f64, f64)> = se.points.iter().filter(finite).copied().collect();
