@@ -34,7 +34,9 @@ def test_every_integrator_through_fmpy_equals_the_native_run(integrator):
 
 
 def test_lock_up_does_not_depend_on_the_communication_step():
-    values = {"rtol": 1e-8, "atol": 1e-10}
+    # BDF (item 2): at rtol 1e-8 the default generalized-alpha, error per unit step on rigid
+    # panels, stops with "tighter than generalized-alpha resolves" (docs/panel_lock_defaults.md)
+    values = {"integrator": 2, "rtol": 1e-8, "atol": 1e-10}
     found = []
     for h in [1e-3, 0.01, 0.1, 0.5]:
         res = simulate_fmu(str(PANEL), start_values=values, stop_time=6.0, output_interval=h)
