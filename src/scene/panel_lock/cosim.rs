@@ -197,9 +197,12 @@ impl CoSimModel for PanelLockModel {
                 settings.max_steps, settings.h_max
             )));
         }
-        scene
-            .advance_to(step.end)
-            .map_err(|e| ModelError::SolverFailure(format!("PanelLock solver failed: {e}")))?;
+        scene.advance_to(step.end).map_err(|e| {
+            ModelError::SolverFailure(format!(
+                "PanelLock solver failed: {e}{}",
+                scene.params.fast_deployment_note()
+            ))
+        })?;
         for note in scene.sim.take_solver_notes() {
             self.log.push(LogRecord {
                 level: LogLevel::Warning,

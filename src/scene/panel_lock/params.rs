@@ -505,6 +505,44 @@ impl PanelLockParams {
 
     /// Refuses springs that would throw the array into the latches faster than
     /// [`MAX_DEPLOYMENT_TIP_SPEED`] (see [`Self::deployment_tip_speeds`]).
+    /// Upper estimates of the angular rates at lock [rad/s]: the yoke's about the root hinge
+    /// and the outer panel's about its hinge ([`Self::deployment_tip_speeds`] over the lengths).
+    pub fn deployment_rates(&self) -> [f64; 2] {
+        let [root, panel] = self.deployment_tip_speeds();
+        [root / self.yoke_length, panel / self.panel_length]
+    }
+
+    /// For a solver failure's message: when the springs drive the yoke or a panel more than
+    /// [`FAST_DEPLOYMENT_FACTOR`] times faster (in angular rate) than in the default scene, a
+    /// sentence naming the parameters that set that rate (a millimetre yoke under the default
+    /// spring turns at hundreds of rad/s while the panels span metres, and the steps this needs
+    /// reach round-off); else empty.
+    pub fn fast_deployment_note(&self) -> String {
+        let [root, panel] = self.deployment_rates();
+        let [root0, panel0] = Self::default().deployment_rates();
+        if root > FAST_DEPLOYMENT_FACTOR * root0 {
+            format!(
+                "; note: root_spring_preload = {} N m and root_spring_stiffness = {} N m/rad on yoke_length = {} m (yoke_mass = {} kg, carrying the stowed panels) swing the yoke at up to {root:.3e} rad/s, {:.0} times the default scene's: a longer or heavier yoke or a weaker root spring brings the steps back",
+                self.root_spring_preload,
+                self.root_spring_stiffness,
+                self.yoke_length,
+                self.yoke_mass,
+                root / root0
+            )
+        } else if panel > FAST_DEPLOYMENT_FACTOR * panel0 {
+            format!(
+                "; note: panel_spring_preload = {} N m and panel_spring_stiffness = {} N m/rad on panel_length = {} m (panel mass {:.3e} kg) swing the outer panel at up to {panel:.3e} rad/s, {:.0} times the default scene's: a longer or heavier panel or a weaker panel spring brings the steps back",
+                self.panel_spring_preload,
+                self.panel_spring_stiffness,
+                self.panel_length,
+                self.panel_mass(),
+                panel / panel0
+            )
+        } else {
+            String::new()
+        }
+    }
+
     fn validate_deployment_speed(&self) -> Result<(), String> {
         let [root, panel] = self.deployment_tip_speeds();
         let d = Self::default().deployment_tip_speeds();
@@ -542,6 +580,10 @@ impl PanelLockParams {
         Ok(())
     }
 }
+
+/// How many times the default scene's deployment angular rate makes a solver failure's message
+/// name the springs and lengths ([`PanelLockParams::fast_deployment_note`]).
+pub const FAST_DEPLOYMENT_FACTOR: f64 = 100.0;
 
 /// Largest deployment tip speed [m/s] [`PanelLockParams::validate`] accepts (upper estimate,
 /// [`PanelLockParams::deployment_tip_speeds`]): 2 % of the elastic wave speed of aluminium
