@@ -520,27 +520,38 @@ impl PanelLockParams {
     pub fn fast_deployment_note(&self) -> String {
         let [root, panel] = self.deployment_rates();
         let [root0, panel0] = Self::default().deployment_rates();
-        if root > FAST_DEPLOYMENT_FACTOR * root0 {
-            format!(
-                "; note: root_spring_preload = {} N m and root_spring_stiffness = {} N m/rad on yoke_length = {} m (yoke_mass = {} kg, carrying the stowed panels) swing the yoke at up to {root:.3e} rad/s, {:.0} times the default scene's: a longer or heavier yoke or a weaker root spring brings the steps back",
-                self.root_spring_preload,
-                self.root_spring_stiffness,
-                self.yoke_length,
-                self.yoke_mass,
-                root / root0
+        // (which spring, its parameters on which length, what it swings, rate, default rate)
+        let (spring, length, driven, rate, rate0) = if root > FAST_DEPLOYMENT_FACTOR * root0 {
+            (
+                "root",
+                format!("yoke_length = {} m", self.yoke_length),
+                format!(
+                    "the yoke (yoke_mass = {} kg, carrying the stowed panels)",
+                    self.yoke_mass
+                ),
+                root,
+                root0,
             )
         } else if panel > FAST_DEPLOYMENT_FACTOR * panel0 {
-            format!(
-                "; note: panel_spring_preload = {} N m and panel_spring_stiffness = {} N m/rad on panel_length = {} m (panel mass {:.3e} kg) swing the outer panel at up to {panel:.3e} rad/s, {:.0} times the default scene's: a longer or heavier panel or a weaker panel spring brings the steps back",
-                self.panel_spring_preload,
-                self.panel_spring_stiffness,
-                self.panel_length,
-                self.panel_mass(),
-                panel / panel0
+            (
+                "panel",
+                format!("panel_length = {} m", self.panel_length),
+                format!("the outer panel (mass {:.3e} kg)", self.panel_mass()),
+                panel,
+                panel0,
             )
         } else {
-            String::new()
-        }
+            return String::new();
+        };
+        let (preload, stiffness) = if spring == "root" {
+            (self.root_spring_preload, self.root_spring_stiffness)
+        } else {
+            (self.panel_spring_preload, self.panel_spring_stiffness)
+        };
+        format!(
+            "; note: {spring}_spring_preload = {preload} N m and {spring}_spring_stiffness = {stiffness} N m/rad on {length} swing {driven} at up to {rate:.3e} rad/s, {:.0} times the default scene's: a longer or heavier body or a weaker {spring} spring brings the steps back",
+            rate / rate0
+        )
     }
 
     fn validate_deployment_speed(&self) -> Result<(), String> {
