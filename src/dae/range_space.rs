@@ -74,6 +74,10 @@ pub struct RangeSpace {
     orig: Vec<f64>,
     residual: Vec<f64>,
     z: Vec<f64>,
+    /// The row pattern (`row_at`, `cols`, `touched*`, `first`, `y_*` segments, `block_rows*`,
+    /// `env_at`) holds for the current mass-block layout; kept while the rows touch the same
+    /// columns.
+    pattern_valid: bool,
 }
 
 /// How a mass block's inverse is applied.
@@ -339,94 +343,169 @@ impl RangeSpace {
 }
 
 impl System {
-    /// Inverts the mass blocks at the last kinematics update into `ws`.
-    fn factor_mass_blocks(&self, ws: &mut RangeSpace) -> Result<(), String> {
-        ws.blocks.clear();
-        ws.block_kind.clear();
-        ws.chol.clear();
-        ws.mass.clear();
-        ws.block_of.clear();
-        ws.block_of.resize(self.n_v(), usize::MAX);
-        let not_pd = |bi: usize| format!("mass block of body {bi} is not positive definite");
-        for (bi, b) in self.model.bodies.iter().enumerate() {
-            let o = b.v_offset;
-            let at = ws.chol.len();
-            let (n, kind) = match &b.kind {
-                BodyKind::Rigid { mass, inertia } => {
-                    let j_inv = nalgebra::Cholesky::new(*inertia)
-                        .filter(|_| *mass > 0.0)
-                        .ok_or_else(|| not_pd(bi))?
-                        .inverse();
-                    ws.chol.resize(at + 36, 0.0);
-                    ws.mass.resize(at + 36, 0.0);
-                    let (blk, m) = (&mut ws.chol[at..], &mut ws.mass[at..]);
-                    for i in 0..3 {
-                        blk[i * 6 + i] = 1.0 / mass;
-                        m[i * 6 + i] = *mass;
-                        for j in 0..3 {
-                            blk[(3 + i) * 6 + 3 + j] = j_inv[(i, j)];
-                            m[(3 + i) * 6 + 3 + j] = inertia[(i, j)];
-                        }
-                    }
-                    (6, BlockKind::Rigid)
-                }
-                BodyKind::Particle { mass } => {
-                    if mass.is_nan() || *mass <= 0.0 {
-                        return Err(not_pd(bi));
-                    }
-                    ws.chol.resize(at + 9, 0.0);
-                    ws.mass.resize(at + 9, 0.0);
-                    for i in 0..3 {
-                        ws.chol[at + i * 3 + i] = 1.0 / mass;
-                        ws.mass[at + i * 3 + i] = *mass;
-                    }
-                    (3, BlockKind::Particle)
-                }
-                BodyKind::Modal { .. } => {
-                    let m = self.modal_of[bi]
-                        .map(|i| &self.modal[i].mass)
-                        .ok_or("modal body without floating-frame terms")?;
-                    let n = m.nrows();
-                    ws.mass.extend_from_slice(m.as_slice());
-                    ws.tmp.clear();
-                    ws.tmp.extend_from_slice(m.as_slice());
-                    if !cholesky(&mut ws.tmp, n) {
-                        return Err(not_pd(bi));
-                    }
-                    // the inverse, column by column (symmetric: rows alike)
-                    ws.chol.resize(at + n * n, 0.0);
-                    for k in 0..n {
-                        let col = &mut ws.chol[at + k * n..at + (k + 1) * n];
-                        col[k] = 1.0;
-                        cholesky_solve(&ws.tmp, n, col);
-                    }
-                    (n, BlockKind::Dense)
-                }
-            };
-            if ws.chol[at..at + n * n].iter().any(|x| !x.is_finite()) {
-                return Err(not_pd(bi));
+    /// Size and kind of body `bi`'s mass block.
+    fn mass_block_shape(&self, bi: usize) -> Result<(usize, BlockKind), String> {
+        Ok(match &self.model.bodies[bi].kind {
+            BodyKind::Rigid { .. } => (6, BlockKind::Rigid),
+            BodyKind::Particle { .. } => (3, BlockKind::Particle),
+            BodyKind::Modal { .. } => {
+                let m = self.modal_of[bi]
+                    .map(|i| &self.modal[i].mass)
+                    .ok_or("modal body without floating-frame terms")?;
+                (m.nrows(), BlockKind::Dense)
             }
-            ws.block_of[o..o + n].fill(ws.blocks.len());
-            ws.blocks.push((o, n, at));
-            ws.block_kind.push(kind);
+        })
+    }
+
+    /// Writes body `bi`'s mass block and its inverse at `at` of `ws.mass` and `ws.chol` (sized
+    /// by the caller). A rigid body's or particle's block equal to the one stored there (the
+    /// same body as at the last factorization) is kept: their blocks are constant, only modal
+    /// bodies' change with the deformation.
+    fn write_mass_block(&self, bi: usize, at: usize, ws: &mut RangeSpace) -> Result<(), String> {
+        let not_pd = || format!("mass block of body {bi} is not positive definite");
+        let n = match &self.model.bodies[bi].kind {
+            BodyKind::Rigid { mass, inertia } => {
+                let m = &ws.mass[at..at + 36];
+                let same = m[0] == *mass
+                    && (0..3).all(|i| (0..3).all(|j| m[(3 + i) * 6 + 3 + j] == inertia[(i, j)]));
+                if same && ws.chol[at] == 1.0 / mass {
+                    return Ok(());
+                }
+                let j_inv = nalgebra::Cholesky::new(*inertia)
+                    .filter(|_| *mass > 0.0)
+                    .ok_or_else(not_pd)?
+                    .inverse();
+                let (blk, m) = (&mut ws.chol[at..at + 36], &mut ws.mass[at..at + 36]);
+                blk.fill(0.0);
+                m.fill(0.0);
+                for i in 0..3 {
+                    blk[i * 6 + i] = 1.0 / mass;
+                    m[i * 6 + i] = *mass;
+                    for j in 0..3 {
+                        blk[(3 + i) * 6 + 3 + j] = j_inv[(i, j)];
+                        m[(3 + i) * 6 + 3 + j] = inertia[(i, j)];
+                    }
+                }
+                6
+            }
+            BodyKind::Particle { mass } => {
+                if mass.is_nan() || *mass <= 0.0 {
+                    return Err(not_pd());
+                }
+                if ws.mass[at] == *mass && ws.chol[at] == 1.0 / mass {
+                    return Ok(());
+                }
+                let (blk, m) = (&mut ws.chol[at..at + 9], &mut ws.mass[at..at + 9]);
+                blk.fill(0.0);
+                m.fill(0.0);
+                for i in 0..3 {
+                    blk[i * 3 + i] = 1.0 / mass;
+                    m[i * 3 + i] = *mass;
+                }
+                3
+            }
+            BodyKind::Modal { .. } => {
+                let m = self.modal_of[bi]
+                    .map(|i| &self.modal[i].mass)
+                    .ok_or("modal body without floating-frame terms")?;
+                let n = m.nrows();
+                ws.mass[at..at + n * n].copy_from_slice(m.as_slice());
+                ws.tmp.clear();
+                ws.tmp.extend_from_slice(m.as_slice());
+                if !cholesky(&mut ws.tmp, n) {
+                    return Err(not_pd());
+                }
+                // the inverse, column by column (symmetric: rows alike)
+                ws.chol[at..at + n * n].fill(0.0);
+                for k in 0..n {
+                    let col = &mut ws.chol[at + k * n..at + (k + 1) * n];
+                    col[k] = 1.0;
+                    cholesky_solve(&ws.tmp, n, col);
+                }
+                n
+            }
+        };
+        if ws.chol[at..at + n * n].iter().any(|x| !x.is_finite()) {
+            // not kept: the next factorization writes this block again
+            ws.chol[at] = f64::NAN;
+            return Err(not_pd());
         }
         Ok(())
     }
 
-    /// Factorizes `[M G^T; G -c I]` by the range-space method into `ws`: the mass blocks at
-    /// `(q, v)` and the constraint rows evaluated last (`eval_constraints`). `Err` when a mass
-    /// block or `S + c I` is not positive definite (a massless body, dependent rows).
-    pub fn factor_range_space(
-        &mut self,
-        q: &[f64],
-        v: &[f64],
-        c: f64,
-        ws: &mut RangeSpace,
-    ) -> Result<(), String> {
-        let (nv, nc) = (self.n_v(), self.n_c());
-        self.update_kinematics(q, v);
-        self.factor_mass_blocks(ws)?;
-        // G in compressed rows, the blocks each row touches, and the envelope of S
+    /// Inverts the mass blocks at the last kinematics update into `ws`. The layout (one block
+    /// per body) is rebuilt only when the bodies' blocks changed size or kind, which also drops
+    /// the cached row pattern; rigid and particle blocks equal to the stored ones are kept.
+    fn factor_mass_blocks(&self, ws: &mut RangeSpace) -> Result<(), String> {
+        let bodies = &self.model.bodies;
+        let same_layout = ws.blocks.len() == bodies.len()
+            && ws.block_of.len() == self.n_v()
+            && bodies.iter().enumerate().all(|(bi, b)| {
+                let (o, n, _) = ws.blocks[bi];
+                self.mass_block_shape(bi)
+                    .is_ok_and(|(nb, kind)| o == b.v_offset && n == nb && ws.block_kind[bi] == kind)
+            });
+        if !same_layout {
+            ws.pattern_valid = false;
+            ws.blocks.clear();
+            ws.block_kind.clear();
+            ws.block_of.clear();
+            ws.block_of.resize(self.n_v(), usize::MAX);
+            let mut len = 0;
+            for (bi, b) in bodies.iter().enumerate() {
+                let (n, kind) = self.mass_block_shape(bi)?;
+                ws.block_of[b.v_offset..b.v_offset + n].fill(ws.blocks.len());
+                ws.blocks.push((b.v_offset, n, len));
+                ws.block_kind.push(kind);
+                len += n * n;
+            }
+            // NaN: no block stored yet, so every block is written below
+            ws.chol.clear();
+            ws.chol.resize(len, f64::NAN);
+            ws.mass.clear();
+            ws.mass.resize(len, f64::NAN);
+        }
+        for bi in 0..bodies.len() {
+            let at = ws.blocks[bi].2;
+            if let Err(e) = self.write_mass_block(bi, at, ws) {
+                ws.pattern_valid = false;
+                ws.blocks.clear();
+                return Err(e);
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads the active rows of `G` into `ws.vals` if their columns are those of the cached
+    /// pattern (`true`); `false` (and `ws.vals` partly written) otherwise.
+    fn read_rows_into_pattern(&self, ws: &mut RangeSpace) -> bool {
+        let nc = self.n_c();
+        if !ws.pattern_valid || ws.row_at.len() != nc + 1 {
+            return false;
+        }
+        for r in 0..nc {
+            let (mut k, end) = (ws.row_at[r], ws.row_at[r + 1]);
+            let mut same = true;
+            self.for_row(r, |c, g| {
+                if k < end && ws.cols[k] == c {
+                    ws.vals[k] = g;
+                } else {
+                    same = false;
+                }
+                k += 1;
+            });
+            if !same || k != end {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Builds the row pattern of `G` into `ws`: its compressed rows (with the values), the
+    /// blocks each row touches, the envelope of `S`, the segments of `Y = M^-1 G^T` and the rows
+    /// on each block. Depends only on which columns the rows touch, so it is kept while they do.
+    fn build_row_pattern(&self, ws: &mut RangeSpace) {
+        let nc = self.n_c();
         ws.row_at.clear();
         ws.cols.clear();
         ws.vals.clear();
@@ -459,34 +538,23 @@ impl System {
             }
             ws.first.push(first);
         }
-        // G and Y = M^-1 G^T on each row's blocks (M is block diagonal), as segments
+        // the segments of Y (and of G on the same speeds): one per row and block it touches
         ws.y_at.clear();
         ws.y_seg.clear();
-        ws.y_val.clear();
-        ws.g_val.clear();
         ws.y_at.push(0);
-        ws.work.clear();
-        ws.work.resize(nv, 0.0);
+        let mut len = 0;
         for r in 0..nc {
-            for k in ws.row_at[r]..ws.row_at[r + 1] {
-                ws.work[ws.cols[k]] += ws.vals[k];
-            }
             for &b in &ws.touched[ws.touched_at[r]..ws.touched_at[r + 1]] {
-                let (o, n, at) = ws.blocks[b];
-                let start = ws.y_val.len();
-                ws.y_seg.push((o, n, start));
-                ws.g_val.extend_from_slice(&ws.work[o..o + n]);
-                ws.y_val.resize(start + n, 0.0);
-                block_mul(
-                    ws.block_kind[b],
-                    &ws.chol[at..at + n * n],
-                    &ws.work[o..o + n],
-                    &mut ws.y_val[start..start + n],
-                );
-                ws.work[o..o + n].fill(0.0);
+                let (o, n, _) = ws.blocks[b];
+                ws.y_seg.push((o, n, len));
+                len += n;
             }
             ws.y_at.push(ws.y_seg.len());
         }
+        ws.y_val.clear();
+        ws.y_val.resize(len, 0.0);
+        ws.g_val.clear();
+        ws.g_val.resize(len, 0.0);
         // the rows on each block (in row order), with their segment's start
         ws.block_rows_at.clear();
         ws.block_rows_at.resize(ws.blocks.len() + 1, 0);
@@ -511,13 +579,60 @@ impl System {
                 ws.block_rows[slot] = (r, ws.y_seg[ws.y_at[r] + t].2);
             }
         }
-        // S = G Y on the envelope, block by block: rows i >= j sharing block b add G_i,b . Y_j,b
+        // the envelope: row i holds columns first[i]..=i
         ws.env_at.clear();
         let mut len = 0;
         for (i, &f) in ws.first.iter().enumerate() {
             ws.env_at.push(len);
             len += i - f + 1;
         }
+        ws.env_at.push(len);
+        ws.pattern_valid = true;
+    }
+
+    /// Factorizes `[M G^T; G -c I]` by the range-space method into `ws`: the mass blocks at
+    /// `(q, v)` and the constraint rows evaluated last (`eval_constraints`). `Err` when a mass
+    /// block or `S + c I` is not positive definite (a massless body, dependent rows). The row
+    /// pattern and the constant mass blocks are kept from the last factorization while they
+    /// stay the same (only the values are refreshed).
+    pub fn factor_range_space(
+        &mut self,
+        q: &[f64],
+        v: &[f64],
+        c: f64,
+        ws: &mut RangeSpace,
+    ) -> Result<(), String> {
+        let nc = self.n_c();
+        self.update_kinematics(q, v);
+        self.factor_mass_blocks(ws)?;
+        if !self.read_rows_into_pattern(ws) {
+            self.build_row_pattern(ws);
+        }
+        // G and Y = M^-1 G^T on each row's blocks (M is block diagonal), on their segments
+        ws.work.clear();
+        ws.work.resize(self.n_v(), 0.0);
+        for r in 0..nc {
+            for k in ws.row_at[r]..ws.row_at[r + 1] {
+                ws.work[ws.cols[k]] += ws.vals[k];
+            }
+            let segs = ws.y_at[r]..ws.y_at[r + 1];
+            let blocks = ws.touched_at[r]..ws.touched_at[r + 1];
+            for (s, t) in segs.zip(blocks) {
+                let (o, n, start) = ws.y_seg[s];
+                let b = ws.touched[t];
+                let at = ws.blocks[b].2;
+                ws.g_val[start..start + n].copy_from_slice(&ws.work[o..o + n]);
+                block_mul(
+                    ws.block_kind[b],
+                    &ws.chol[at..at + n * n],
+                    &ws.work[o..o + n],
+                    &mut ws.y_val[start..start + n],
+                );
+                ws.work[o..o + n].fill(0.0);
+            }
+        }
+        // S = G Y on the envelope, block by block: rows i >= j sharing block b add G_i,b . Y_j,b
+        let len = *ws.env_at.last().unwrap_or(&0);
         ws.env.clear();
         ws.env.resize(len, 0.0);
         for b in 0..ws.blocks.len() {
@@ -532,7 +647,6 @@ impl System {
                 }
             }
         }
-        ws.env_at.push(ws.env.len());
         ws.compliance = c;
         ws.diag.clear();
         for i in 0..nc {
