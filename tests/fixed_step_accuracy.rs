@@ -97,3 +97,41 @@ fn fixed_step_gen_alpha_converges_at_second_order_with_default_tolerances() {
     let e = (simulated_tip(a1, a2, t_end, loose) - reference).norm();
     assert_eq!(e, errors[2], "rtol 1e-2 changed the fixed-step result");
 }
+
+/// Tip of the double pendulum after `calls` communication steps of `comm` [s] each (one
+/// `advance_to` per communication point, as an FMU importer calls `fmi2DoStep`).
+fn simulated_tip_on_grid(a1: f64, a2: f64, comm: f64, calls: usize, s: Settings) -> Vec3 {
+    let mut sim =
+        Simulation::new(double_pendulum(a1, a2), IntegratorKind::GenAlpha, s, 0.0).expect("set up");
+    for k in 1..=calls {
+        sim.advance_to(k as f64 * comm).expect("run");
+    }
+    let q = &sim.state.q;
+    Vec3::new(q[7], q[8], q[9])
+        + mbcosim::model::kinematics::quat_at(q, 10) * Vec3::new(0.5, 0.0, 0.0)
+}
+
+/// A communication step that is a multiple of the fixed step plus a sliver (here 3e-9 s on
+/// 1e-3 s steps) must not make the run take the sliver as a step of its own: generalized-alpha's
+/// Newton matrix scales with 1 / h^2, and a step of 3e-9 s after steps of 1e-3 s leaves its
+/// accelerations wrong. The sliver is now split with the step before it (two steps of about
+/// h / 2), so the gridded run is as accurate as one call over the same time.
+#[test]
+fn fixed_step_communication_points_leave_no_sliver_steps() {
+    let (a1, a2) = (1.2, 1.6);
+    let (comm, calls) = (0.1 + 3e-9, 20);
+    let t_end = calls as f64 * comm;
+    let reference = reference_tip(a1, a2, t_end, 400_000);
+    let s = Settings {
+        fixed_step: 1e-3,
+        ..Settings::default()
+    };
+    let one_call = (simulated_tip(a1, a2, t_end, s) - reference).norm();
+    let gridded = (simulated_tip_on_grid(a1, a2, comm, calls, s) - reference).norm();
+    println!("h = 1e-3 s to {t_end} s: one call {one_call:.3e} m, {calls} calls {gridded:.3e} m");
+    assert!(one_call < 1e-3, "one call: {one_call:.3e} m");
+    assert!(
+        gridded < 2.0 * one_call,
+        "{calls} communication steps of {comm} s: {gridded:.3e} m against {one_call:.3e} m in one call"
+    );
+}

@@ -121,6 +121,9 @@ pub struct Bdf {
     wx: Vec<f64>,
     wv: Vec<f64>,
     vdot: Vec<f64>,
+    /// Accelerations at the only history point (the start or a restart), from the state: the
+    /// first step's predictor is `x0 + h v0`, `v0 + h vdot0` with them (empty: not known).
+    start_vdot: Vec<f64>,
     /// Scratch (sized once): chart centre, G^T mu, G v, predictor, error and divided differences.
     q0: Vec<f64>,
     gtmu: Vec<f64>,
@@ -244,6 +247,7 @@ impl Bdf {
             wx: Vec::new(),
             wv: Vec::new(),
             vdot: Vec::new(),
+            start_vdot: Vec::new(),
             q0: Vec::new(),
             gtmu: Vec::new(),
             gv: Vec::new(),
@@ -330,6 +334,20 @@ impl Bdf {
         self.mu.resize(nc, 0.0);
         self.q1.resize(nq, 0.0);
         self.rhs.resize(2 * nv + 2 * nc, 0.0);
+    }
+
+    /// Keeps the state's accelerations for the first step's predictor while the history holds
+    /// only the state's own point (after a start, a restart or a restored memory); finite and of
+    /// the right length, else none.
+    fn note_start_vdot(&mut self, st: &State) {
+        self.start_vdot.clear();
+        if self.hist.len() == 1
+            && self.hist[0].t == st.t
+            && st.vdot.len() == st.v.len()
+            && st.vdot.iter().all(|a| a.is_finite())
+        {
+            self.start_vdot.extend_from_slice(&st.vdot);
+        }
     }
 
     fn push_point(&mut self, st: &State) {
@@ -613,7 +631,19 @@ impl Bdf {
         }
         let mut wp = [0.0; 8];
         interp_weights(&ts[..np], t1, &mut wp[..np]);
+        // the first step from one point: a Taylor predictor with the known derivatives, so
+        // that its difference to the corrector (the error estimate) is O(h^2), as a predictor
+        // through k + 1 points makes it; through the point alone it would be the whole change
+        // of the speeds over the step, O(h), which a tolerance shared per unit step (also
+        // O(h)) never accepts where the accelerations are large against it (the flexible
+        // panels' modes at t = 0)
+        let taylor = np == 1 && self.start_vdot.len() == nv;
         for i in 0..nv {
+            if taylor {
+                self.x[i] = self.xs[0][i] + h * self.hist[0].v[i];
+                self.v[i] = self.hist[0].v[i] + h * self.start_vdot[i];
+                continue;
+            }
             let (mut sx, mut sv) = (0.0, 0.0);
             for (j, w) in wp[..np].iter().enumerate() {
                 sx += w * self.xs[j][i];
@@ -648,9 +678,10 @@ impl Bdf {
         if self.s.fixed_step > 0.0 {
             return Ok([f64::NAN, 0.0, f64::NAN]);
         }
-        // error at order k
+        // error at order k; the Taylor predictor of the first step stands for one through two
+        // points a step apart (span 2h)
         let span = t1 - self.hist[np - 1].t;
-        let c = h / span;
+        let c = if taylor { 0.5 } else { h / span };
         for i in 0..nv {
             self.ex[i] = c * (self.x[i] - self.xp[i]);
             self.ev[i] = c * (self.v[i] - self.vp[i]);
@@ -879,6 +910,7 @@ impl Integrator for Bdf {
         self.order = 1;
         self.steps_at_order = 0;
         self.since_start = 0;
+        self.note_start_vdot(st);
         self.h = self.initial_step(sys, st);
         self.jac_valid = false;
         self.pending = None;
@@ -901,6 +933,7 @@ impl Integrator for Bdf {
             return Err(SolverError("bdf: advance_to before start".into()));
         }
         let fixed = self.s.fixed_step > 0.0;
+        self.note_start_vdot(st);
         // a step size that cannot advance (a forged state) is chosen afresh, as at the start
         if !fixed && step_control::collapsed(self.h, st.t) {
             self.h = self.initial_step(sys, st);
@@ -936,6 +969,8 @@ impl Integrator for Bdf {
             let landing_trial = landing.is_some();
             let h = if let Some(h_on) = landing {
                 h_on
+            } else if fixed {
+                super::fixed_step_size(natural, remaining)
             } else if natural >= remaining - time_eps(t_end) {
                 remaining
             } else {

@@ -757,20 +757,20 @@ impl Integrator for GenAlpha {
             let landing_trial = landing.is_some();
             let h = if let Some(h_on) = landing {
                 h_on
+            } else if !adaptive {
+                super::fixed_step_size(natural, remaining)
             } else if natural >= remaining - time_eps(t_end) {
                 remaining
-            } else if adaptive && !self.s.equal_steps {
+            } else if !self.s.equal_steps {
                 if natural > 0.5 * remaining {
                     0.5 * remaining
                 } else {
                     natural
                 }
-            } else if adaptive {
+            } else {
                 // equal steps to the end of the call: the same step size (and Newton matrix)
                 // for all of them, and for the next call when its length is the same
                 remaining / (remaining / natural).ceil()
-            } else {
-                natural
             };
             match self.try_step(sys, st, h) {
                 StepOutcome::Converged(err) => {

@@ -572,3 +572,30 @@ impl CopyInto for Vec<f64> {
 pub(crate) fn time_eps(t: f64) -> f64 {
     1e-12 * t.abs().max(1.0)
 }
+
+/// A remainder after a fixed step of at most this fraction of the step is the round-off of the
+/// summed time, and the step absorbs it.
+const FIXED_STEP_ROUND_OFF: f64 = 1e-6;
+
+/// A remainder after a fixed step below this fraction of the step is split with it into two
+/// equal steps instead of being taken alone.
+const FIXED_STEP_MIN_REMAINDER: f64 = 0.01;
+
+/// The next step [s] of a fixed-step run with step `fixed` and `remaining` [s] to the end of the
+/// call. `fixed` itself, except at the end: the rest when it is at most `fixed` (plus the
+/// round-off of the summed time, up to [`FIXED_STEP_ROUND_OFF`] of the step), half of it when a
+/// step of `fixed` would leave a sliver below [`FIXED_STEP_MIN_REMAINDER`] of the step. A sliver
+/// taken alone is a step the implicit schemes cannot take: 200,000 steps of 1e-5 s sum to 2 s
+/// with an error of about 4e-11 s, beyond [`time_eps`], and generalized-alpha's step of 4e-11 s
+/// (its Newton matrix scaled by 1 / h^2) left the double pendulum 6e-2 m off at the next
+/// communication point and stopped the four-bar's Newton iteration.
+pub(crate) fn fixed_step_size(fixed: f64, remaining: f64) -> f64 {
+    let rest = remaining - fixed;
+    if rest <= FIXED_STEP_ROUND_OFF * fixed {
+        remaining
+    } else if rest < FIXED_STEP_MIN_REMAINDER * fixed {
+        0.5 * remaining
+    } else {
+        fixed
+    }
+}
