@@ -17,6 +17,9 @@
 //!
 //! Any TOML syntax is read: basic and literal strings with all their escapes, multi-line
 //! strings, `_` between digits, `parameters = { .. }` or `parameters.name = ..` for the table.
+//! A RopeBlock scene may also describe its rig in the tables `[block]`, `[[lug]]`, `[[sling]]`,
+//! `[[hook]]` ([`TABLES`]; arrays of numbers allowed there), read by the model
+//! ([`CoSimModel::set_tables`], `docs/rope_block_rig.md`).
 //! What is not a parameter value is refused with the file and line: arrays, inline tables and
 //! date-times as values, other tables (`[settings]`, `[parameters.sub]`, `[[parameters]]`),
 //! keys other than `model` outside `[parameters]`, and dotted keys inside it (`a.b = 1` is a
