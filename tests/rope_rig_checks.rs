@@ -216,3 +216,133 @@ fn a_sling_through_the_block_is_warned_about() {
         .any(|r| r.message.contains("sling 0 passes through the block"));
     assert!(warned, "{log:?}");
 }
+
+#[test]
+fn random_rigs_are_answered_without_panics() {
+    // numbers from 1e-300 to 1e300 of either sign, wrong indices, any counts: every rig gets a
+    // model or a message at instantiation (the reader runs inside fmi2Instantiate)
+    let dir = folder("fuzz");
+    write_box(&dir, 20.0, 14.0, 8.0, 0);
+    let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        seed
+    };
+    let num = |next: &mut dyn FnMut() -> u64| -> String {
+        let r = next();
+        let x = match r % 4 {
+            0 => (r % 41) as f64 - 20.0,
+            1 => ((r >> 8) % 1000) as f64 * 0.05,
+            2 => 10f64.powi(((r >> 16) % 601) as i32 - 300),
+            _ => -10f64.powi(((r >> 16) % 601) as i32 - 300),
+        };
+        format!("{x:e}")
+    };
+    let (mut accepted, mut refused) = (0, 0);
+    for _ in 0..300 {
+        let mut text = String::from("[block]\n");
+        if next() % 2 == 0 {
+            text.push_str(&format!(
+                "box = [{}, {}, {}]\n",
+                num(&mut next),
+                num(&mut next),
+                num(&mut next)
+            ));
+        } else {
+            text.push_str("mesh = \"box_0.obj\"\n");
+        }
+        for key in ["mass", "cog", "inertia", "plate_thickness"] {
+            if next() % 3 == 0 {
+                let v = match key {
+                    "cog" => format!(
+                        "[{}, {}, {}]",
+                        num(&mut next),
+                        num(&mut next),
+                        num(&mut next)
+                    ),
+                    "inertia" => format!(
+                        "[{}, {}, {}, {}, {}, {}]",
+                        num(&mut next),
+                        num(&mut next),
+                        num(&mut next),
+                        num(&mut next),
+                        num(&mut next),
+                        num(&mut next)
+                    ),
+                    _ => num(&mut next),
+                };
+                text.push_str(&format!("{key} = {v}\n"));
+            }
+        }
+        for _ in 0..(next() % 5) {
+            text.push_str(&format!(
+                "[[lug]]\nposition = [{}, {}, {}]\n",
+                num(&mut next),
+                num(&mut next),
+                num(&mut next)
+            ));
+        }
+        for _ in 0..(next() % 5) {
+            text.push_str(&format!(
+                "[[sling]]\nlug = {}\nhook = {}\n",
+                next() % 5,
+                next() % 5
+            ));
+            if next() % 2 == 0 {
+                text.push_str(&format!(
+                    "length = {}\nea = {}\n",
+                    num(&mut next),
+                    num(&mut next)
+                ));
+            }
+        }
+        for _ in 0..(next() % 6) {
+            text.push_str(&format!(
+                "[[hook]]\nposition = [{}, {}, {}]\n",
+                num(&mut next),
+                num(&mut next),
+                num(&mut next)
+            ));
+        }
+        match std::panic::catch_unwind(|| instantiate(&dir, &text).map(|_| ())) {
+            Ok(Ok(())) => accepted += 1,
+            Ok(Err(e)) => {
+                assert!(!e.is_empty());
+                refused += 1
+            }
+            Err(_) => panic!("panicked on\n{text}"),
+        }
+    }
+    // the good rig with one number replaced: deeper into the checks
+    let good = user_lift(
+        "box_0.obj",
+        "cog = [0.0, 0.0, 3.5]\n",
+        &four_slings("length = 23.0"),
+    );
+    let spots: Vec<usize> = good
+        .char_indices()
+        .filter(|&(i, c)| {
+            c.is_ascii_digit()
+                && !good[..i].ends_with(|p: char| {
+                    p.is_ascii_alphanumeric() || p == '.' || p == '_' || p == '-'
+                })
+        })
+        .map(|(i, _)| i)
+        .collect();
+    for _ in 0..300 {
+        let at = spots[(next() as usize) % spots.len()];
+        let end = at
+            + good[at..]
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '.'))
+                .unwrap_or(0);
+        let text = format!("{}{}{}", &good[..at], num(&mut next), &good[end..]);
+        match std::panic::catch_unwind(|| instantiate(&dir, &text).map(|_| ())) {
+            Ok(Ok(())) => accepted += 1,
+            Ok(Err(_)) => refused += 1,
+            Err(_) => panic!("panicked on\n{text}"),
+        }
+    }
+    println!("random rigs: {accepted} accepted, {refused} refused, no panic");
+}

@@ -288,7 +288,7 @@ fn check_inertia(i: &Mat3) -> Result<(), String> {
     }
     let e = i.symmetric_eigenvalues();
     let (a, b, c) = (e[0], e[1], e[2]);
-    if a <= 0.0 || b <= 0.0 || c <= 0.0 {
+    if !(a.is_finite() && b.is_finite() && c.is_finite()) || a <= 0.0 || b <= 0.0 || c <= 0.0 {
         return Err(format!(
             "block inertia must be positive definite (principal moments {a:.4e}, {b:.4e}, {c:.4e} kg m2)"
         ));
