@@ -18,7 +18,7 @@ use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::Vec3;
 use mbcosim::rope::shell::parametric::BlockShape;
 use mbcosim::scene::rope_block::demo::{Demo, hoist, run};
-use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
+use mbcosim::scene::rope_block::{BlockGeometry, RopeBlockParams, RopeBlockScene};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -280,14 +280,12 @@ fn main() -> Result<(), String> {
     };
     let mut rows = Vec::new();
     for &nf in facets {
-        let p = RopeBlockParams {
-            shape: BlockShape {
-                bilge_facets: nf,
-                both_bilges: true,
-                ..base.shape
-            },
-            ..base.clone()
-        };
+        let mut p = base.clone();
+        p.rig.block.geometry = BlockGeometry::Shape(BlockShape {
+            bilge_facets: nf,
+            both_bilges: true,
+            ..base.rig.shape().copied().unwrap_or_default()
+        });
         let mesh = p.design_mesh()?;
         let (tri, edges) = (mesh.triangles.len(), mesh.edges.len());
         let (c, steps) = cost_per_step(p, duration)?;

@@ -188,6 +188,17 @@ impl Simulation {
         self.integrator.restart(&mut self.system, &mut self.state)
     }
 
+    /// Copies the state's effect memory into the system after a change made from outside that
+    /// keeps the solution continuous in position and velocity (e.g. a prescribed motion whose
+    /// acceleration steps); the integrator keeps its history.
+    pub fn sync_memory(&mut self) -> Result<(), SolverError> {
+        if self.state.memory.len() != self.system.n_memory() {
+            return Err(SolverError("state memory does not match the system".into()));
+        }
+        self.system.memory.copy_from_slice(&self.state.memory);
+        Ok(())
+    }
+
     /// Restarts the integrator at the current state after a discontinuous change made from
     /// outside (e.g. effect memory or inputs changed between steps): copies the state's memory
     /// into the system, recomputes accelerations and multipliers, and drops the history.

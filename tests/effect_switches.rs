@@ -153,11 +153,8 @@ fn invalid_effect_combinations_are_refused_with_the_parameters_named() {
         assert!(e.contains("cable_stiffness"), "{e}");
     }
     // RopeBlock: a scene without slings or with a sling on a missing hook
-    let e = RopeBlockParams {
-        slings: vec![],
-        ..RopeBlockParams::default()
-    }
-    .validate()
-    .unwrap_err();
+    let mut p = RopeBlockParams::default();
+    p.rig.slings.clear();
+    let e = p.validate().unwrap_err();
     assert!(e.contains("sling"), "{e}");
 }

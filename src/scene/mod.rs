@@ -179,6 +179,25 @@ pub trait CoSimModel: Send {
     fn set_resource_dir(&mut self, _dir: &std::path::Path) -> Result<(), ModelError> {
         Ok(())
     }
+
+    /// Takes the tables of a scene file other than `[parameters]` (RopeBlock's rig: `[block]`,
+    /// `[[lug]]`, `[[sling]]`, `[[hook]]`), before initialization; `origin` (the file) prefixes
+    /// messages, which name the line. The default refuses any table.
+    fn set_tables(
+        &mut self,
+        tables: &[scene_file::SceneTable],
+        origin: &str,
+    ) -> Result<(), String> {
+        match tables.first() {
+            None => Ok(()),
+            Some(t) => Err(format!(
+                "{origin}:{}: unknown table `[{}]`: a scene file of `{}` has only `[parameters]`",
+                t.line,
+                t.name,
+                self.info().identifier
+            )),
+        }
+    }
 }
 
 /// Relative tolerance for matching a communication point with the model time: importers send

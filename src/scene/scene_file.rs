@@ -17,6 +17,9 @@
 //!
 //! Any TOML syntax is read: basic and literal strings with all their escapes, multi-line
 //! strings, `_` between digits, `parameters = { .. }` or `parameters.name = ..` for the table.
+//! A RopeBlock scene may also describe its rig in the tables `[block]`, `[[lug]]`, `[[sling]]`,
+//! `[[hook]]` ([`TABLES`]; arrays of numbers allowed there), read by the model
+//! ([`CoSimModel::set_tables`], `docs/rope_block_rig.md`).
 //! What is not a parameter value is refused with the file and line: arrays, inline tables and
 //! date-times as values, other tables (`[settings]`, `[parameters.sub]`, `[[parameters]]`),
 //! keys other than `model` outside `[parameters]`, and dotted keys inside it (`a.b = 1` is a
@@ -51,6 +54,26 @@ pub enum SceneValue {
     Boolean(bool),
     /// A basic string.
     String(String),
+    /// An array of numbers (only in the tables of [`TABLES`]: positions, an inertia tensor).
+    Reals(Vec<f64>),
+}
+
+/// Tables a scene file may hold besides `[parameters]`: a RopeBlock rig, as `[block]` and the
+/// arrays of tables `[[lug]]`, `[[sling]]`, `[[hook]]` (see `docs/rope_block_rig.md`). Their
+/// keys are read by the model ([`CoSimModel::set_tables`]); a model without tables refuses them.
+pub const TABLES: [&str; 4] = ["block", "lug", "sling", "hook"];
+
+/// One `[name]` table or one `[[name]]` element of a scene file (a name of [`TABLES`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneTable {
+    /// Table name (`block`, `lug`, ...).
+    pub name: String,
+    /// Position in its array of tables (0 for a plain table).
+    pub index: usize,
+    /// Line of the header (1-based), for messages.
+    pub line: usize,
+    /// Its `key = value` lines in file order.
+    pub entries: Vec<SceneEntry>,
 }
 
 /// One `name = value` line of the `[parameters]` table.
@@ -73,6 +96,8 @@ pub struct SceneFile {
     pub model_line: usize,
     /// The parameter values in file order.
     pub entries: Vec<SceneEntry>,
+    /// The tables of [`TABLES`] in file order.
+    pub tables: Vec<SceneTable>,
 }
 
 /// Parses `text`; `origin` (a file name) prefixes every message.
@@ -121,9 +146,39 @@ pub fn parse(text: &str, origin: &str) -> Result<SceneFile, String> {
                     ));
                 }
             },
+            name if TABLES.contains(&name) => {
+                let tables: Vec<&Val<'_>> = match (value.get_ref(), form(key, value)) {
+                    (DeValue::Table(_), Form::Header) => vec![value],
+                    (DeValue::Array(a), Form::Header) => a.iter().collect(),
+                    _ => {
+                        return Err(src.at(
+                            pos,
+                            format!("`{name}` must be written as a table header (`[block]`, `[[lug]]`, `[[sling]]`, `[[hook]]`)"),
+                        ));
+                    }
+                };
+                for (index, t) in tables.into_iter().enumerate() {
+                    let DeValue::Table(table) = t.get_ref() else {
+                        return Err(
+                            src.at(t.span().start, format!("`[[{name}]]` must hold tables"))
+                        );
+                    };
+                    let mut entries = Vec::new();
+                    for (k, v) in in_file_order(table) {
+                        entries.push(src.table_entry(name, k, v)?);
+                    }
+                    file.tables.push(SceneTable {
+                        name: name.to_string(),
+                        index,
+                        line: src.line(t.span().start),
+                        entries,
+                    });
+                }
+            }
             name => return Err(src.outside(name, key, value)),
         }
     }
+    file.tables.sort_by_key(|t| t.line);
     Ok(file)
 }
 
@@ -307,6 +362,57 @@ impl Source<'_> {
             value: v,
             line: self.line(pos),
         })
+    }
+
+    /// `key = value` of a table of [`TABLES`]: a scalar as in `[parameters]`, or an array of
+    /// numbers.
+    fn table_entry(
+        &self,
+        table: &str,
+        key: &Key<'_>,
+        value: &Val<'_>,
+    ) -> Result<SceneEntry, String> {
+        let pos = key.span().start;
+        let name = key.get_ref();
+        match (value.get_ref(), form(key, value)) {
+            (DeValue::Array(items), Form::Value) => {
+                let mut v = Vec::with_capacity(items.len());
+                for item in items.iter() {
+                    let x = match item.get_ref() {
+                        DeValue::Integer(i) => i64::from_str_radix(i.as_str(), i.radix())
+                            .map(|i| i as f64)
+                            .unwrap_or(f64::NAN),
+                        DeValue::Float(f) => f.as_str().parse::<f64>().unwrap_or(f64::NAN),
+                        _ => {
+                            return Err(self.at(
+                                pos,
+                                format!("`{table}.{name}`: an array here holds numbers only, got `{}`", self.snippet(item)),
+                            ));
+                        }
+                    };
+                    if !x.is_finite() {
+                        return Err(self.at(
+                            pos,
+                            format!("`{table}.{name}`: `{}` refused: values must be finite", self.snippet(item)),
+                        ));
+                    }
+                    v.push(x);
+                }
+                Ok(SceneEntry {
+                    name: name.to_string(),
+                    value: SceneValue::Reals(v),
+                    line: self.line(pos),
+                })
+            }
+            (DeValue::Array(_) | DeValue::Table(_), _) => Err(self.at(
+                pos,
+                format!(
+                    "`{table}.{name}`: a `[{table}]` table holds numbers, strings, booleans and arrays of numbers, not {}",
+                    a_type(value.get_ref())
+                ),
+            )),
+            _ => self.entry(key, value),
+        }
     }
 
     /// The message for `name`, a key outside `[parameters]` other than `model`.
@@ -504,6 +610,19 @@ pub fn apply(model: &mut dyn CoSimModel, file: &SceneFile, origin: &str) -> Resu
             info.identifier
         ));
     }
+    apply_parameters(model, file, origin)?;
+    if !file.tables.is_empty() {
+        model.set_tables(&file.tables, origin)?;
+    }
+    Ok(file.entries.len())
+}
+
+fn apply_parameters(
+    model: &mut dyn CoSimModel,
+    file: &SceneFile,
+    origin: &str,
+) -> Result<(), String> {
+    let info = model.info();
     for e in &file.entries {
         let at = |msg: String| format!("{origin}:{}: {msg}", e.line);
         let port = info.port_by_name(&e.name).ok_or_else(|| {
@@ -521,7 +640,7 @@ pub fn apply(model: &mut dyn CoSimModel, file: &SceneFile, origin: &str) -> Resu
         }
         set_one(model, port, &e.value).map_err(at)?;
     }
-    Ok(file.entries.len())
+    Ok(())
 }
 
 fn set_one(model: &mut dyn CoSimModel, port: &PortSpec, value: &SceneValue) -> Result<(), String> {
@@ -534,6 +653,7 @@ fn set_one(model: &mut dyn CoSimModel, port: &PortSpec, value: &SceneValue) -> R
                 SceneValue::Real(_) => "a real",
                 SceneValue::Boolean(_) => "a boolean",
                 SceneValue::String(_) => "a string",
+                SceneValue::Reals(_) => "an array",
             }
         )
     };

@@ -4,7 +4,9 @@
 use mbcosim::math::Vec3;
 use mbcosim::rope::RopeProps;
 use mbcosim::rope::shell::parametric::BlockShape;
-use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene, Route, SlingParams};
+use mbcosim::scene::rope_block::{
+    BlockGeometry, BlockRig, Lug, Rig, RigHook, RigSling, RopeBlockParams, RopeBlockScene,
+};
 
 #[test]
 fn sling_legs_carry_weight_over_n_cos_beta() {
@@ -13,20 +15,34 @@ fn sling_legs_carry_weight_over_n_cos_beta() {
     let g = 9.81;
     // two spreader hooks above x = +-6, four lugs on the side shell 1 m below the deck edges:
     // every sling lies in a plane normal to its edge
-    let sling = |hook: usize, sx: f64, sy: f64| SlingParams {
-        hook,
-        lug: Vec3::new(sx * 6.0, sy * (0.5 * b + 0.3), h - 1.0),
-        length_factor: 1.0,
-        route: Route::OverEdge,
+    let lug = |sx: f64, sy: f64| Lug {
+        position: Vec3::new(sx * 6.0, sy * (0.5 * b + 0.3), h - 1.0),
+    };
+    let hook = |x: f64| RigHook {
+        position: Vec3::new(x, 0.0, h + 15.0),
+        crane: 0,
     };
     let params = RopeBlockParams {
         block_mass: mass,
-        shape: BlockShape {
-            length: l,
-            breadth: b,
-            height: h,
-            bilge_radius: 0.0,
-            ..BlockShape::default()
+        rig: Rig {
+            block: BlockRig {
+                geometry: BlockGeometry::Shape(BlockShape {
+                    length: l,
+                    breadth: b,
+                    height: h,
+                    bilge_radius: 0.0,
+                    ..BlockShape::default()
+                }),
+                ..Rig::default().block
+            },
+            lugs: vec![
+                lug(1.0, 1.0),
+                lug(1.0, -1.0),
+                lug(-1.0, 1.0),
+                lug(-1.0, -1.0),
+            ],
+            slings: (0..4).map(|k| RigSling::new(k, k / 2)).collect(),
+            hooks: vec![hook(6.0), hook(-6.0)],
         },
         rope: RopeProps {
             mass_per_length: 1e-3,
@@ -34,16 +50,6 @@ fn sling_legs_carry_weight_over_n_cos_beta() {
             ..RopeProps::default()
         },
         segments: 40,
-        hooks: vec![
-            Vec3::new(6.0, 0.0, h + 15.0),
-            Vec3::new(-6.0, 0.0, h + 15.0),
-        ],
-        slings: vec![
-            sling(0, 1.0, 1.0),
-            sling(0, 1.0, -1.0),
-            sling(1, -1.0, 1.0),
-            sling(1, -1.0, -1.0),
-        ],
         ..RopeBlockParams::default()
     };
     let mut scene = RopeBlockScene::new(params).unwrap();
@@ -55,7 +61,7 @@ fn sling_legs_carry_weight_over_n_cos_beta() {
     let reports = scene.sim.contact_reports();
     for r in 0..4 {
         let rep = reports.iter().find(|x| x.rope == r).unwrap();
-        let hook = scene.params.hooks[scene.params.slings[r].hook];
+        let hook = scene.params.rig.hooks[scene.params.rig.slings[r].hook].position;
         // the leg from the edge to the hook, in the final (settled) geometry
         let pts = scene.sim.rope_points(r);
         let q = pts[1 + rep.node];

@@ -11,9 +11,10 @@
 //!
 //! # Hook inputs
 //! Per hook: velocity x/y/z [m/s] (world) and winch pay-out rate [m/s]. A changed command is
-//! applied at the start of the next step (no direct feedthrough) and reached linearly over 0.5 s
-//! from the previous one, so hook position and velocity stay continuous. Unchanged values cost
-//! nothing (the integrator is only restarted when a command changes). In the lift scenario hook 1
+//! applied at the start of the next step (no direct feedthrough) and reached linearly over
+//! `hook_ramp_time` (default 0.5 s) from the previous one, so hook position and velocity stay
+//! continuous and the integrator keeps its history; with `hook_ramp_time` = 0 the velocity jumps
+//! and the integrator restarts. Unchanged values cost nothing. In the lift scenario hook 1
 //! does not exist: its inputs are accepted and ignored.
 //!
 //! # Start
@@ -26,12 +27,16 @@
 use super::params::GroundParams;
 use super::persist::{clone_sim, read_sim, write_sim};
 use super::ports::*;
+use super::rig::BlockGeometry;
+use super::rig_checks::check_rig;
+use super::rig_file::{RigOverride, read_rig};
 use super::{RopeBlockParams, RopeBlockScene};
 use crate::math::Vec3;
 use crate::scene::bytes::{ByteReader, ByteWriter, checksum64};
 use crate::scene::clock::Clock;
 use crate::scene::panel_lock::ports::integrator_of;
 use crate::scene::port::{PortType, ValueRef};
+use crate::scene::scene_file::SceneTable;
 use crate::scene::store::PortStore;
 use crate::scene::view::Snapshot;
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
@@ -72,6 +77,9 @@ pub struct RopeBlockModel {
     /// block); kept in serialized states, which refuse to restore with a changed file.
     mesh_digest: Option<u64>,
     resource_dir: Option<PathBuf>,
+    /// The rig tables of the scene file read at instantiation (replacing parts of the
+    /// scenario's rig).
+    rig_file: Option<RigOverride>,
     log: Vec<LogRecord>,
 }
 
@@ -85,6 +93,7 @@ impl Clone for RopeBlockModel {
             clock: self.clock,
             mesh_digest: self.mesh_digest,
             resource_dir: self.resource_dir.clone(),
+            rig_file: self.rig_file.clone(),
             log: self.log.clone(),
         }
     }
@@ -115,6 +124,7 @@ impl RopeBlockModel {
             clock: Clock::default(),
             mesh_digest: None,
             resource_dir: None,
+            rig_file: None,
             log: Vec::new(),
         }
     }
@@ -162,6 +172,8 @@ impl RopeBlockModel {
         p.rope.mass_per_length = r(rvr::ROPE_MASS_PER_LENGTH);
         p.rope.axial_damping = r(rvr::ROPE_DAMPING);
         p.rope.diameter = r(rvr::ROPE_DIAMETER);
+        p.rope.breaking_load = r(rvr::ROPE_BREAKING_LOAD);
+        p.hook_ramp = r(rvr::HOOK_RAMP_TIME);
         p.rope.friction = if on(bvr::FRICTION)? { r(rvr::MU) } else { 0.0 };
         p.rope.bending_stiffness = if on(bvr::BENDING)? {
             r(rvr::BENDING_STIFFNESS)
@@ -198,10 +210,20 @@ impl RopeBlockModel {
         p.rtol = r(rvr::RTOL);
         p.atol = r(rvr::ATOL);
         p.h_max = r(rvr::H_MAX);
-        p.mesh_scale = r(rvr::MESH_SCALE);
         let file = self.ports.get_string(SVR_MESH_FILE)?;
+        if let Some(rig) = &self.rig_file {
+            if rig.block.is_some() && !file.is_empty() {
+                return Err(ModelError::InvalidValue(format!(
+                    "mesh_file = \"{file}\" and the scene file's [block] both give the block: give the mesh in [block] (mesh = \"...\") and leave mesh_file empty"
+                )));
+            }
+            p.rig = rig.apply(&p.rig);
+        }
         if !file.is_empty() {
-            p.mesh_file = Some(self.mesh_path(&file)?.to_string_lossy().into_owned());
+            p.rig.block.geometry = BlockGeometry::Mesh {
+                file: self.mesh_path(&file)?.to_string_lossy().into_owned(),
+                scale: r(rvr::MESH_SCALE),
+            };
         }
         p.validate().map_err(ModelError::InvalidValue)?;
         Ok(p)
@@ -273,7 +295,7 @@ impl RopeBlockModel {
                 "the model is not initialized".into(),
             ));
         };
-        let n_hooks = scene.params.hooks.len().min(MAX_HOOKS);
+        let n_hooks = scene.params.rig.hooks.len().min(MAX_HOOKS);
         for (k, (c, a)) in cmds.iter().zip(self.applied.iter_mut()).enumerate() {
             if k < n_hooks && c != a {
                 scene
@@ -300,6 +322,23 @@ impl RopeBlockModel {
     fn start(&mut self) -> Result<(), ModelError> {
         let p = self.params()?;
         self.mesh_digest = mesh_digest_of(&p)?;
+        let mut warnings = check_rig(&p)
+            .map_err(|e| ModelError::InvalidValue(format!("RopeBlock rig refused: {e}")))?;
+        if p.rig.slings.len() > MAX_SLINGS {
+            warnings.push(format!(
+                "the rig has {} slings; the FMU's outputs cover slings 0-{} (slings {}-{} are simulated, and count in the hook loads, but not reported)",
+                p.rig.slings.len(),
+                MAX_SLINGS - 1,
+                MAX_SLINGS,
+                p.rig.slings.len() - 1
+            ));
+        }
+        for w in warnings {
+            self.log.push(LogRecord {
+                level: LogLevel::Warning,
+                message: w,
+            });
+        }
         let scene = RopeBlockScene::new(p)
             .map_err(|e| ModelError::InvalidValue(format!("RopeBlock could not be set up: {e}")))?;
         for w in &scene.sim.sim.warnings {
@@ -468,6 +507,7 @@ impl CoSimModel for RopeBlockModel {
             clock,
             mesh_digest,
             resource_dir: self.resource_dir.clone(),
+            rig_file: self.rig_file.clone(),
             log: Vec::new(),
         };
         if r.bool("initialized scene")? {
@@ -477,7 +517,7 @@ impl CoSimModel for RopeBlockModel {
                 if now != Some(d) {
                     return Err(ModelError::BadState(format!(
                         "mesh_file `{}` changed since this state was taken (digest {d:016x}, now {}): a state restores only with the mesh it was taken with",
-                        params.mesh_file.as_deref().unwrap_or(""),
+                        params.mesh_file().unwrap_or(""),
                         now.map_or("no mesh".to_string(), |n| format!("{n:016x}"))
                     )));
                 }
@@ -522,11 +562,31 @@ impl CoSimModel for RopeBlockModel {
         self.resource_dir = Some(dir.to_path_buf());
         Ok(())
     }
+
+    /// Reads the scene file's rig and checks it against its block with the parameters set so
+    /// far (they are checked again at initialization, with the importer's values).
+    fn set_tables(&mut self, tables: &[SceneTable], origin: &str) -> Result<(), String> {
+        if self.ports.is_initialized() {
+            return Err(format!("{origin}: a rig is set before initialization only"));
+        }
+        let dir = Path::new(origin).parent();
+        let rig = read_rig(tables, origin, dir)?;
+        self.rig_file = (!rig.is_empty()).then_some(rig);
+        let p = self.params().map_err(|e| format!("{origin}: {e}"))?;
+        let warnings = check_rig(&p).map_err(|e| format!("{origin}: rig refused: {e}"))?;
+        for w in warnings {
+            self.log.push(LogRecord {
+                level: LogLevel::Warning,
+                message: format!("{origin}: {w}"),
+            });
+        }
+        Ok(())
+    }
 }
 
 /// Digest of the bytes of the scene's mesh file, `None` for the parametric block.
 fn mesh_digest_of(p: &RopeBlockParams) -> Result<Option<u64>, ModelError> {
-    let Some(file) = &p.mesh_file else {
+    let Some(file) = p.mesh_file() else {
         return Ok(None);
     };
     let bytes = std::fs::read(file)

@@ -19,6 +19,9 @@ pub mod manager;
 pub mod params;
 pub mod persist;
 pub mod ports;
+pub mod rig;
+pub mod rig_checks;
+pub mod rig_file;
 pub mod rigging;
 pub mod runner;
 pub mod scene;
@@ -28,8 +31,9 @@ pub mod view;
 
 pub use cosim::{RopeBlockModel, create};
 pub use manager::{ContactSettings, Counters, Edit, NodeReport};
-pub use params::{RopeBlockParams, Route, SlingParams};
+pub use params::{RopeBlockParams, Route};
 pub use ports::info;
+pub use rig::{BlockGeometry, BlockRig, Lug, Plate, Rig, RigHook, RigSling};
 pub use runner::RopeBlockSim;
 pub use scene::RopeBlockScene;
 pub use structure::{

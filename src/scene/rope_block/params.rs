@@ -5,6 +5,7 @@
 //! bottom (as [`BlockShape`]); lugs are given in it. The block's body frame is the design frame
 //! shifted to the centre of mass. The world frame has `z` up, gravity `-z`.
 
+use super::rig::{BlockGeometry, BlockRig, Lug, Rig, RigHook, RigSling};
 use super::rigging::{Waypoint, lay_rope, wrap_edge};
 use super::structure::{BlockSpec, EndSpec, GroundSpec, Structure};
 use crate::contact::{ContactLaw, LawKind};
@@ -26,19 +27,6 @@ pub enum Route {
     OverEdge,
     /// Through this point of a plate edge [m], block design frame (within 1 cm of the edge).
     Via(Vec3),
-}
-
-/// One sling: a rope from a hook to a lug on the block.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SlingParams {
-    /// Hook index.
-    pub hook: usize,
-    /// Lug position [m], block design frame.
-    pub lug: Vec3,
-    /// Unstretched length as a fraction of the initial route length [-] (1: just taut).
-    pub length_factor: f64,
-    /// Initial route.
-    pub route: Route,
 }
 
 /// Contact of the block with a flat, level ground (a turn-over that starts from or ends on the
@@ -116,26 +104,20 @@ impl GroundParams {
 /// deck edges, legs at about 25 degrees.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RopeBlockParams {
-    /// Block mass [kg].
+    /// Block mass [kg] where the rig gives none (the FMU's `block_mass`).
     pub block_mass: f64,
-    /// Parametric block shape (used unless `mesh_file` is set).
-    pub shape: BlockShape,
-    /// OBJ or STL file of the shell plate in the design frame (overrides `shape`).
-    pub mesh_file: Option<String>,
-    /// Factor from the mesh file's units to metres.
-    pub mesh_scale: f64,
-    /// Inertia about the centre of mass [kg m^2], block frame; `None`: a uniform thin shell.
-    pub inertia: Option<Mat3>,
+    /// The rig: block geometry and mass properties, lugs, slings, hooks.
+    pub rig: Rig,
     /// World position of the design-frame origin [m] and the block's orientation.
     pub block_origin: Vec3,
     pub block_orientation: Quat,
-    /// Rope properties (all slings).
+    /// Rope properties of every sling where the rig gives none (EA, mass per length, diameter,
+    /// damping, breaking load), and of all slings (friction, bending, drag).
     pub rope: RopeProps,
     /// Segments per sling.
     pub segments: usize,
-    /// Initial hook positions [m], world.
-    pub hooks: Vec<Vec3>,
-    pub slings: Vec<SlingParams>,
+    /// Time over which a hook reaches a newly commanded velocity or pay-out rate [s].
+    pub hook_ramp: f64,
     /// Gravity [m/s^2] along -z (0: off).
     pub gravity: f64,
     /// Rope-edge contact on or off (off: ropes pass through the block).
@@ -162,37 +144,14 @@ pub struct RopeBlockParams {
 
 impl Default for RopeBlockParams {
     fn default() -> Self {
-        let (l, b, h) = (18.0, 12.0, 7.0);
-        let hook_height = h + 19.0;
-        let lug = |sx: f64, sy: f64| Vec3::new(sx * 6.5, sy * (0.5 * b + 0.3), h - 1.0);
-        let sling = |sx: f64, sy: f64| SlingParams {
-            hook: 0,
-            lug: lug(sx, sy),
-            length_factor: 1.0,
-            route: Route::OverEdge,
-        };
         RopeBlockParams {
             block_mass: 200e3,
-            shape: BlockShape {
-                length: l,
-                breadth: b,
-                height: h,
-                ..BlockShape::default()
-            },
-            mesh_file: None,
-            mesh_scale: 1.0,
-            inertia: None,
+            rig: Rig::default(),
             block_origin: Vec3::zeros(),
             block_orientation: Quat::identity(),
             rope: RopeProps::default(),
             segments: 100,
-            hooks: vec![Vec3::new(0.0, 0.0, hook_height)],
-            slings: vec![
-                sling(1.0, 1.0),
-                sling(-1.0, 1.0),
-                sling(-1.0, -1.0),
-                sling(1.0, -1.0),
-            ],
+            hook_ramp: DEFAULT_HOOK_RAMP,
             gravity: 9.81,
             contact: true,
             ground: None,
@@ -230,7 +189,12 @@ impl RopeBlockParams {
     /// Checks every value; `Err` names the parameter and what is expected.
     pub fn validate(&self) -> Result<(), String> {
         positive("block mass [kg]", self.block_mass)?;
-        positive("mesh scale", self.mesh_scale)?;
+        if !(self.hook_ramp.is_finite() && (0.0..=MAX_HOOK_RAMP).contains(&self.hook_ramp)) {
+            return Err(format!(
+                "hook ramp time must be in [0, {MAX_HOOK_RAMP}] s, got {}",
+                self.hook_ramp
+            ));
+        }
         positive("rtol", self.rtol)?;
         positive("atol", self.atol)?;
         positive("h_max [s]", self.h_max)?;
@@ -261,9 +225,6 @@ impl RopeBlockParams {
                 self.segments
             ));
         }
-        if self.slings.is_empty() {
-            return Err("at least one sling is needed".into());
-        }
         if self.contact_outputs > 1000 {
             return Err(format!(
                 "contact output slots must be <= 1000, got {}",
@@ -271,23 +232,9 @@ impl RopeBlockParams {
             ));
         }
         self.rope.validate("rope")?;
-        for (k, h) in self.hooks.iter().enumerate() {
-            if !h.iter().all(|x| x.is_finite()) {
-                return Err(format!("hook {k}: position is not finite"));
-            }
-        }
-        for (k, s) in self.slings.iter().enumerate() {
-            if s.hook >= self.hooks.len() {
-                return Err(format!(
-                    "sling {k}: hook {} does not exist ({} hooks)",
-                    s.hook,
-                    self.hooks.len()
-                ));
-            }
-            if !s.lug.iter().all(|x| x.is_finite()) {
-                return Err(format!("sling {k}: lug position is not finite"));
-            }
-            positive(&format!("sling {k}: length factor"), s.length_factor)?;
+        self.rig.validate()?;
+        for (k, sl) in self.rig.slings.iter().enumerate() {
+            sl.props(&self.rope).validate(&format!("sling {k}"))?;
         }
         if !self.block_origin.iter().all(|x| x.is_finite())
             || !self.block_orientation.coords.iter().all(|x| x.is_finite())
@@ -299,25 +246,57 @@ impl RopeBlockParams {
 
     /// The shell mesh in the design frame.
     pub fn design_mesh(&self) -> Result<ShellMesh, String> {
-        match &self.mesh_file {
-            Some(f) => load(std::path::Path::new(f), self.mesh_scale)
-                .map_err(|e| format!("mesh_file `{f}` (mesh_scale {}): {e}", self.mesh_scale)),
-            None => self.shape.mesh(),
+        match &self.rig.block.geometry {
+            BlockGeometry::Mesh { file, scale } => load(std::path::Path::new(file), *scale)
+                .map_err(|e| format!("mesh_file `{file}` (mesh_scale {scale}): {e}")),
+            BlockGeometry::Shape(shape) => shape.mesh(),
         }
+    }
+
+    /// The block's mesh file, if it is one.
+    pub fn mesh_file(&self) -> Option<&str> {
+        match &self.rig.block.geometry {
+            BlockGeometry::Mesh { file, .. } => Some(file),
+            BlockGeometry::Shape(_) => None,
+        }
+    }
+
+    /// Block mass [kg]: the rig's, else derived from its plate, else [`Self::block_mass`].
+    pub fn mass_of(&self, design: &ShellMesh) -> f64 {
+        let b = &self.rig.block;
+        match (b.mass, b.plate) {
+            (Some(m), _) => m,
+            (None, Some(p)) => design.area() * p.thickness * p.density,
+            (None, None) => self.block_mass,
+        }
+    }
+
+    /// Centre of gravity [m] (design frame), inertia about it [kg m^2] and mass [kg] of the
+    /// block whose shell is `design`.
+    pub fn mass_properties(&self, design: &ShellMesh) -> (Vec3, Mat3, f64) {
+        let mass = self.mass_of(design);
+        let (centroid, shell_inertia) = shell_mass_properties(design, mass);
+        let b = &self.rig.block;
+        let com = b.cog.unwrap_or(centroid);
+        // a thin shell about a moved centre of gravity: parallel-axis theorem
+        let d = com - centroid;
+        let shifted =
+            shell_inertia + (Mat3::identity() * d.norm_squared() - d * d.transpose()) * mass;
+        (com, b.inertia.unwrap_or(shifted), mass)
     }
 
     /// Assembles the structure: the block at its centre of mass, the hooks, the slings.
     pub fn structure(&self) -> Result<Structure, String> {
         self.validate()?;
         let design = self.design_mesh()?;
-        let (com, shell_inertia) = shell_mass_properties(&design, self.block_mass);
-        let inertia = self.inertia.unwrap_or(shell_inertia);
+        let (com, inertia, mass) = self.mass_properties(&design);
+        positive("block mass [kg]", mass)?;
         let mesh = Arc::new(design.translated(&(-com))?);
         let rot = self.block_orientation;
         let position = self.block_origin + rot * com;
         let block = BlockSpec {
             name: "block".into(),
-            mass: self.block_mass,
+            mass,
             inertia,
             mesh: self.contact.then(|| mesh.clone()),
             position,
@@ -326,45 +305,18 @@ impl RopeBlockParams {
             omega: Vec3::zeros(),
             fixed: false,
         };
+        let hooks = self.rig.hook_positions();
         let mut ropes = Vec::new();
-        for (k, s) in self.slings.iter().enumerate() {
-            let lug_local = s.lug - com;
-            let lug_world = position + rot * lug_local;
-            let hook = self.hooks[s.hook];
-            let mut route = vec![Waypoint {
-                position: hook,
-                contact: None,
-            }];
-            let inv = rot.inverse();
-            let via = match s.route {
-                _ if !self.contact => None,
-                Route::Straight => None,
-                Route::OverEdge => wrap_edge(&mesh, &(inv * (hook - position)), &lug_local),
-                Route::Via(p) => {
-                    let x = p - com;
-                    let (edge, d) = nearest_edge(&mesh, &x);
-                    if d > 0.01 {
-                        return Err(format!(
-                            "sling {k}: via point is {d:.3} m from the nearest plate edge (must be on an edge)"
-                        ));
-                    }
-                    let e = &mesh.edges[edge];
-                    Some((edge, e.a + e.dir * (x - e.a).dot(&e.dir)))
-                }
+        for (k, s) in self.rig.slings.iter().enumerate() {
+            let lug_local = self.rig.lugs[s.lug].position - com;
+            let route = self.route(k, &mesh, position, com, &hooks)?;
+            let factor = match s.length {
+                Some(l) => l / route_length(&route),
+                None => s.length_factor,
             };
-            if let Some((edge, x)) = via {
-                route.push(Waypoint {
-                    position: position + rot * x,
-                    contact: Some((0, edge, x)),
-                });
-            }
-            route.push(Waypoint {
-                position: lug_world,
-                contact: None,
-            });
             ropes.push(lay_rope(
                 &format!("sling{k}"),
-                self.rope,
+                s.props(&self.rope),
                 EndSpec::Hook(s.hook),
                 EndSpec::Block {
                     block: 0,
@@ -372,19 +324,76 @@ impl RopeBlockParams {
                 },
                 &route,
                 self.segments,
-                s.length_factor,
+                factor,
             )?);
         }
         Ok(Structure {
             gravity: (self.gravity > 0.0).then(|| Vec3::new(0.0, 0.0, -self.gravity)),
             blocks: vec![block],
             loads: vec![],
-            hooks: self.hooks.iter().map(|h| HookInit::at(*h)).collect(),
+            hooks: hooks.iter().map(|h| HookInit::at(*h)).collect(),
             ropes,
             forces: vec![],
             ground: self.ground.map(|g| g.spec(&mesh)).transpose()?,
         })
     }
+
+    /// The initial route of sling `k` (world): hook, the edge point it wraps (if any), lug.
+    /// `mesh` is in the block frame (centre of mass `com`, design frame, at world `position`).
+    pub(crate) fn route(
+        &self,
+        k: usize,
+        mesh: &ShellMesh,
+        position: Vec3,
+        com: Vec3,
+        hooks: &[Vec3],
+    ) -> Result<Vec<Waypoint>, String> {
+        let s = &self.rig.slings[k];
+        let rot = self.block_orientation;
+        let lug_local = self.rig.lugs[s.lug].position - com;
+        let lug_world = position + rot * lug_local;
+        let hook = hooks[s.hook];
+        let mut route = vec![Waypoint {
+            position: hook,
+            contact: None,
+        }];
+        let inv = rot.inverse();
+        let via = match s.route {
+            _ if !self.contact => None,
+            Route::Straight => None,
+            Route::OverEdge => wrap_edge(mesh, &(inv * (hook - position)), &lug_local),
+            Route::Via(p) => {
+                let x = p - com;
+                let (edge, d) = nearest_edge(mesh, &x);
+                if d > 0.01 {
+                    return Err(format!(
+                        "sling {k}: via point is {d:.3} m from the nearest plate edge (must be on an edge)"
+                    ));
+                }
+                let e = &mesh.edges[edge];
+                Some((edge, e.a + e.dir * (x - e.a).dot(&e.dir)))
+            }
+        };
+        if let Some((edge, x)) = via {
+            route.push(Waypoint {
+                position: position + rot * x,
+                contact: Some((0, edge, x)),
+            });
+        }
+        route.push(Waypoint {
+            position: lug_world,
+            contact: None,
+        });
+        Ok(route)
+    }
+}
+
+/// Length of a route [m] (sum of its legs).
+pub fn route_length(route: &[Waypoint]) -> f64 {
+    route
+        .windows(2)
+        .map(|w| (w[1].position - w[0].position).norm())
+        .sum()
 }
 
 /// The plate edge nearest to `x` (block frame) and the distance [m].
@@ -406,20 +415,26 @@ impl RopeBlockParams {
     /// resolution scene of the benchmarks and the stability suite.
     pub fn single_sling(segments: usize) -> Self {
         let base = Self::default();
-        let h = base.shape.height;
+        let shape = box_of(&base.rig);
+        let h = shape.height;
+        let mut sling = RigSling::new(0, 0);
+        sling.route = Route::Straight;
         RopeBlockParams {
             segments,
             contact: false,
-            hooks: vec![Vec3::new(0.0, 0.0, h + 19.0)],
-            slings: vec![SlingParams {
-                hook: 0,
-                lug: Vec3::new(0.0, 0.0, h),
-                length_factor: 1.0,
-                route: Route::Straight,
-            }],
-            shape: BlockShape {
-                bilge_radius: 0.0,
-                ..base.shape
+            rig: Rig {
+                block: BlockRig {
+                    geometry: BlockGeometry::Shape(shape),
+                    ..base.rig.block.clone()
+                },
+                lugs: vec![Lug {
+                    position: Vec3::new(0.0, 0.0, h),
+                }],
+                slings: vec![sling],
+                hooks: vec![RigHook {
+                    position: Vec3::new(0.0, 0.0, h + 19.0),
+                    crane: 0,
+                }],
             },
             ..base
         }
@@ -430,34 +445,68 @@ impl RopeBlockParams {
     /// hook B turns the block about its length.
     pub fn turnover() -> Self {
         let base = Self::default();
-        let (b, h) = (base.shape.breadth, base.shape.height);
-        let a = |sx: f64| SlingParams {
-            hook: 0,
-            lug: Vec3::new(sx * 5.0, 0.5 * b + 0.3, h - 1.0),
-            length_factor: 1.0,
-            route: Route::OverEdge,
-        };
-        let bsl = |sx: f64| SlingParams {
-            hook: 1,
-            lug: Vec3::new(sx * 5.0, -0.5 * b + 1.0, -0.3),
-            length_factor: 1.0,
+        let shape = box_of(&base.rig);
+        let (b, h) = (shape.breadth, shape.height);
+        let lugs = vec![
+            Lug {
+                position: Vec3::new(5.0, 0.5 * b + 0.3, h - 1.0),
+            },
+            Lug {
+                position: Vec3::new(-5.0, 0.5 * b + 0.3, h - 1.0),
+            },
+            Lug {
+                position: Vec3::new(5.0, -0.5 * b + 1.0, -0.3),
+            },
+            Lug {
+                position: Vec3::new(-5.0, -0.5 * b + 1.0, -0.3),
+            },
+        ];
+        let bsl = |lug: usize, sx: f64| RigSling {
             route: Route::Via(Vec3::new(sx * 5.0, -0.5 * b, 0.0)),
+            ..RigSling::new(lug, 1)
         };
         RopeBlockParams {
-            shape: BlockShape {
-                bilge_radius: 0.0,
-                ..base.shape
+            rig: Rig {
+                block: BlockRig {
+                    geometry: BlockGeometry::Shape(shape),
+                    ..base.rig.block.clone()
+                },
+                lugs,
+                slings: vec![
+                    RigSling::new(0, 0),
+                    RigSling::new(1, 0),
+                    bsl(2, 1.0),
+                    bsl(3, -1.0),
+                ],
+                hooks: vec![
+                    RigHook {
+                        position: Vec3::new(0.0, 0.5 * b + 2.0, h + 16.0),
+                        crane: 0,
+                    },
+                    RigHook {
+                        position: Vec3::new(0.0, -0.5 * b - 2.0, h + 16.0),
+                        crane: 1,
+                    },
+                ],
             },
-            hooks: vec![
-                Vec3::new(0.0, 0.5 * b + 2.0, h + 16.0),
-                Vec3::new(0.0, -0.5 * b - 2.0, h + 16.0),
-            ],
-            slings: vec![a(1.0), a(-1.0), bsl(1.0), bsl(-1.0)],
             segments: 60,
             ..base
         }
     }
 }
+
+/// The default rig's block as a plain box (no bilge).
+fn box_of(rig: &Rig) -> BlockShape {
+    BlockShape {
+        bilge_radius: 0.0,
+        ..rig.shape().copied().unwrap_or_default()
+    }
+}
+
+/// Default time over which a hook reaches a new command [s].
+pub const DEFAULT_HOOK_RAMP: f64 = 0.5;
+/// Longest hook ramp time accepted [s].
+pub const MAX_HOOK_RAMP: f64 = 60.0;
 
 /// Most segments per sling [`RopeBlockParams::validate`] accepts with DOPRI5 (at 32 one 0.05 s
 /// step of the default scene costs ~0.7 s CPU; the cost grows ~ segments^3.5).

@@ -16,7 +16,6 @@ use super::runner::RopeBlockSim;
 use super::scene::solver_settings;
 use super::structure::{BlockSpec, EndSpec, LoadSpec, NodeContact, NodeSpec, RopeSpec, Structure};
 use crate::math::{Mat3, Quat, Vec3};
-use crate::rope::shell::mass::shell_mass_properties;
 use crate::rope::{HookInit, RopeProps, SlipMode};
 use crate::scene::ModelError;
 use crate::scene::bytes::{ByteReader, ByteWriter};
@@ -392,7 +391,7 @@ pub fn read_sim(
     version: u32,
 ) -> Result<RopeBlockSim, ModelError> {
     let design = params.design_mesh().map_err(ModelError::BadState)?;
-    let (com, _) = shell_mass_properties(&design, params.block_mass);
+    let (com, _, _) = params.mass_properties(&design);
     let mesh = Arc::new(design.translated(&(-com)).map_err(ModelError::BadState)?);
     let mut structure = read_structure(r, &mesh)?;
     // the ground comes from the parameters (its contact has no memory)

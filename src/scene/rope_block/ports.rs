@@ -36,7 +36,8 @@ pub static INTEGRATORS: &[(&str, &str)] = &[
 pub const IDENTIFIER: &str = "RopeBlock";
 /// Hooks the inputs and outputs cover (the turn-over scene has two).
 pub const MAX_HOOKS: usize = 2;
-/// Slings the outputs cover (both scenes have four).
+/// Slings the outputs cover (both scenes have four; a rig's slings beyond are simulated but not
+/// reported, and initialization logs a warning).
 pub const MAX_SLINGS: usize = 4;
 /// Contact-node output slots in the table (`contact_outputs` selects how many are filled).
 pub const MAX_CONTACT_SLOTS: usize = 8;
@@ -94,6 +95,8 @@ pub mod rvr {
     pub const GROUND_RESTITUTION: ValueRef = 16;
     pub const GROUND_MU: ValueRef = 17;
     pub const GROUND_SLIP_SPEED: ValueRef = 18;
+    pub const ROPE_BREAKING_LOAD: ValueRef = 19;
+    pub const HOOK_RAMP_TIME: ValueRef = 20;
 }
 
 /// Real parameters, value references 0.. in this order (see [`rvr`]). All are fixed (structural:
@@ -244,6 +247,22 @@ pub static REAL_PARAMS: &[RealParam] = &[
         1.0,
         "Speed below which ground friction turns viscous (no sticking: a block held at a fraction r of the friction limit creeps at ground_slip_speed r / sqrt(1 - r^2)); used only when `ground_contact`.",
     ),
+    rp(
+        "rope_breaking_load",
+        Some("N"),
+        2.5e6,
+        1e3,
+        1e9,
+        "Minimum breaking load of every sling (a [[sling]] of the scene file may give its own): utilisation outputs, and a scene whose slings carry more at rest is refused.",
+    ),
+    rp(
+        "hook_ramp_time",
+        Some("s"),
+        0.5,
+        0.0,
+        60.0,
+        "Time over which a hook reaches a new velocity or pay-out command, linearly from the current one (0: at once, the integrator restarts at every change; > 0: hook position and velocity stay continuous and the integrator keeps its history).",
+    ),
 ];
 
 /// Integer value references (parameters first, then outputs; slot `i`'s sling and slip at
@@ -317,10 +336,28 @@ pub const HOOK_OUTPUTS: [(&str, &str, &str); 5] = [
         "world z component of the slings' pull on the hook (negative when it carries weight)",
     ),
 ];
-/// Per-sling real outputs.
-pub const SLING_OUTPUTS: [(&str, &str); 2] = [
-    ("tension_hook", "tension of the segment at the hook"),
-    ("tension_lug", "tension of the segment at the lug"),
+/// Per-sling real outputs: (suffix, unit, description).
+pub const SLING_OUTPUTS: [(&str, Option<&str>, &str); 4] = [
+    (
+        "tension_hook",
+        Some("N"),
+        "tension of the segment at the hook [N]",
+    ),
+    (
+        "tension_lug",
+        Some("N"),
+        "tension of the segment at the lug [N]",
+    ),
+    (
+        "utilisation",
+        None,
+        "utilisation: highest segment tension over the sling's breaking load [-]",
+    ),
+    (
+        "angle",
+        Some("rad"),
+        "angle of the segment at the hook to the vertical [rad]",
+    ),
 ];
 /// Per-contact-slot real outputs.
 pub const SLOT_OUTPUTS: [(&str, Option<&str>, &str); 5] = [
@@ -407,11 +444,11 @@ pub fn real_outputs() -> Vec<(String, Option<&'static str>, String)> {
         }
     }
     for r in 0..MAX_SLINGS {
-        for (s, d) in SLING_OUTPUTS {
+        for (s, u, d) in SLING_OUTPUTS {
             v.push((
                 format!("sling{r}_{s}"),
-                Some("N"),
-                format!("Sling {r}: {d} [N]."),
+                u,
+                format!("Sling {r}: {d}; 0 when the rig has no sling {r}."),
             ));
         }
     }
@@ -441,6 +478,11 @@ pub fn real_outputs() -> Vec<(String, Option<&'static str>, String)> {
             format!("Ground: {d} [N]; 0 without `ground_contact`."),
         ));
     }
+    v.push((
+        "daf".into(),
+        None,
+        "Dynamic amplification factor: the hooks' total vertical load over the weight of block and slings [-] (1 hanging at rest; below 1 while the ground carries part; 0 without gravity).".into(),
+    ));
     v
 }
 
@@ -530,7 +572,7 @@ pub fn info() -> &'static ModelInfo {
             for (j, (s, u, desc)) in HOOK_INPUTS.iter().enumerate() {
                 let note = if k == 0 { "" } else { " Accepted and ignored in the lift scenario." };
                 ports.push(
-                    PortSpec::real_input(&format!("hook{k}_{s}"), vr_input(k, j), 0.0, Some(u), &format!("Hook {k} command: {desc}; reached linearly over 0.5 s from the previous command (position stays continuous), then held; at most {MAX_HOOK_SPEED} m/s either way.{note}"))
+                    PortSpec::real_input(&format!("hook{k}_{s}"), vr_input(k, j), 0.0, Some(u), &format!("Hook {k} command: {desc}; reached linearly over hook_ramp_time from the previous command (position stays continuous), then held; at most {MAX_HOOK_SPEED} m/s either way.{note}"))
                         .with_min(-MAX_HOOK_SPEED)
                         .with_max(MAX_HOOK_SPEED),
                 );

@@ -294,8 +294,11 @@ impl RopeBlockSim {
     }
 
     /// Commands hook `k`'s velocity [m/s] (world) and pay-out rate [m/s]: reached linearly over
-    /// [`RopeBlockSim::hook_ramp`] seconds from the current ones (position and velocity stay
-    /// continuous).
+    /// [`RopeBlockSim::hook_ramp`] seconds from the current ones. With a ramp the hook's position
+    /// and velocity stay continuous (only its acceleration steps), so the integrator keeps its
+    /// history (step size, BDF order and past values, generalized-alpha's accelerations) and its
+    /// error control sees the kink; with a ramp of 0 the velocity jumps and the integrator
+    /// restarts from consistent accelerations.
     pub fn set_hook_rates(
         &mut self,
         k: usize,
@@ -330,6 +333,11 @@ impl RopeBlockSim {
             ramp: self.hook_ramp,
         };
         crate::rope::RopeEffect::write_hook(&mut self.sim.state.memory[base..base + n], k, &h);
-        self.sim.restart().map_err(|e| e.0)
+        if self.hook_ramp > 0.0 {
+            // continuous command: the system follows the new memory, the history stays
+            self.sim.sync_memory().map_err(|e| e.0)
+        } else {
+            self.sim.restart().map_err(|e| e.0)
+        }
     }
 }

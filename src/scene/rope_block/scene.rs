@@ -10,6 +10,8 @@
 //! | `hook{k}.x/y/z` | hook position [m], world |
 //! | `hook{k}.load`, `hook{k}.fz` | magnitude and vertical component of the ropes' pull on the hook [N] |
 //! | `sling{r}.tension_hook`, `sling{r}.tension_lug` | tension of the sling's first and last segment [N] |
+//! | `sling{r}.utilisation` | highest segment tension over the sling's breaking load [-] |
+//! | `sling{r}.angle` | angle of the segment at the hook to the vertical [rad] |
 //! | `contact.count` | number of contact nodes |
 //! | `contact{i}.normal`, `contact{i}.friction` | normal force `N` and friction `|F|` at contact slot `i` [N] |
 //! | `contact{i}.x/y/z` | node position [m] in the block's design frame |
@@ -19,6 +21,8 @@
 //! | `block.vx/vy/vz` | velocity of the centre of mass [m/s], world |
 //! | `block.wx/wy/wz` | angular velocity [rad/s], block frame |
 //! | `energy.kinetic/potential/dissipated/input/events` | energy bookkeeping [J] |
+//! | `ground.normal/friction` | ground forces [N] (with a ground only) |
+//! | `daf` | dynamic amplification factor: hooks' total vertical load / weight of everything [-] |
 //!
 //! Contact slots are filled in rope order each time outputs are read; beyond
 //! `params.contact_outputs` nodes are counted but not reported.
@@ -32,7 +36,6 @@ use super::{ContactSettings, NodeReport};
 use crate::integrator::Settings;
 use crate::math::Vec3;
 use crate::rope::SlipMode;
-use crate::rope::shell::mass::shell_mass_properties;
 
 /// Static equilibrium with the rope sliding freely over every contact node (equal tensions on
 /// both sides, as when a sling is loaded slowly), then every node sticking where it is.
@@ -82,7 +85,7 @@ fn check_breaking_loads(sim: &mut RopeBlockSim) -> Result<(), String> {
             .fold(0.0f64, |a, &(t, _)| a.max(t));
         if peak > limit {
             return Err(format!(
-                "no static equilibrium within the slings' strength: sling {r} carries {peak:.4e} N at rest, above its breaking load {limit:.4e} N (block_mass too heavy for the slings: lower block_mass or use stronger slings, rope_ea; with ground_contact on, a ground_height above the hanging block pushes it into the slings)"
+                "no static equilibrium within the slings' strength: sling {r} carries {peak:.4e} N at rest, above its breaking load {limit:.4e} N (the block is too heavy for this sling: lower block_mass, or use stronger slings: rope_breaking_load, or breaking_load in the scene file's [[sling]]; more slings or a better share between them also help; with ground_contact on, a ground_height above the hanging block pushes it into the slings)"
             ));
         }
     }
@@ -138,8 +141,10 @@ impl RopeBlockScene {
         let structure = params.structure()?;
         let (settings, contact) = solver_settings(&params);
         let mut sim = RopeBlockSim::new(structure, params.integrator, settings, contact, 0.0)?;
+        sim.hook_ramp = params.hook_ramp;
         if params.settle {
-            settle(&mut sim, params.block_mass * params.gravity.max(1.0))?;
+            let mass = params.mass_of(&params.design_mesh()?);
+            settle(&mut sim, mass * params.gravity.max(1.0))?;
         }
         Self::from_sim(params, sim)
     }
@@ -148,17 +153,18 @@ impl RopeBlockScene {
     /// nothing is built or settled.
     pub fn from_sim(params: RopeBlockParams, sim: RopeBlockSim) -> Result<Self, String> {
         let design = params.design_mesh()?;
-        let (com, _) = shell_mass_properties(&design, params.block_mass);
+        let (com, _, _) = params.mass_properties(&design);
         let look = BlockLook::new(&design, &com);
         let mut names: Vec<String> = vec!["time".into()];
-        for k in 0..params.hooks.len() {
+        for k in 0..params.rig.hooks.len() {
             for c in ["x", "y", "z", "load", "fz"] {
                 names.push(format!("hook{k}.{c}"));
             }
         }
-        for r in 0..params.slings.len() {
-            names.push(format!("sling{r}.tension_hook"));
-            names.push(format!("sling{r}.tension_lug"));
+        for r in 0..params.rig.slings.len() {
+            for c in ["tension_hook", "tension_lug", "utilisation", "angle"] {
+                names.push(format!("sling{r}.{c}"));
+            }
         }
         names.push("contact.count".into());
         for i in 0..params.contact_outputs {
@@ -178,6 +184,7 @@ impl RopeBlockScene {
             names.push("ground.normal".into());
             names.push("ground.friction".into());
         }
+        names.push("daf".into());
         Ok(RopeBlockScene {
             params,
             sim,
@@ -222,7 +229,7 @@ impl RopeBlockScene {
         let mut out = Vec::with_capacity(self.names.len());
         let sim = &mut self.sim;
         out.push(sim.time());
-        let nh = self.params.hooks.len();
+        let nh = self.params.rig.hooks.len();
         let mut pull = vec![Vec3::zeros(); nh];
         let mut ends = Vec::new();
         for r in 0..sim.structure.ropes.len() {
@@ -230,7 +237,11 @@ impl RopeBlockScene {
             let pts = sim.rope_points(r);
             let n = pts.len();
             let (first, last) = (ten[0].0, ten[ten.len() - 1].0);
-            ends.push((first, last));
+            let peak = ten.iter().fold(0.0f64, |a, &(t, _)| a.max(t));
+            let mbl = sim.map.rope.rope_props(r).breaking_load;
+            let seg = pts[1] - pts[0];
+            let angle = (seg.z.abs() / seg.norm()).clamp(0.0, 1.0).acos();
+            ends.push((first, last, peak / mbl, angle));
             let rope = &sim.structure.ropes[r];
             if let EndSpec::Hook(k) = rope.start {
                 pull[k] += (pts[1] - pts[0]).normalize() * first;
@@ -244,8 +255,8 @@ impl RopeBlockScene {
             let (x, _) = sim.map.rope.hook_motion(mem, k, sim.sim.state.t);
             out.extend([x.x, x.y, x.z, p.norm(), p.z]);
         }
-        for (a, b) in ends {
-            out.extend([a, b]);
+        for (a, b, u, angle) in ends {
+            out.extend([a, b, u, angle]);
         }
         let reports: Vec<NodeReport> = sim.contact_reports();
         let modes = sim.slip_modes();
@@ -286,6 +297,9 @@ impl RopeBlockScene {
         if let Some((normal, friction)) = sim.ground_forces() {
             out.extend([normal, friction]);
         }
+        let weight = sim.total_mass() * self.params.gravity;
+        let lift: f64 = -pull.iter().map(|p| p.z).sum::<f64>();
+        out.push(if weight > 0.0 { lift / weight } else { 0.0 });
         out
     }
 

@@ -209,14 +209,13 @@ mod tests {
         };
         assert_eq!(vertices.len(), design.vertices.len());
         assert_eq!(triangles.len(), design.triangles.len());
-        let (com, _) =
-            crate::rope::shell::mass::shell_mass_properties(&design, scene.params.block_mass);
+        let (com, _, _) = scene.params.mass_properties(&design);
         for (local, dv) in vertices.iter().zip(&design.vertices) {
             let w = block.pose.point(local);
             let expect = p + q * (dv - com);
             assert!((w - expect).norm() < 1e-9);
         }
-        for k in 0..scene.params.hooks.len() {
+        for k in 0..scene.params.rig.hooks.len() {
             let h = snap.shape(&format!("hook{k}")).expect("hook drawn");
             for (v, c) in h.pose.position.iter().zip(["x", "y", "z"]) {
                 assert_eq!(*v, out(scene, &format!("hook{k}.{c}")));
@@ -243,14 +242,14 @@ mod tests {
                 .fold(f64::INFINITY, f64::min);
             assert!(dist < 1e-3, "contact node {c} is {dist} m off every edge");
         }
-        for r in 0..scene.params.slings.len() {
+        for r in 0..scene.params.rig.slings.len() {
             let Some(Geometry::Polyline { points, .. }) =
                 snap.shape(&format!("sling{r}")).map(|s| &s.geometry)
             else {
                 panic!("no sling{r}")
             };
             let ends = [points[0], points[points.len() - 1]];
-            let at_hook = (0..scene.params.hooks.len()).any(|k| {
+            let at_hook = (0..scene.params.rig.hooks.len()).any(|k| {
                 let h = snap.shape(&format!("hook{k}")).unwrap().pose.position;
                 ends.iter().any(|e| (e - h).norm() < 1e-12)
             });
