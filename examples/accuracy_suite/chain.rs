@@ -52,8 +52,12 @@ pub fn problem(n: usize, samples: usize) -> Result<Problem, String> {
     let model = b.build()?;
     let body = model.body(last).ok_or("chain: last rod missing")?.q_offset;
     let reference = reference(n, t_end);
-    let trajectory = trajectory(n, &crate::suite::grid(t_end, samples));
+    let trajectory = Trajectory {
+        uniform: samples,
+        ..trajectory(n, &crate::suite::grid(t_end, samples))
+    };
     Ok(Problem {
+        h_max: None,
         name: format!("chain{n}"),
         title: format!(
             "{n} rods (1 m, 1 kg) hinged about z, released from horizontal, {t_end} s: tip position"
@@ -132,6 +136,7 @@ pub fn trajectory(n: usize, times: &[f64]) -> Trajectory {
         &|y| tip(&y[..n]),
     );
     Trajectory {
+        uniform: times.len(),
         times: times.to_vec(),
         values: c.outputs,
         estimated_error: c.estimated_error,

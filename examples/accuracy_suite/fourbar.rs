@@ -202,6 +202,7 @@ pub fn problem(samples: usize) -> Result<Problem, String> {
         coupler_point(y[0])
     });
     Ok(Problem {
+        h_max: None,
         name: "fourbar".into(),
         title: format!(
             "planar four-bar crank-rocker (d {D}, a {A}, b {B}, c {C} m; 1 kg/m rods), released at crank angle 90 deg, {T_END} s: coupler point"
@@ -227,6 +228,7 @@ pub fn problem(samples: usize) -> Result<Problem, String> {
             ),
         },
         trajectory: Trajectory {
+            uniform: samples,
             times,
             values: traj.outputs,
             estimated_error: traj.estimated_error,

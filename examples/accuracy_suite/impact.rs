@@ -154,6 +154,7 @@ fn trajectory(law: Law, samples: usize) -> Trajectory {
             "the phased ODE stopped at each sample time; contact {t_on:.6} .. {t_off:.6} s, samples there at 1/4, 1/2, 3/4 of it; vs rtol 1e-14: height {estimated_error:.1e} m; free fall vs closed form {fall:.1e} m"
         ),
         estimated_error: estimated_error.max(fall),
+        uniform: samples,
         times,
         values,
     }
@@ -310,6 +311,7 @@ pub fn problem(law: Law, samples: usize) -> Result<Problem, String> {
         ));
     }
     Ok(Problem {
+        h_max: None,
         name,
         title,
         t_end: T_END,
