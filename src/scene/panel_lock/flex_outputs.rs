@@ -83,7 +83,9 @@ impl FlexPanelRef {
             }
         }
         PanelFlexOutput {
-            tip_deflection: -w,
+            // 0 - w, not -w: an undeformed panel reports +0 (no sign of zero that depends on
+            // the mesh, which importers comparing bits would take for a dependency)
+            tip_deflection: 0.0 - w,
             modes,
         }
     }
