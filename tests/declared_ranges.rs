@@ -23,6 +23,10 @@ fn panel_lock_params(name: &str, v: f64) -> PanelLockParams {
             p.n_modes = 1;
         }
         "gravity" => p.gravity = Some(9.81),
+        // the other two moments equal and at least half this one (triangle inequality)
+        "satellite_inertia_x" | "satellite_inertia_y" | "satellite_inertia_z" => {
+            p.satellite_inertia = [(0.5 * v).max(1.0); 3]
+        }
         "root_lock_angle" => p.root_stowed_angle = 0.01,
         "panel_lock_angle" => p.panel_stowed_angle = 0.01,
         "root_stowed_angle" => p.root_lock_angle = if v > 1.0 { std::f64::consts::PI } else { 1.0 },

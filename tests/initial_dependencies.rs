@@ -200,6 +200,13 @@ fn configurations(id: &str) -> Vec<Vec<(&'static str, Value)>> {
                 ("free_satellite", Bool(true)),
             ],
             vec![("n_panels", Int(1)), ("cable_loop", Bool(true))],
+            // a centre of mass off the array's plane couples the in-plane satellite loads
+            // (force x, y, torque z) with the out-of-plane reactions and back
+            vec![
+                ("free_satellite", Bool(true)),
+                ("satellite_cg_y", Real(0.3)),
+                ("satellite_cg_z", Real(0.5)),
+            ],
             vec![("n_panels", Int(2)), ("gravity_on", Bool(true))],
             vec![
                 ("flexible_panels", Bool(true)),

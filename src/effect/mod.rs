@@ -9,6 +9,7 @@ pub mod angle;
 pub mod angle_force;
 pub mod angle_stop;
 pub mod applied;
+pub mod body_load;
 pub mod cable_loop;
 pub mod constraint;
 pub mod gravity;

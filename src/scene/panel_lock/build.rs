@@ -9,11 +9,13 @@
 //! hinge shaft: deployment spring, damping, latch and motor act across it) and is bolted to its
 //! outboard neighbour by a fixed joint (whose multipliers are the hinge-to-panel loads).
 
+use super::flex_outputs::FlexPanelRef;
 use super::flex_panel::flex_panel;
 use super::params::PanelLockParams;
 use crate::contact::ContactLaw;
 use crate::contact::latch::{LatchGeometry, LatchParams};
 use crate::effect::angle_stop::{AngleStop, AngleStops};
+use crate::effect::body_load::{InputLoad, InputLoads};
 use crate::effect::cable_loop::{CableLoop, CableLoops};
 use crate::effect::latch::{Latch, Latches};
 use crate::flex::ModalBodyData;
@@ -40,12 +42,28 @@ pub struct Layout {
     pub root_joint: usize,
     /// Model input index of the root-hinge motor torque [N m].
     pub motor_input: usize,
+    /// Model input indices of the satellite force x, y, z [N] and torque x, y, z [N m] (in
+    /// `load_frame`, at the satellite's centre of mass); `None` with a fixed satellite (no
+    /// inputs, no load effect).
+    pub satellite_inputs: Option<[usize; 6]>,
     /// The latches (for evaluating wall forces in outputs), if enabled.
     pub latches: Option<Arc<Latches>>,
     /// Flexible panels: the modal data of the outer panel and its tip node (outboard edge,
     /// mid-width); `None` with rigid panels.
     pub flex_tip: Option<(Arc<ModalBodyData>, usize)>,
+    /// Flexible panels, inboard to outboard, for their deflection outputs; empty when rigid.
+    pub flex_panels: Vec<FlexPanelRef>,
 }
+
+/// Names of the satellite's model inputs: force x, y, z [N], torque x, y, z [N m].
+pub const SATELLITE_INPUTS: [&str; 6] = [
+    "satellite_force_x",
+    "satellite_force_y",
+    "satellite_force_z",
+    "satellite_torque_x",
+    "satellite_torque_y",
+    "satellite_torque_z",
+];
 
 fn plate_inertia(m: f64, length: f64, width: f64, thick: f64) -> Mat3 {
     Mat3::from_diagonal(&Vec3::new(
@@ -65,19 +83,35 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
     }
     let ez = Vec3::z();
     let rot = |phi: f64| Quat::from_axis_angle(&Vec3::z_axis(), phi);
-    // satellite and the root attach point (in the satellite frame)
+    // satellite and the root attach point (in the satellite frame): the body frame at the
+    // centre of mass, parallel to the world at t = 0, the attach point at the world origin
+    let cg = Vec3::from(p.satellite_cg);
     let (satellite, attach_local) = if p.free_satellite {
         let [a, bb, c] = p.satellite_inertia;
         let id = b.add_rigid_body(
             "satellite",
             p.satellite_mass,
             Mat3::from_diagonal(&Vec3::new(a, bb, c)),
-            BodyInit::at(Vec3::new(-1.0, 0.0, 0.0)),
+            BodyInit::at(cg),
         )?;
-        (id, Vec3::new(1.0, 0.0, 0.0))
+        (id, -cg)
     } else {
         (BodyId::GROUND, Vec3::zeros())
     };
+    let satellite_inputs = p
+        .free_satellite
+        .then(|| SATELLITE_INPUTS.map(|name| b.add_input(name)));
+    if let Some(idx) = satellite_inputs {
+        b.add_force_effect(Arc::new(InputLoads {
+            elements: vec![InputLoad {
+                name: "satellite load".into(),
+                body: satellite,
+                force_inputs: [idx[0], idx[1], idx[2]],
+                torque_inputs: [idx[3], idx[4], idx[5]],
+                frame: p.load_frame,
+            }],
+        }));
+    }
     let n = p.n_hinges();
     let mut layout = Layout {
         satellite,
@@ -88,8 +122,10 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
         lock_angles: Vec::new(),
         root_joint: 0,
         motor_input,
+        satellite_inputs,
         latches: None,
         flex_tip: None,
+        flex_panels: Vec::new(),
     };
     // plate frame of a flexible panel (x length, y width, z normal) in the rigid panel frame
     // (x length, y normal, z width = hinge axis): a quarter turn about x
@@ -243,6 +279,14 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
             stiffness: p.stop_stiffness,
             damping: p.stop_damping,
         });
+        if let Some(f) = &flex {
+            layout.flex_panels.push(FlexPanelRef::new(
+                plate,
+                f.data.clone(),
+                f.outboard_node,
+                p.n_modes,
+            ));
+        }
         layout.plates.push(plate);
         layout.plate_lengths.push(len);
         layout.hinges.push(hinge);

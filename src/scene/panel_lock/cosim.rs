@@ -60,6 +60,7 @@ impl PanelLockModel {
             gravity: gravity_on.then_some(9.81),
             flexible_panels: self.ports.get_boolean(bvr::FLEXIBLE_PANELS)?,
             n_modes: self.ports.get_integer(ivr::N_MODES)?.max(0) as usize,
+            load_frame: load_frame_of(self.ports.get_integer(ivr::LOAD_FRAME)?),
             ..PanelLockParams::default()
         };
         for (i, rp) in REAL_PARAMS.iter().enumerate() {
@@ -81,6 +82,15 @@ impl PanelLockModel {
         let scene = self.scene()?;
         let o = scene.outputs();
         let stats = scene.sim.stats();
+        let sat = scene.satellite_output();
+        let panels = scene.panel_flex_outputs();
+        for k in 1..=MAX_PANELS {
+            let f = panels.get(k - 1).copied().unwrap_or_default();
+            let vals = [f.tip_deflection, f.modes[0], f.modes[1], f.modes[2]];
+            for (j, v) in vals.iter().enumerate() {
+                self.ports.put_real(vr_panel(k, j), *v)?;
+            }
+        }
         for k in 0..MAX_HINGES {
             let h = o.hinges.get(k);
             let vals = match h {
@@ -119,6 +129,19 @@ impl PanelLockModel {
         for (j, v) in g.iter().enumerate() {
             self.ports.put_real(vr_global(j), *v)?;
         }
+        let (q, w, r, v, h) = (
+            sat.attitude,
+            sat.rate,
+            sat.position,
+            sat.velocity,
+            sat.angular_momentum,
+        );
+        let s = [
+            q[0], q[1], q[2], q[3], w.x, w.y, w.z, r.x, r.y, r.z, v.x, v.y, v.z, h.x, h.y, h.z,
+        ];
+        for (j, v) in s.iter().enumerate() {
+            self.ports.put_real(vr_satellite_output(j), *v)?;
+        }
         let clamp = |x: u64| x.min(i32::MAX as u64) as i32;
         self.ports.put_integer(ivr::STEPS, clamp(stats.steps))?;
         self.ports
@@ -148,10 +171,20 @@ impl CoSimModel for PanelLockModel {
     }
 
     fn set_real(&mut self, vr: ValueRef, value: f64) -> Result<(), ModelError> {
+        let old = self.ports.get_real(vr).ok();
         self.ports.set_real(vr, value)?;
-        if let Some(s) = self.scene.as_mut().filter(|_| vr == vr_motor()) {
-            s.set_motor_torque(value)
-                .map_err(ModelError::InvalidValue)?;
+        let load = (0..SATELLITE_LOAD_INPUTS.len()).find(|&j| vr == vr_satellite_load(j));
+        let applied = match self.scene.as_mut() {
+            Some(s) if vr == vr_motor() => s.set_motor_torque(value),
+            Some(s) => load.map_or(Ok(()), |j| s.set_satellite_load(j, value)),
+            None => Ok(()),
+        };
+        if let Err(e) = applied {
+            // the port keeps the value the scene runs with
+            if let Some(old) = old {
+                self.ports.put_real(vr, old)?;
+            }
+            return Err(ModelError::InvalidValue(e));
         }
         Ok(())
     }
@@ -174,6 +207,11 @@ impl CoSimModel for PanelLockModel {
         scene
             .set_motor_torque(self.ports.get_real(vr_motor())?)
             .map_err(ModelError::InvalidValue)?;
+        for j in 0..SATELLITE_LOAD_INPUTS.len() {
+            scene
+                .set_satellite_load(j, self.ports.get_real(vr_satellite_load(j))?)
+                .map_err(ModelError::InvalidValue)?;
+        }
         self.scene = Some(scene);
         self.clock = clock;
         self.publish()?;

@@ -8,19 +8,23 @@
 //!   exist only for enough panels);
 //! - the root-hinge reactions come from the initial accelerations: masses, geometry, springs,
 //!   gravity, cables, the satellite and, for all but the torque about the hinge axis, the root
-//!   motor torque (the only input);
-//! - the potential energy from the same parameters, without the input.
+//!   motor torque and the satellite loads (the inputs);
+//! - the potential energy from the same parameters, without the inputs;
+//! - the satellite's centre of mass from `satellite_cg` (the satellite starts at rest with the
+//!   identity attitude, the system with zero momentum, the flexible panels undeformed).
 //!
 //! Solver settings, contact-law and latch parameters and damping coefficients act only once the
 //! array moves. `tests/initial_dependencies.rs` checks these declarations by perturbing every
 //! known in several configurations: the input dependencies are exact there, the parameter
 //! dependencies a superset of what the perturbations show (never missing one).
 
+use super::ports::SATELLITE_LOAD_INPUTS;
 use crate::scene::port::{ModelInfo, PortSpec};
 
 /// Knowns that do not act on the initial (stowed, resting) state.
-const MOTION_ONLY: [&str; 17] = [
+const MOTION_ONLY: [&str; 18] = [
     "integrator",
+    "load_frame",
     "contact_law",
     "latches",
     "rtol",
@@ -62,7 +66,10 @@ pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<
     } else if name.starts_with("root_torque_") || name == "potential_energy" {
         let mut excluded = MOTION_ONLY.to_vec();
         excluded.push("root_motor_torque");
+        excluded.extend(SATELLITE_LOAD_INPUTS.iter().map(|(n, _, _)| *n));
         info.knowns_except(&excluded)
+    } else if let Some(axis) = name.strip_prefix("satellite_").filter(|a| a.len() == 1) {
+        vec![format!("satellite_cg_{axis}")]
     } else {
         Vec::new()
     };

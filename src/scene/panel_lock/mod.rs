@@ -15,6 +15,13 @@
 //!   stowed stack), which also keeps the hinge travel below 180 deg.
 //! - Gravity off (orbit), satellite fixed; BDF with rtol 1e-6, atol 1e-8, h_max 20 ms.
 //!
+//! # Free-floating satellite (`free_satellite`)
+//! A rigid body of `satellite_mass`, principal moments `satellite_inertia` and centre of mass
+//! `satellite_cg` (relative to the root attachment point), with input-driven force and torque
+//! in the world or body frame and attitude, rate, position and momentum outputs; frames in
+//! [`satellite`] and docs/panel_lock_satellite.md. The flexible panels' deflection outputs:
+//! [`flex_outputs`].
+//!
 //! # Flexible panels (`flexible_panels`, `n_modes`)
 //! Each panel becomes a modal body: an ACM plate model (`panel_mesh` 8 x 4 elements) of the
 //! equivalent homogeneous honeycomb plate, reduced by Craig-Bampton with the body frame clamped
@@ -51,10 +58,12 @@ mod build;
 mod cosim;
 mod demo;
 mod dependencies;
+pub mod flex_outputs;
 pub mod flex_panel;
 mod params;
 pub mod ports;
 mod run;
+pub mod satellite;
 pub mod study;
 pub mod trace;
 mod view;
@@ -62,7 +71,8 @@ mod view;
 pub use build::{Layout, build};
 pub use cosim::{PanelLockModel, create};
 pub use demo::run_demo;
-pub use params::{DEFAULT_PANEL_E, ErrorControl, PanelLockParams, Reduction};
+pub use params::{DEFAULT_PANEL_E, ErrorControl, LoadFrame, PanelLockParams, Reduction};
 pub use ports::info;
 pub use run::{HingeOutput, PanelLock, PanelLockOutputs};
+pub use satellite::SatelliteOutput;
 pub use view::SATELLITE_EDGE;

@@ -1,6 +1,7 @@
 //! Parameters of the PanelLock scene, with their defaults and validation.
 
 use crate::contact::LawKind;
+pub use crate::effect::body_load::LoadFrame;
 use crate::integrator::{IntegratorKind, Settings};
 
 /// How a flexible panel's finite-element model is reduced to modal coordinates.
@@ -88,10 +89,17 @@ pub struct PanelLockParams {
     /// `None` (orbit).
     pub gravity: Option<f64>,
     /// Free-floating satellite (else fixed to the inertial frame), its mass [kg] and inertia
-    /// (principal moments, [kg m^2]).
+    /// (principal moments about its centre of mass along the satellite body axes x, y, z,
+    /// [kg m^2]; each at most the sum of the other two).
     pub free_satellite: bool,
     pub satellite_mass: f64,
     pub satellite_inertia: [f64; 3],
+    /// Satellite centre of mass relative to the root-hinge attachment point, in the satellite
+    /// body frame [m] (parallel to the world frame at t = 0; see docs/panel_lock_satellite.md).
+    /// The default puts it 1 m behind the root hinge, on the side away from the array.
+    pub satellite_cg: [f64; 3],
+    /// Frame of the satellite force and torque inputs (free satellite only).
+    pub load_frame: LoadFrame,
     /// Flexible panels (structural switch): each panel is a modal body from a plate FE model,
     /// reduced by [`PanelLockParams::reduction`] to `n_modes` modes, hinge frames riding on the
     /// attachment nodes (mid-width of the inboard and outboard edges). Off: rigid panels and no
@@ -159,6 +167,8 @@ impl Default for PanelLockParams {
             free_satellite: false,
             satellite_mass: 800.0,
             satellite_inertia: [300.0, 350.0, 250.0],
+            satellite_cg: [-1.0, 0.0, 0.0],
+            load_frame: LoadFrame::Body,
             flexible_panels: false,
             n_modes: 0,
             panel_youngs_modulus: DEFAULT_PANEL_E,
@@ -343,7 +353,7 @@ impl PanelLockParams {
 
     /// The parameters [`Self::validate`] wants finite and > 0, within [`ENVELOPE_DECADES`]
     /// either side of their default.
-    fn positive_values(&self) -> [(&'static str, f64); 16] {
+    fn positive_values(&self) -> [(&'static str, f64); 19] {
         [
             ("panel_length", self.panel_length),
             ("panel_width", self.panel_width),
@@ -361,6 +371,9 @@ impl PanelLockParams {
             ("contact_exponent", self.contact_exponent),
             ("restitution", self.restitution),
             ("satellite_mass", self.satellite_mass),
+            ("satellite_inertia_x", self.satellite_inertia[0]),
+            ("satellite_inertia_y", self.satellite_inertia[1]),
+            ("satellite_inertia_z", self.satellite_inertia[2]),
         ]
     }
 
@@ -447,13 +460,7 @@ impl PanelLockParams {
         if let Some(g) = self.gravity {
             envelope("gravity", g.abs(), 9.81, false)?;
         }
-        if self
-            .satellite_inertia
-            .iter()
-            .any(|v| !(v.is_finite() && *v > 0.0))
-        {
-            return Err("satellite_inertia must be three finite positive moments".into());
-        }
+        self.validate_satellite()?;
         if self.cable_loop && self.cable_stiffness == 0.0 {
             return Err(
                 "cable_loop is on but cable_stiffness is 0: switch the loop off instead".into(),
@@ -657,6 +664,10 @@ pub fn declared_range(name: &str) -> Option<DeclaredRange> {
             open: [true, true],
         },
         "panel_nonstructural_mass" => closed(Some(0.0), None),
+        "satellite_cg_x" | "satellite_cg_y" | "satellite_cg_z" => closed(
+            Some(-super::satellite::MAX_CG_OFFSET),
+            Some(super::satellite::MAX_CG_OFFSET),
+        ),
         "rtol" => closed(Some(crate::integrator::MIN_RTOL), None),
         "h_max" => closed(Some(crate::integrator::MIN_H_MAX), None),
         _ => return None,

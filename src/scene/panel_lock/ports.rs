@@ -1,7 +1,7 @@
 //! The PanelLock variable table: parameters (mapped onto [`PanelLockParams`]), the motor input and
 //! the outputs, with value references by base type.
 
-use super::params::PanelLockParams;
+use super::params::{LoadFrame, PanelLockParams};
 use crate::contact::LawKind;
 use crate::integrator::IntegratorKind;
 use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, ValueRef, Variability};
@@ -207,6 +207,54 @@ pub static REAL_PARAMS: &[RealParam] = &[
         "Satellite mass (free-floating satellite only)."
     ),
     RealParam {
+        name: "satellite_inertia_x",
+        unit: Some("kg.m2"),
+        description: "Satellite principal moment of inertia about its body x axis, at its centre of mass (free-floating satellite only); at most satellite_inertia_y + satellite_inertia_z.",
+        get: |p| p.satellite_inertia[0],
+        set: |p, v| p.satellite_inertia[0] = v,
+        unit_note: None,
+    },
+    RealParam {
+        name: "satellite_inertia_y",
+        unit: Some("kg.m2"),
+        description: "Satellite principal moment of inertia about its body y axis (free-floating satellite only); at most satellite_inertia_x + satellite_inertia_z.",
+        get: |p| p.satellite_inertia[1],
+        set: |p, v| p.satellite_inertia[1] = v,
+        unit_note: None,
+    },
+    RealParam {
+        name: "satellite_inertia_z",
+        unit: Some("kg.m2"),
+        description: "Satellite principal moment of inertia about its body z axis (parallel to the hinge axes at t = 0; free-floating satellite only); at most satellite_inertia_x + satellite_inertia_y.",
+        get: |p| p.satellite_inertia[2],
+        set: |p, v| p.satellite_inertia[2] = v,
+        unit_note: None,
+    },
+    RealParam {
+        name: "satellite_cg_x",
+        unit: Some("m"),
+        description: "Satellite centre of mass relative to the root-hinge attachment point, satellite body x (parallel to world x at t = 0; the array deploys along +x).",
+        get: |p| p.satellite_cg[0],
+        set: |p, v| p.satellite_cg[0] = v,
+        unit_note: None,
+    },
+    RealParam {
+        name: "satellite_cg_y",
+        unit: Some("m"),
+        description: "Satellite centre of mass relative to the root-hinge attachment point, satellite body y.",
+        get: |p| p.satellite_cg[1],
+        set: |p, v| p.satellite_cg[1] = v,
+        unit_note: None,
+    },
+    RealParam {
+        name: "satellite_cg_z",
+        unit: Some("m"),
+        description: "Satellite centre of mass relative to the root-hinge attachment point, satellite body z (along the hinge axes at t = 0).",
+        get: |p| p.satellite_cg[2],
+        set: |p, v| p.satellite_cg[2] = v,
+        unit_note: None,
+    },
+    RealParam {
         name: "gravity",
         unit: Some("m/s2"),
         description: "Gravity along -z (the hinge axes) when gravity_on.",
@@ -268,6 +316,132 @@ pub static REAL_PARAMS: &[RealParam] = &[
 pub fn vr_motor() -> ValueRef {
     REAL_PARAMS.len() as ValueRef
 }
+
+/// Number of real inputs: the motor torque and the six satellite loads.
+pub const N_REAL_INPUTS: usize = 7;
+
+/// Satellite load inputs after the motor torque, in this order (units, descriptions).
+pub const SATELLITE_LOAD_INPUTS: [(&str, &str, &str); 6] = [
+    (
+        "satellite_force_x",
+        "N",
+        "Force on the satellite's centre of mass, x component in load_frame (free_satellite only; must stay 0 with a fixed satellite), held over each step.",
+    ),
+    (
+        "satellite_force_y",
+        "N",
+        "Force on the satellite's centre of mass, y component in load_frame (free_satellite only).",
+    ),
+    (
+        "satellite_force_z",
+        "N",
+        "Force on the satellite's centre of mass, z component in load_frame (free_satellite only).",
+    ),
+    (
+        "satellite_torque_x",
+        "N.m",
+        "Torque on the satellite, x component in load_frame (free_satellite only; must stay 0 with a fixed satellite), held over each step.",
+    ),
+    (
+        "satellite_torque_y",
+        "N.m",
+        "Torque on the satellite, y component in load_frame (free_satellite only).",
+    ),
+    (
+        "satellite_torque_z",
+        "N.m",
+        "Torque on the satellite, z component in load_frame (free_satellite only).",
+    ),
+];
+
+/// Value reference of satellite load input `j` ([`SATELLITE_LOAD_INPUTS`] order).
+pub fn vr_satellite_load(j: usize) -> ValueRef {
+    (REAL_PARAMS.len() + 1 + j) as ValueRef
+}
+
+/// Satellite and momentum outputs after the global outputs, in this order.
+pub const SATELLITE_OUTPUTS: [(&str, Option<&str>, &str); 16] = [
+    (
+        "satellite_qw",
+        None,
+        "Satellite attitude quaternion (body to world), scalar part; 1 for a fixed satellite.",
+    ),
+    (
+        "satellite_qx",
+        None,
+        "Satellite attitude quaternion (body to world), x part.",
+    ),
+    (
+        "satellite_qy",
+        None,
+        "Satellite attitude quaternion (body to world), y part.",
+    ),
+    (
+        "satellite_qz",
+        None,
+        "Satellite attitude quaternion (body to world), z part.",
+    ),
+    (
+        "satellite_wx",
+        Some("rad/s"),
+        "Satellite angular rate, satellite body x (0 for a fixed satellite).",
+    ),
+    (
+        "satellite_wy",
+        Some("rad/s"),
+        "Satellite angular rate, satellite body y.",
+    ),
+    (
+        "satellite_wz",
+        Some("rad/s"),
+        "Satellite angular rate, satellite body z.",
+    ),
+    (
+        "satellite_x",
+        Some("m"),
+        "Satellite centre of mass, world x (the world origin is the root-hinge attachment point at t = 0; a fixed satellite stays at satellite_cg).",
+    ),
+    (
+        "satellite_y",
+        Some("m"),
+        "Satellite centre of mass, world y.",
+    ),
+    (
+        "satellite_z",
+        Some("m"),
+        "Satellite centre of mass, world z.",
+    ),
+    (
+        "satellite_vx",
+        Some("m/s"),
+        "Satellite centre-of-mass velocity, world x.",
+    ),
+    (
+        "satellite_vy",
+        Some("m/s"),
+        "Satellite centre-of-mass velocity, world y.",
+    ),
+    (
+        "satellite_vz",
+        Some("m/s"),
+        "Satellite centre-of-mass velocity, world z.",
+    ),
+    (
+        "angular_momentum_x",
+        Some("kg.m2/s"),
+        "Total angular momentum of the moving bodies (satellite when free, hinges, yoke, panels) about their centre of mass, world x; conserved with a free satellite and no satellite torque or force.",
+    ),
+    (
+        "angular_momentum_y",
+        Some("kg.m2/s"),
+        "Total angular momentum about the centre of mass, world y.",
+    ),
+    (
+        "angular_momentum_z",
+        Some("kg.m2/s"),
+        "Total angular momentum about the centre of mass, world z.",
+    ),
+];
 
 /// Per-hinge real outputs, in this order for hinge 0, 1, ...
 pub const HINGE_OUTPUTS: [(&str, Option<&str>, &str); 5] = [
@@ -351,12 +525,50 @@ pub const GLOBAL_OUTPUTS: [(&str, Option<&str>, &str); 11] = [
 
 /// Value reference of hinge `k`'s output `j` (index into [`HINGE_OUTPUTS`]).
 pub fn vr_hinge(k: usize, j: usize) -> ValueRef {
-    (REAL_PARAMS.len() + 1 + k * HINGE_OUTPUTS.len() + j) as ValueRef
+    (REAL_PARAMS.len() + N_REAL_INPUTS + k * HINGE_OUTPUTS.len() + j) as ValueRef
 }
 
 /// Value reference of global output `j`.
 pub fn vr_global(j: usize) -> ValueRef {
-    (REAL_PARAMS.len() + 1 + MAX_HINGES * HINGE_OUTPUTS.len() + j) as ValueRef
+    (REAL_PARAMS.len() + N_REAL_INPUTS + MAX_HINGES * HINGE_OUTPUTS.len() + j) as ValueRef
+}
+
+/// Value reference of satellite output `j` ([`SATELLITE_OUTPUTS`]).
+pub fn vr_satellite_output(j: usize) -> ValueRef {
+    vr_global(GLOBAL_OUTPUTS.len() + j)
+}
+
+/// Largest number of panels the per-panel outputs cover.
+pub const MAX_PANELS: usize = 6;
+
+/// Per-panel real outputs (panel 1 = the innermost), after the satellite outputs, in this order
+/// for panel 1, 2, ...
+pub const PANEL_OUTPUTS: [(&str, Option<&str>, &str); 4] = [
+    (
+        "tip_deflection",
+        Some("m"),
+        "Normal deflection of the outboard edge's mid-width point relative to the rigid panel (clamped at its inboard hinge), along the rigid panel's normal (that of tip_normal_velocity).",
+    ),
+    (
+        "mode1",
+        Some("m"),
+        "Amplitude of the first fixed-interface mode, as the largest normal deflection it gives over the panel.",
+    ),
+    (
+        "mode2",
+        Some("m"),
+        "Amplitude of the second fixed-interface mode, as the largest normal deflection it gives over the panel.",
+    ),
+    (
+        "mode3",
+        Some("m"),
+        "Amplitude of the third fixed-interface mode, as the largest normal deflection it gives over the panel.",
+    ),
+];
+
+/// Value reference of panel `k`'s (1-based) output `j` ([`PANEL_OUTPUTS`]).
+pub fn vr_panel(k: usize, j: usize) -> ValueRef {
+    vr_satellite_output(SATELLITE_OUTPUTS.len() + (k - 1) * PANEL_OUTPUTS.len() + j)
 }
 
 /// Integer value references.
@@ -370,6 +582,7 @@ pub mod ivr {
     pub const NEWTON: ValueRef = 5;
     pub const FACTORIZATIONS: ValueRef = 6;
     pub const N_MODES: ValueRef = 7;
+    pub const LOAD_FRAME: ValueRef = 8;
 }
 
 /// Boolean value references (hinge `k` latched: `LATCHED0 + k`).
@@ -410,6 +623,35 @@ pub static CONTACT_LAWS: &[(&str, &str)] = &[
     ("hunt_crossley", "Hunt-Crossley damping"),
     ("flores", "Flores damping (valid for low restitution)"),
 ];
+
+/// Load-frame enumeration items (1-based), in [`LoadFrame`] order.
+pub static LOAD_FRAMES: &[(&str, &str)] = &[
+    (
+        "world",
+        "Satellite force and torque components along the world axes",
+    ),
+    (
+        "body",
+        "Satellite force and torque components along the satellite body axes (turning with it)",
+    ),
+];
+
+/// Load frame from its enumeration item number.
+pub fn load_frame_of(code: i32) -> LoadFrame {
+    if code == 1 {
+        LoadFrame::World
+    } else {
+        LoadFrame::Body
+    }
+}
+
+/// Enumeration item number (1-based) of a load frame.
+pub fn load_frame_code(frame: LoadFrame) -> i32 {
+    match frame {
+        LoadFrame::World => 1,
+        LoadFrame::Body => 2,
+    }
+}
 
 /// Integrator from its enumeration item number.
 pub fn integrator_of(code: i32) -> IntegratorKind {
@@ -479,6 +721,7 @@ pub fn info() -> &'static ModelInfo {
         ] {
             ports.push(PortSpec::boolean_parameter(name, vr, Variability::Fixed, start, desc));
         }
+        ports.push(integer("load_frame", ivr::LOAD_FRAME, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "LoadFrame", items: LOAD_FRAMES, start: Some(load_frame_code(d.load_frame)) }, "Frame of the satellite_force_* and satellite_torque_* inputs: world or satellite body axes."));
         ports.push(integer("n_modes", ivr::N_MODES, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_modes as i32), min: Some(0), max: Some(400) }, "Craig-Bampton modes per flexible panel (structure); must be 0 with rigid panels."));
         for (i, p) in REAL_PARAMS.iter().enumerate() {
             let mut spec = PortSpec::real_parameter(p.name, i as ValueRef, Variability::Fixed, (p.get)(&d), p.unit, p.description);
@@ -497,6 +740,9 @@ pub fn info() -> &'static ModelInfo {
             ports.push(spec);
         }
         ports.push(PortSpec::real_input("root_motor_torque", vr_motor(), 0.0, Some("N.m"), "Root hinge motor torque (positive deploys), held over each step."));
+        for (j, (name, unit, desc)) in SATELLITE_LOAD_INPUTS.iter().enumerate() {
+            ports.push(PortSpec::real_input(name, vr_satellite_load(j), 0.0, Some(*unit), desc));
+        }
         for k in 0..MAX_HINGES {
             for (j, (name, unit, desc)) in HINGE_OUTPUTS.iter().enumerate() {
                 ports.push(PortSpec::real_output(&format!("hinge{k}_{name}"), vr_hinge(k, j), *unit, &format!("Hinge {k} (0 = root): {desc} Zero for hinges the array does not have.")));
@@ -505,6 +751,14 @@ pub fn info() -> &'static ModelInfo {
         }
         for (j, (name, unit, desc)) in GLOBAL_OUTPUTS.iter().enumerate() {
             ports.push(PortSpec::real_output(name, vr_global(j), *unit, desc));
+        }
+        for (j, (name, unit, desc)) in SATELLITE_OUTPUTS.iter().enumerate() {
+            ports.push(PortSpec::real_output(name, vr_satellite_output(j), *unit, desc));
+        }
+        for k in 1..=MAX_PANELS {
+            for (j, (name, unit, desc)) in PANEL_OUTPUTS.iter().enumerate() {
+                ports.push(PortSpec::real_output(&format!("panel{k}_{name}"), vr_panel(k, j), *unit, &format!("Panel {k} (1 = innermost): {desc} Zero with rigid panels, for panels the array does not have and for modes beyond n_modes.")));
+            }
         }
         for (vr, name, desc) in [
             (ivr::STEPS, "solver_steps", "Accepted integrator steps since the start."),
@@ -516,7 +770,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{b23179b7-19ab-46b9-96cf-06a74d2ce729}",
+            guid: "{6f0e2a51-8c3d-4b7e-9a14-2d5c7f3b9e60}",
             description: "Deployment and lock-up of a solar array: yoke and panels joined by hinge bodies with preloaded torsion springs, pin/groove latches with a selectable contact law, stow stops, optional cable loops; rigid panels or flexible (Craig-Bampton modal) panels.",
             ports,
             default_stop_time: 60.0,

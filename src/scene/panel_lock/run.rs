@@ -1,6 +1,7 @@
 //! A running PanelLock simulation and the quantities its users read.
 
 use super::build::{Layout, build};
+use super::flex_outputs::PanelFlexOutput;
 use super::params::PanelLockParams;
 use crate::effect::EvalCtx;
 use crate::effect::angle::relative_angle;
@@ -95,6 +96,16 @@ impl PanelLock {
             for (k, slot) in out.iter_mut().enumerate().take(latches.elements.len()) {
                 *slot = mem[k * MEMORY_PER_LATCH + 1];
             }
+        }
+        out
+    }
+
+    /// Tip deflection and modal amplitudes of each panel, inboard to outboard (zeros with
+    /// rigid panels; see [`super::flex_outputs`]).
+    pub fn panel_flex_outputs(&self) -> Vec<PanelFlexOutput> {
+        let mut out = vec![PanelFlexOutput::default(); self.params.n_panels];
+        for (o, f) in out.iter_mut().zip(&self.layout.flex_panels) {
+            *o = f.evaluate(&self.sim.system.model, &self.sim.state.q);
         }
         out
     }

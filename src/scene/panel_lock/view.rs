@@ -9,16 +9,18 @@
 //! - **Hinge bodies**: cylinders along the hinge axis, `panel_width` long, of the radius
 //!   `sqrt(2) * hinge_gyration_radius` (a solid cylinder with that radius of gyration about its
 //!   axis), centred on the hinge point.
-//! - **Satellite**: the model has no satellite geometry, only its mass and inertia and the root
-//!   attach point 1 m from its centre along its x axis: drawn as a 2 m cube whose +x face holds
-//!   the root hinge. A fixed satellite is the ground: drawn at (-1, 0, 0) m, not turning.
+//! - **Satellite**: the model has no satellite geometry, only its mass, inertia and centre of
+//!   mass `satellite_cg` relative to the root attach point: drawn as a 2 m cube centred on the
+//!   centre of mass (with the default `satellite_cg` (-1, 0, 0) m its +x face holds the root
+//!   hinge). A fixed satellite is the ground: drawn at `satellite_cg`, not turning.
 
 use super::PanelLock;
 use crate::math::Vec3;
 use crate::model::kinematics::BodyKin;
 use crate::scene::view::{Geometry, Pose, Role, Shape, Snapshot};
 
-/// Edge of the cube drawn for the satellite [m] (its centre 1 m behind the root hinge).
+/// Edge of the cube drawn for the satellite [m] (centred on its centre of mass, by default 1 m
+/// behind the root hinge).
 pub const SATELLITE_EDGE: f64 = 2.0;
 
 impl PanelLock {
@@ -31,13 +33,13 @@ impl PanelLock {
         let kin = |id| *sys.kin(id);
         let mut shapes = Vec::with_capacity(2 * self.layout.plates.len() + 1);
 
-        // satellite: attach point 1 m along its x axis from the centre (build.rs); ground: the
-        // attach point is the world origin, the centre 1 m behind it
+        // satellite: the cube centred on its centre of mass (build.rs); ground: the attach
+        // point is the world origin, the centre of mass at satellite_cg
         let sat: BodyKin = kin(self.layout.satellite);
         let centre_local = if p.free_satellite {
             Vec3::zeros()
         } else {
-            -Vec3::x()
+            Vec3::from(p.satellite_cg)
         };
         shapes.push(Shape {
             name: "satellite".into(),
