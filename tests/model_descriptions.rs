@@ -75,3 +75,71 @@ fn checked_in_default_scenes_match_the_tables() {
         );
     }
 }
+
+/// FNV-1a (64 bit) of the interface an importer binds to: every variable's name, value
+/// reference, causality, variability and base type, in table order (descriptions, units and
+/// start values left out).
+fn interface_fingerprint(info: &mbcosim::scene::port::ModelInfo) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for p in &info.ports {
+        let ty = format!("{:?}", p.ty);
+        let kind = ty.split(['(', '{', ' ']).next().unwrap_or("");
+        let line = format!(
+            "{}|{}|{:?}|{:?}|{kind}\n",
+            p.name, p.vr, p.causality, p.variability
+        );
+        for b in line.bytes() {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    h
+}
+
+/// The GUID must change whenever the variables an importer binds to change (a saved FMU state or
+/// an importer's stored value references would otherwise be taken for the new interface): each
+/// model's interface fingerprint is recorded here with its GUID. A change of the variables fails
+/// this test until the model gets a new GUID and both are recorded anew.
+#[test]
+fn the_guid_changes_with_the_interface() {
+    let recorded: [(&str, &str, u64); 3] = [
+        (
+            "PanelLock",
+            "{6f0e2a51-8c3d-4b7e-9a14-2d5c7f3b9e60}",
+            0xb94f_af7b_84d6_fff7,
+        ),
+        (
+            "RopeBlock",
+            "{377ce78c-ec8c-4033-8676-4c345368fcc5}",
+            0x7dfa_1312_59b2_8e78,
+        ),
+        (
+            "PidController",
+            "{d3273808-9b6c-429a-8343-c6d18db11dab}",
+            0x8c75_b021_d43a_1c76,
+        ),
+    ];
+    let mut problems = Vec::new();
+    for e in registry() {
+        let info = (e.info)();
+        let fp = interface_fingerprint(info);
+        match recorded.iter().find(|(id, _, _)| *id == info.identifier) {
+            None => problems.push(format!(
+                "{}: not recorded (add (\"{}\", \"{}\", {fp:#x}))",
+                info.identifier, info.identifier, info.guid
+            )),
+            Some((_, guid, recorded_fp)) if *recorded_fp != fp => problems.push(format!(
+                "{}: the variables changed (fingerprint {fp:#x}, recorded {recorded_fp:#x}); give the model a new GUID{} and record (\"{}\", \"<new guid>\", {fp:#x})",
+                info.identifier,
+                if *guid == info.guid { "" } else { " (it has one)" },
+                info.identifier
+            )),
+            Some((_, guid, _)) if *guid != info.guid => problems.push(format!(
+                "{}: the GUID changed to {} with the same variables; record it",
+                info.identifier, info.guid
+            )),
+            Some(_) => {}
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}

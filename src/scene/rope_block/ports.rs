@@ -589,7 +589,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{b6ae683a-ff34-4b15-a0d4-e0fbced5ee7a}",
+            guid: "{377ce78c-ec8c-4033-8676-4c345368fcc5}",
             description: "Ship-block lift with lumped-mass wire-rope slings contacting the block's shell plate edges through contact nodes with Coulomb friction; one-hook lift or two-hook turn-over.",
             ports,
             default_stop_time: 10.0,
