@@ -7,7 +7,8 @@
 //! - the contact slots (where the slings touch the plate edges, which sling, how many) on the
 //!   rigging geometry: scenario, mesh, the contact switch and the number of reported slots;
 //!   whether a node slips on the friction switch;
-//! - forces, tensions, the block pose and the potential energy on the statics: everything that
+//! - forces, tensions (and the slings' utilisation and angle, the amplification factor), the block
+//!   pose and the potential energy on the statics: everything that
 //!   shapes the equilibrium (masses, rope stiffness and resolution, gravity, geometry, contact,
 //!   bending, ground contact);
 //! - velocities, kinetic energy, dissipation, input work and the solver counters on nothing.
@@ -21,8 +22,9 @@
 use crate::scene::port::{ModelInfo, PortSpec};
 
 /// Knowns that do not act on the initial equilibrium (including every input).
-const NOT_STATICS: [&str; 22] = [
+const NOT_STATICS: [&str; 23] = [
     "integrator",
+    "hook_ramp_time",
     "contact_outputs",
     "drag",
     "rope_damping",
@@ -83,8 +85,12 @@ pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<
     Some(deps)
 }
 
-/// Parts of the names of outputs set by the initial equilibrium.
-const STATICS_OUTPUTS: [&str; 10] = [
+/// Parts of the names of outputs set by the initial equilibrium (the slings' utilisation and
+/// angle and the amplification factor `daf` with the tensions and hook loads).
+const STATICS_OUTPUTS: [&str; 13] = [
+    "_utilisation",
+    "_angle",
+    "daf",
     "_load",
     "_fz",
     "tension",
