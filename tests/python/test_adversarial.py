@@ -202,7 +202,7 @@ ENVELOPE_CASES = [
     # "RopeBlock could not be set up: mesh '/dev/null': ... unknown format (expected .obj or .stl)"
     ("RopeBlock", ["mesh_file=/dev/null"], "mesh_file"),
     # "no static equilibrium within the slings' strength: sling 0 carries 6.9047e9 N at rest ...
-    # (block_mass too heavy for the slings: lower block_mass or use stronger slings, rope_ea)"
+    # (the block is too heavy for this sling: lower block_mass, or use stronger slings ...)"
     ("RopeBlock", ["ground_contact=1", "ground_height=1000"], "ground_height"),
     # "no static equilibrium found in 300 iterations: largest force imbalance 1.381e-2 N (... e.g.
     # block_mass against rope_ea, or too few segments, also ends here)" (benchmark seed 1, 35000)
