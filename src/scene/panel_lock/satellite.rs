@@ -25,14 +25,19 @@ impl PanelLockParams {
     /// mass distribution), the centre of mass is finite and within [`MAX_CG_OFFSET`].
     pub(super) fn validate_satellite(&self) -> Result<(), String> {
         let [a, b, c] = self.satellite_inertia;
-        for (name, v, o1, o2) in [
-            ("satellite_inertia_x", a, b, c),
-            ("satellite_inertia_y", b, c, a),
-            ("satellite_inertia_z", c, a, b),
-        ] {
+        // the message names all three moments: any of them may be the one set wrong (a small
+        // one makes another exceed the sum)
+        let names = [
+            "satellite_inertia_x",
+            "satellite_inertia_y",
+            "satellite_inertia_z",
+        ];
+        for (k, (v, o1, o2)) in [(a, b, c), (b, c, a), (c, a, b)].into_iter().enumerate() {
             if v > o1 + o2 {
+                let (n1, n2) = (names[(k + 1) % 3], names[(k + 2) % 3]);
                 return Err(format!(
-                    "{name} = {v} kg m^2 exceeds the sum of the other two principal moments ({o1} + {o2} = {} kg m^2): no mass distribution has such moments (triangle inequality)",
+                    "{} = {v} kg m^2 exceeds the sum of {n1} and {n2} ({o1} + {o2} = {} kg m^2): no mass distribution has such principal moments (triangle inequality)",
+                    names[k],
                     o1 + o2
                 ));
             }
