@@ -1,24 +1,15 @@
 //! PanelLock deployment and lock-up against independent references: lock order, energy balance,
 //! static contact equilibrium, convergence with tolerance, and agreement of the integrators.
 
+mod common;
 use mbcosim::contact::ContactLaw;
-use mbcosim::integrator::{IntegratorKind, Settings};
-use mbcosim::scene::panel_lock::{ErrorControl, PanelLock, PanelLockParams};
+use mbcosim::integrator::IntegratorKind;
+use mbcosim::scene::panel_lock::{PanelLock, PanelLockParams};
 
 /// The default scene on BDF at `rtol`, the error held per step (the tolerances of these tests
 /// were chosen for that, the default before docs/panel_lock_defaults.md).
 fn params(rtol: f64) -> PanelLockParams {
-    PanelLockParams {
-        integrator: IntegratorKind::Bdf,
-        error_control: ErrorControl::PerStep,
-        settings: Settings {
-            rtol,
-            atol: rtol * 1e-2,
-            h_max: 0.02,
-            ..PanelLockParams::default().settings
-        },
-        ..PanelLockParams::default()
-    }
+    common::panel_lock::per_step(IntegratorKind::Bdf, rtol)
 }
 
 /// Spring energy released between the stowed and the lock angles of every hinge [J].

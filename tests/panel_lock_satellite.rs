@@ -4,24 +4,17 @@
 //! the impulse (world frame: `T t`, `F t`; body frame: the impulse of `R(t) T`, `R(t) F` from the
 //! attitude the model reports). None of these references uses the solver's own equations.
 
+mod common;
 use mbcosim::integrator::{IntegratorKind, Settings};
 use mbcosim::math::{Mat3, Quat, Vec3};
-use mbcosim::scene::panel_lock::{ErrorControl, LoadFrame, PanelLock, PanelLockParams};
+use mbcosim::scene::panel_lock::{LoadFrame, PanelLock, PanelLockParams};
 use nalgebra::Quaternion;
 
 /// The default array on a free satellite, BDF at `rtol` (per step), `atol = rtol * 1e-2`.
 fn free(rtol: f64) -> PanelLockParams {
     PanelLockParams {
         free_satellite: true,
-        integrator: IntegratorKind::Bdf,
-        error_control: ErrorControl::PerStep,
-        settings: Settings {
-            rtol,
-            atol: rtol * 1e-2,
-            h_max: 0.02,
-            ..PanelLockParams::default().settings
-        },
-        ..PanelLockParams::default()
+        ..common::panel_lock::per_step(IntegratorKind::Bdf, rtol)
     }
 }
 

@@ -9,7 +9,7 @@ use common::particle_on_floor;
 use mbcosim::contact::{ContactLaw, LawKind};
 use mbcosim::integrator::{IntegratorKind, Settings};
 use mbcosim::scene::native;
-use mbcosim::scene::panel_lock::{ErrorControl, PanelLock, PanelLockModel, PanelLockParams};
+use mbcosim::scene::panel_lock::{PanelLock, PanelLockModel, PanelLockParams};
 use mbcosim::sim::Simulation;
 
 const KINDS: [IntegratorKind; 3] = [
@@ -174,19 +174,7 @@ fn panel_run(p: PanelLockParams, t_end: f64) -> Result<(f64, f64, f64), String> 
 }
 
 fn with(kind: IntegratorKind, rtol: f64) -> PanelLockParams {
-    PanelLockParams {
-        integrator: kind,
-        // per step, as these sweeps were calibrated (generalized-alpha per unit step stops with
-        // a message at rtol 1e-7 and 1e-8 on this scene: docs/integrator_error_control.md)
-        error_control: ErrorControl::PerStep,
-        settings: Settings {
-            rtol,
-            atol: rtol * 1e-2,
-            h_max: 0.02,
-            ..PanelLockParams::default().settings
-        },
-        ..PanelLockParams::default()
-    }
+    common::panel_lock::per_step(kind, rtol)
 }
 
 #[test]

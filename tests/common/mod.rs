@@ -4,6 +4,7 @@
 pub mod flex;
 pub mod jacobian;
 pub mod outputs;
+pub mod panel_lock;
 
 use mbcosim::math::{Mat3, Quat, Vec3};
 use mbcosim::model::{BodyId, BodyInit, Frame, JointKind, Model, ModelBuilder};

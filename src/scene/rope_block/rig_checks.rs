@@ -9,7 +9,9 @@
 use super::params::{RopeBlockParams, route_length};
 use super::rig::LUG_TOLERANCE;
 use crate::math::Vec3;
-use crate::rope::shell::ShellMesh;
+use crate::rope::shell::{ShellMesh, to_g};
+use parry3d_f64::query::{PointQuery, Ray, RayCast};
+use parry3d_f64::shape::Triangle;
 use std::collections::HashMap;
 
 /// A rig refused at set-up. Each variant's message starts with its name (`sling_too_short`, ...).
@@ -196,48 +198,18 @@ fn check_closed(mesh: &ShellMesh) -> Result<(), RigError> {
 pub fn distance_to_mesh(mesh: &ShellMesh, p: &Vec3) -> f64 {
     mesh.triangles
         .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
-            (closest_on_triangle(p, &a, &b, &c) - p).norm()
-        })
+        .map(|t| distance_to_triangle(p, t.map(|i| mesh.vertices[i as usize])))
         .fold(f64::INFINITY, f64::min)
 }
 
-/// The point of triangle `abc` nearest to `p` (Ericson, Real-Time Collision Detection, 5.1.5).
-fn closest_on_triangle(p: &Vec3, a: &Vec3, b: &Vec3, c: &Vec3) -> Vec3 {
-    let (ab, ac, ap) = (b - a, c - a, p - a);
-    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return *a;
-    }
-    let bp = p - b;
-    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return *b;
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        return a + ab * (d1 / (d1 - d3));
-    }
-    let cp = p - c;
-    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return *c;
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        return a + ac * (d2 / (d2 - d6));
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    }
-    let denom = 1.0 / (va + vb + vc);
-    a + ab * (vb * denom) + ac * (vc * denom)
+/// Distance [m] from `p` to the triangle `abc` (parry3d-f64's point projection).
+fn distance_to_triangle(p: &Vec3, [a, b, c]: [Vec3; 3]) -> f64 {
+    Triangle::new(to_g(&a), to_g(&b), to_g(&c)).distance_to_local_point(to_g(p), true)
 }
 
 /// True when the segment `p q` (design frame) cuts a triangle of `mesh` away from its ends
-/// (more than 1 cm from either: a lug or an edge point on the plate does not count).
+/// (more than 1 cm from either: a lug or an edge point on the plate does not count); the
+/// crossing is parry3d-f64's ray cast along the segment.
 fn segment_crosses(mesh: &ShellMesh, p: &Vec3, q: &Vec3) -> bool {
     let d = q - p;
     let len = d.norm();
@@ -245,27 +217,12 @@ fn segment_crosses(mesh: &ShellMesh, p: &Vec3, q: &Vec3) -> bool {
         return false;
     }
     let margin = 0.01 / len;
+    let ray = Ray::new(to_g(p), to_g(&d));
     mesh.triangles.iter().any(|t| {
-        let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
-        // Moeller-Trumbore
-        let (e1, e2) = (b - a, c - a);
-        let h = d.cross(&e2);
-        let det = e1.dot(&h);
-        if det.abs() < 1e-12 * e1.norm() * e2.norm() * len {
-            return false;
-        }
-        let s = p - a;
-        let u = s.dot(&h) / det;
-        if !(0.0..=1.0).contains(&u) {
-            return false;
-        }
-        let qv = s.cross(&e1);
-        let v = d.dot(&qv) / det;
-        if v < 0.0 || u + v > 1.0 {
-            return false;
-        }
-        let t = e2.dot(&qv) / det;
-        t > margin && t < 1.0 - margin
+        let [a, b, c] = t.map(|i| to_g(&mesh.vertices[i as usize]));
+        Triangle::new(a, b, c)
+            .cast_local_ray(&ray, 1.0 - margin, true)
+            .is_some_and(|toi| toi > margin)
     })
 }
 
@@ -274,16 +231,43 @@ mod tests {
     use super::*;
 
     #[test]
-    fn closest_point_on_triangle_regions() {
-        let (a, b, c) = (
+    fn distance_to_a_triangle_from_each_region() {
+        let abc = [
             Vec3::zeros(),
             Vec3::new(1.0, 0.0, 0.0),
             Vec3::new(0.0, 1.0, 0.0),
-        );
-        let cl = |p: Vec3| closest_on_triangle(&p, &a, &b, &c);
-        assert!((cl(Vec3::new(0.2, 0.2, 3.0)) - Vec3::new(0.2, 0.2, 0.0)).norm() < 1e-15);
-        assert_eq!(cl(Vec3::new(-1.0, -1.0, 0.0)), a);
-        assert_eq!(cl(Vec3::new(2.0, -0.1, 0.0)), b);
-        assert!((cl(Vec3::new(1.0, 1.0, 0.0)) - Vec3::new(0.5, 0.5, 0.0)).norm() < 1e-15);
+        ];
+        let d = |p: Vec3| distance_to_triangle(&p, abc);
+        // above the face, nearest to vertex a, to vertex b, to the edge bc
+        assert!((d(Vec3::new(0.2, 0.2, 3.0)) - 3.0).abs() < 1e-15);
+        assert!((d(Vec3::new(-1.0, -1.0, 0.0)) - 2f64.sqrt()).abs() < 1e-15);
+        assert!((d(Vec3::new(2.0, -0.1, 0.0)) - 1.01f64.sqrt()).abs() < 1e-15);
+        assert!((d(Vec3::new(1.0, 1.0, 0.0)) - 0.5f64.sqrt()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_segment_crosses_a_triangle_only_away_from_its_ends() {
+        let mesh = ShellMesh::new(
+            vec![
+                Vec3::new(-1.0, -1.0, 0.0),
+                Vec3::new(1.0, -1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            ],
+            vec![[0, 1, 2]],
+            0.1,
+        )
+        .unwrap();
+        let z = |h: f64| Vec3::new(0.0, 0.0, h);
+        assert!(segment_crosses(&mesh, &z(-1.0), &z(1.0)));
+        // an end on the plate (a lug) or within 1 cm of it does not count
+        assert!(!segment_crosses(&mesh, &z(0.0), &z(1.0)));
+        assert!(!segment_crosses(&mesh, &z(-0.005), &z(1.0)));
+        // beside the triangle, or short of it
+        assert!(!segment_crosses(
+            &mesh,
+            &Vec3::new(3.0, 0.0, -1.0),
+            &Vec3::new(3.0, 0.0, 1.0)
+        ));
+        assert!(!segment_crosses(&mesh, &z(-2.0), &z(-0.5)));
     }
 }
