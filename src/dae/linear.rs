@@ -5,13 +5,17 @@
 //! Callers push the same sequence of `(row, col)` entries at every assembly for a given model
 //! structure; values may be zero. A change of the sequence (e.g. a contact node inserted) is
 //! detected by comparing with the recorded pattern and triggers a new symbolic analysis.
+//!
+//! Force effects may border the system with *auxiliary unknowns* ([`LinearSolver::add_aux`],
+//! numbered after the caller's `n`): a dense coupling written as a product of sparse factors
+//! (the sliding rope's `u c (G + T_0 h)^T`) then stays sparse, and the Schur complement of the
+//! auxiliary block is exactly the dense coupling, so the caller's unknowns solve the same system.
+//! Callers keep their own size: [`LinearSolver::solve`] takes their right-hand side, pads the
+//! auxiliary rows with zeros and drops the auxiliary part of the solution.
 
 use super::dense_lu::DenseLu;
-use faer::Par;
-use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::mat::MatMut;
-use faer::sparse::linalg::lu::{NumericLu, SymbolicLu, factorize_symbolic_lu};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use super::sparse_lu::SparseLu;
+use super::split_lu::SplitLu;
 
 /// Systems up to this size use the dense LU.
 pub const DENSE_LIMIT: usize = 48;
@@ -24,35 +28,13 @@ pub const DENSE_FILL: f64 = 0.15;
 
 // One backend per solver, never stored in bulk: the size difference of the variants is harmless.
 #[allow(clippy::large_enum_variant)]
+#[derive(Clone)]
 enum Backend {
     None,
     Dense,
-    Sparse {
-        symbolic: SymbolicLu<usize>,
-        numeric: NumericLu<usize, f64>,
-        mem: MemBuffer,
-        req: StackReq,
-    },
-}
-
-impl Clone for Backend {
-    fn clone(&self) -> Self {
-        match self {
-            Backend::None => Backend::None,
-            Backend::Dense => Backend::Dense,
-            Backend::Sparse {
-                symbolic,
-                numeric,
-                req,
-                ..
-            } => Backend::Sparse {
-                symbolic: symbolic.clone(),
-                numeric: numeric.clone(),
-                mem: MemBuffer::new(*req),
-                req: *req,
-            },
-        }
-    }
+    Sparse(SparseLu),
+    /// A few dense rows and columns split off by a Schur complement ([`SplitLu`]).
+    Split(SplitLu),
 }
 
 /// Counters of the work done.
@@ -65,7 +47,14 @@ pub struct LinearStats {
 
 /// A square linear system assembled from triplets.
 pub struct LinearSolver {
+    /// Size of the assembled system: the caller's unknowns and the auxiliary ones.
     n: usize,
+    /// The caller's size (`begin`); unknowns `n_user..n` are auxiliary.
+    n_user: usize,
+    /// Whether effects may add auxiliary unknowns (see the module documentation).
+    aux_allowed: bool,
+    /// Right-hand side padded with the auxiliary rows (scratch).
+    padded: Vec<f64>,
     rows: Vec<usize>,
     cols: Vec<usize>,
     vals: Vec<f64>,
@@ -94,6 +83,9 @@ impl Clone for LinearSolver {
     fn clone(&self) -> Self {
         LinearSolver {
             n: self.n,
+            n_user: self.n_user,
+            aux_allowed: self.aux_allowed,
+            padded: self.padded.clone(),
             rows: self.rows.clone(),
             cols: self.cols.clone(),
             vals: self.vals.clone(),
@@ -114,7 +106,13 @@ impl Clone for LinearSolver {
 
 impl std::fmt::Debug for LinearSolver {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "LinearSolver(n={}, nnz={})", self.n, self.rows.len())
+        write!(
+            f,
+            "LinearSolver(n={}, nnz={}, split={})",
+            self.n,
+            self.rows.len(),
+            self.split_unknowns()
+        )
     }
 }
 
@@ -123,6 +121,9 @@ impl LinearSolver {
     pub fn new() -> Self {
         LinearSolver {
             n: 0,
+            n_user: 0,
+            aux_allowed: true,
+            padded: Vec::new(),
             rows: Vec::new(),
             cols: Vec::new(),
             vals: Vec::new(),
@@ -140,9 +141,10 @@ impl LinearSolver {
         }
     }
 
-    /// Starts assembling an `n x n` matrix.
+    /// Starts assembling an `n x n` matrix (auxiliary unknowns are added after it).
     pub fn begin(&mut self, n: usize) {
         self.n = n;
+        self.n_user = n;
         self.rows.clear();
         self.cols.clear();
         self.vals.clear();
@@ -157,9 +159,44 @@ impl LinearSolver {
         self.vals.push(value);
     }
 
-    /// Dimension of the current system.
+    /// Dimension of the current system as the caller sees it (without auxiliary unknowns).
     pub fn dim(&self) -> usize {
-        self.n
+        self.n_user
+    }
+
+    /// Number of auxiliary unknowns of the current assembly.
+    pub fn n_aux(&self) -> usize {
+        self.n - self.n_user
+    }
+
+    /// Number of dense unknowns the last factorization split off by a Schur complement (0: the
+    /// dense LU or faer's LU of the whole matrix).
+    pub fn split_unknowns(&self) -> usize {
+        match &self.backend {
+            Backend::Split(s) if self.factored => s.n_dense(),
+            _ => 0,
+        }
+    }
+
+    /// Whether effects may add auxiliary unknowns (default `true`).
+    pub fn aux_allowed(&self) -> bool {
+        self.aux_allowed
+    }
+
+    /// Allows or forbids auxiliary unknowns: forbidden, effects emit their dense blocks (a
+    /// reference for tests, and the same Newton step to round-off).
+    pub fn set_aux_allowed(&mut self, allowed: bool) {
+        self.aux_allowed = allowed;
+    }
+
+    /// Adds one auxiliary unknown (and its equation row) to the current assembly and returns
+    /// its index; `None` when they are not allowed.
+    pub fn add_aux(&mut self) -> Option<usize> {
+        if !self.aux_allowed {
+            return None;
+        }
+        self.n += 1;
+        Some(self.n - 1)
     }
 
     fn rebuild_pattern(&mut self) -> Result<(), String> {
@@ -192,22 +229,20 @@ impl LinearSolver {
         if n <= DENSE_LIMIT || (n <= DENSE_FILLED_LIMIT && fill >= DENSE_FILL) {
             self.backend = Backend::Dense;
         } else {
-            let sym =
-                SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
-            let symbolic = factorize_symbolic_lu(sym, Default::default())
-                .map_err(|e| format!("sparse LU symbolic analysis failed: {e:?}"))?;
-            let req = StackReq::any_of(&[
-                symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
-                symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
-            ]);
-            self.backend = Backend::Sparse {
-                symbolic,
-                numeric: NumericLu::new(),
-                mem: MemBuffer::new(req),
-                req,
-            };
+            self.backend = self.sparse_backend(true)?;
         }
         Ok(())
+    }
+
+    /// The sparse backend of the current pattern: split when it has a few dense rows or
+    /// columns (and `split`), else faer's LU of the whole matrix.
+    fn sparse_backend(&self, split: bool) -> Result<Backend, String> {
+        let n = self.n;
+        if split && let Some(s) = SplitLu::analyse(n, &self.col_ptr, &self.row_idx) {
+            return Ok(Backend::Split(s?));
+        }
+        let lu = SparseLu::analyse(n, self.col_ptr.clone(), self.row_idx.clone())?;
+        Ok(Backend::Sparse(lu))
     }
 
     /// Factorizes the assembled matrix. `Err` names a singular or non-finite matrix.
@@ -239,20 +274,23 @@ impl LinearSolver {
         for (k, &p) in self.map.iter().enumerate() {
             self.csc_vals[p] += self.vals[k];
         }
-        let Backend::Sparse {
-            symbolic,
-            numeric,
-            mem,
-            ..
-        } = &mut self.backend
-        else {
-            return Err("sparse backend missing".into());
+        let split_failed = match &mut self.backend {
+            Backend::Sparse(lu) => {
+                lu.factor(&self.csc_vals)?;
+                false
+            }
+            Backend::Split(lu) => lu.factor(&self.csc_vals).is_err(),
+            _ => return Err("sparse backend missing".into()),
         };
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
-        let a = SparseColMatRef::new(sym, &self.csc_vals);
-        symbolic
-            .factorize_numeric_lu(numeric, a, Par::Seq, MemStack::new(mem), Default::default())
-            .map_err(|e| format!("Newton matrix is singular ({e:?})"))?;
+        if split_failed {
+            // a singular remainder or Schur complement: the LU of the whole matrix decides
+            // (kept for this pattern)
+            let mut whole = self.sparse_backend(false)?;
+            if let Backend::Sparse(lu) = &mut whole {
+                lu.factor(&self.csc_vals)?;
+            }
+            self.backend = whole;
+        }
         self.factored = true;
         Ok(())
     }
@@ -267,39 +305,39 @@ impl LinearSolver {
         }
     }
 
-    /// Solves `A x = rhs` in place with the last factorization.
+    /// Solves `A x = rhs` in place with the last factorization; `rhs` has the caller's size
+    /// ([`LinearSolver::dim`]; auxiliary rows have a zero right-hand side) or the full one.
     pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), String> {
         if !self.factored {
             return Err("solve called without a valid factorization".into());
+        }
+        if rhs.len() == self.n_user && self.n > self.n_user {
+            let mut padded = std::mem::take(&mut self.padded);
+            padded.clear();
+            padded.extend_from_slice(rhs);
+            padded.resize(self.n, 0.0);
+            let r = self.solve(&mut padded);
+            rhs.copy_from_slice(&padded[..self.n_user]);
+            self.padded = padded;
+            return r;
+        }
+        if rhs.len() != self.n {
+            return Err(format!(
+                "right-hand side of length {} for a system of {} unknowns",
+                rhs.len(),
+                self.n_user
+            ));
         }
         self.stats.solves += 1;
         match &mut self.backend {
             Backend::None => return Err("solve called before factor".into()),
             Backend::Dense => self.dense.solve(rhs),
-            Backend::Sparse {
-                symbolic,
-                numeric,
-                mem,
-                ..
-            } => {
-                let n = self.n;
-                let lu = lu_ref(symbolic, numeric);
-                let rhs_mat = MatMut::from_column_major_slice_mut(rhs, n, 1);
-                lu.solve_in_place_with_conj(faer::Conj::No, rhs_mat, Par::Seq, MemStack::new(mem));
-            }
+            Backend::Sparse(lu) => lu.solve(rhs),
+            Backend::Split(lu) => lu.solve(rhs),
         }
         if rhs.iter().any(|x| !x.is_finite()) {
             return Err("linear solve produced non-finite values (singular Newton matrix)".into());
         }
         Ok(())
     }
-}
-
-/// The factorization as a `LuRef` (faer builds it from the symbolic and numeric parts).
-fn lu_ref<'a>(
-    symbolic: &'a SymbolicLu<usize>,
-    numeric: &'a NumericLu<usize, f64>,
-) -> faer::sparse::linalg::lu::LuRef<'a, usize, f64> {
-    // `new_unchecked` is a safe fn in faer 0.24; `factored` guarantees the parts belong together.
-    faer::sparse::linalg::lu::LuRef::new_unchecked(symbolic, numeric)
 }

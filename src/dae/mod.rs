@@ -23,6 +23,8 @@ mod range_space;
 mod redundancy;
 mod rows;
 mod sink;
+mod sparse_lu;
+mod split_lu;
 
 use crate::effect::constraint::RowEval;
 use crate::effect::{EvalCtx, MemoryChange};

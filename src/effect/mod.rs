@@ -20,7 +20,7 @@ pub mod point_force;
 pub mod spring_damper;
 pub mod torsion;
 
-use crate::math::Matrix6;
+use crate::math::{Matrix6, Vector6};
 use crate::model::kinematics::BodyKin;
 
 /// What an effect sees when it is evaluated.
@@ -58,6 +58,42 @@ pub trait JacobianSink {
     /// tangent position increments) and `D` (w.r.t. speeds), each 6x6 with translations first;
     /// only the top-left 3x3 is used for a body without rotation; ground rows/cols are skipped.
     fn add(&mut self, row: &BodyKin, col: &BodyKin, k: &Matrix6<f64>, d: &Matrix6<f64>);
+
+    /// Whether the sink borders the system with auxiliary unknowns (see [`AuxSupport`]).
+    fn aux_support(&self) -> AuxSupport {
+        AuxSupport::None
+    }
+
+    /// A new auxiliary unknown `w` with its own equation row (only under
+    /// [`AuxSupport::Rows`]; `None` otherwise).
+    fn new_aux(&mut self) -> Option<usize> {
+        None
+    }
+
+    /// Adds `k w` to the stiffness `K` (= `-df/dx`) rows of `row`'s speeds (6 entries,
+    /// translations first; 3 for a body without rotation) for the auxiliary unknown `w`.
+    fn add_stiffness_aux(&mut self, _row: &BodyKin, _aux: usize, _k: &Vector6<f64>) {}
+
+    /// Adds `c . dx` to the equation of auxiliary unknown `aux`, `dx` the tangent position
+    /// increment of `col` (6 entries, translations first; 3 without rotation).
+    fn add_aux_position(&mut self, _aux: usize, _col: &BodyKin, _c: &Vector6<f64>) {}
+
+    /// Adds `value w_col` to the equation of auxiliary unknown `row`.
+    fn add_aux_aux(&mut self, _row: usize, _col: usize, _value: f64) {}
+}
+
+/// How a [`JacobianSink`] takes a stiffness coupling that is dense but a product of sparse
+/// factors, `K = A B^-1 C` (an effect writes `A` into the stiffness rows of auxiliary unknowns
+/// `w`, and the equations `C dx - B w = 0` into their rows; the Schur complement of the bordered
+/// system is then `K` exactly).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AuxSupport {
+    /// No auxiliary unknowns: the effect emits the dense blocks.
+    None,
+    /// Stiffness is not assembled (`c_K = 0`): the coupling may be left out altogether.
+    Skip,
+    /// Auxiliary unknowns are taken.
+    Rows,
 }
 
 /// A group of force elements of one kind.
