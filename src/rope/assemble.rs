@@ -14,7 +14,7 @@
 //! For points without rotation this reduces to `K = -J`, `D = -C` in the translation block.
 
 use crate::effect::JacobianSink;
-use crate::math::{Mat3, Matrix6, Vec3, skew};
+use crate::math::{Mat3, Matrix6, Vec3, Vector6, skew};
 use crate::model::kinematics::BodyKin;
 
 /// A point of a body at one instant.
@@ -44,6 +44,18 @@ impl PointRef<'_> {
 #[inline]
 pub fn add_force(p: &PointRef, force: &Vec3, f: &mut [f64]) {
     crate::effect::point_force::add_point_force(p.kin, &p.s, force, f);
+}
+
+/// `P^T v` for a world vector `v` at point `p`: `v` on the translations, `(-R s~)^T v` on the
+/// rotations of a rotating body (their entries unused otherwise).
+pub fn generalized(p: &PointRef, v: &Vec3) -> Vector6<f64> {
+    let mut out = Vector6::zeros();
+    out.fixed_rows_mut::<3>(0).copy_from(v);
+    if p.kin.rotational {
+        out.fixed_rows_mut::<3>(3)
+            .copy_from(&(p.rot_jac().transpose() * v));
+    }
+    out
 }
 
 /// Emits the K/D block for the pair of points `(a, b)` from `J_ab`, `C_ab`; `force_a` is the

@@ -29,8 +29,9 @@ use super::layout::{ContactInit, EdgeHold, HookInit, LayoutRope, PointAt, SlipMo
 use super::props::RopeProps;
 use super::run::{self, RunEval};
 use super::segment::{self, Tension};
+use super::slip::Derivatives;
 use crate::effect::point_force::TwoPointForce;
-use crate::effect::{EvalCtx, ForceEffect, JacobianSink, MemoryChange};
+use crate::effect::{AuxSupport, EvalCtx, ForceEffect, JacobianSink, MemoryChange};
 use crate::math::{Mat3, Vec3};
 use crate::model::BodyId;
 use crate::model::kinematics::{BodyKin, kin_of};
@@ -563,7 +564,7 @@ impl RopeEffect {
 
     /// Evaluates run `r` (its points, forces, tensions and material flow; no derivative blocks).
     pub(crate) fn eval_run(&self, ctx: &EvalCtx, r: usize) -> RunEval {
-        run::eval(self, ctx, self.runs[r], false)
+        run::eval(self, ctx, self.runs[r], Derivatives::None)
     }
 }
 
@@ -659,8 +660,14 @@ impl ForceEffect for RopeEffect {
             }
             .add_jacobian(sink);
         }
+        // sliding chains keep their dense stiffness as factors where the sink borders the
+        // system (or assembles no stiffness), else emit it as blocks
+        let deriv = match sink.aux_support() {
+            AuxSupport::None => Derivatives::Dense,
+            AuxSupport::Skip | AuxSupport::Rows => Derivatives::Bordered,
+        };
         for r in 0..self.runs.len() {
-            let ev = run::eval(self, ctx, self.runs[r], true);
+            let ev = run::eval(self, ctx, self.runs[r], deriv);
             run::emit(self, ctx, &ev, sink);
         }
         for &(i, k) in &self.bend {

@@ -26,14 +26,14 @@
 //! between modes; the integrator accepts the converged iterate only if the return mapping there
 //! settles on the same modes.
 
-use super::assemble::{PointRef, add_pair};
+use super::assemble::{PointRef, add_pair, generalized};
 use super::effect::{RopeEffect, plain_segment};
 use super::friction::{self, ContactFrame};
 use super::layout::SlipMode;
 use super::segment;
-use super::slip::{MAX_MU_TAN, SlipNode, edge_ratio, eval_chain};
-use crate::effect::{EvalCtx, JacobianSink};
-use crate::math::{Mat3, Vec3};
+use super::slip::{ChainBorder, Derivatives, MAX_MU_TAN, SlipNode, edge_ratio, eval_chain};
+use crate::effect::{AuxSupport, EvalCtx, JacobianSink};
+use crate::math::{Mat3, Vec3, Vector6};
 
 /// The evaluated run.
 #[derive(Debug, Clone, Default)]
@@ -42,9 +42,12 @@ pub struct RunEval {
     pub points: Vec<usize>,
     /// Force on each point [N] (world).
     pub force: Vec<Vec3>,
-    /// `dF_a/dp_b`, `dF_a/dv_b`, row-major over the run's points.
+    /// `dF_a/dp_b`, `dF_a/dv_b`, row-major over the run's points (for a bordered chain only
+    /// the sparse part; the dense part is in `borders`).
     pub jac: Vec<Mat3>,
     pub damp: Vec<Mat3>,
+    /// Sliding chains whose dense Jacobian part is kept as factors: first point, factors.
+    pub borders: Vec<(usize, ChainBorder)>,
     /// Tension [N] and rest length [m] of each segment (one fewer than points).
     pub tension: Vec<f64>,
     pub rest: Vec<f64>,
@@ -61,11 +64,23 @@ pub struct RunEval {
     pub friction_power: f64,
 }
 
+/// Sliding chains of at least this many segments keep the dense part of their Jacobian as
+/// factors under [`Derivatives::Bordered`] (a bordered chain of `m` segments adds `m`
+/// auxiliary unknowns and about `26 m` matrix entries where its dense blocks are `9 (m + 1)^2`).
+pub const BORDER_MIN_SEGMENTS: usize = 4;
+
 /// Evaluates the run whose contact nodes are the points `first ..= last`, settling which nodes
 /// slide (see the module documentation). The derivative blocks (`RunEval::jac`, `damp`) are
-/// formed only `with_jac` (they are `(m + 1)^2` for a run of `m + 1` points; everything else
-/// costs O(m) per pass of the return mapping), else left empty.
-pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32), with_jac: bool) -> RunEval {
+/// formed as `deriv` asks (they are `(m + 1)^2` for a run of `m + 1` points; everything else
+/// costs O(m) per pass of the return mapping), else left empty. With
+/// [`Derivatives::Bordered`] sliding chains of [`BORDER_MIN_SEGMENTS`] or more keep their dense
+/// part as factors (`RunEval::borders`).
+pub fn eval(
+    e: &RopeEffect,
+    ctx: &EvalCtx,
+    (first, last): (u32, u32),
+    deriv: Derivatives,
+) -> RunEval {
     let (a, b) = (first as usize - 1, last as usize + 1);
     let np = b - a + 1;
     let mut pos = Vec::with_capacity(np);
@@ -87,12 +102,13 @@ pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32), with_jac: 
             modes[k] = SlipMode::from_code(ctx.frozen[2 * c]);
             share[k] = ctx.frozen[2 * c + 1];
         }
-        return eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, with_jac);
+        return eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, deriv);
     }
     for k in 1..np - 1 {
         (modes[k], share[k]) = e.contact_state(ctx.memory, e.contact[a + k] as usize);
     }
-    let mut ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, false);
+    let none = Derivatives::None;
+    let mut ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, none);
     for _ in 0..4 * np {
         let mut changed = false;
         for k in 1..np - 1 {
@@ -119,11 +135,11 @@ pub fn eval(e: &RopeEffect, ctx: &EvalCtx, (first, last): (u32, u32), with_jac: 
         if !changed {
             break;
         }
-        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, false);
+        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, none);
     }
-    if with_jac {
+    if deriv != Derivatives::None {
         // the settled modes again, now with the derivative blocks (same forces)
-        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, true);
+        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, deriv);
     }
     ev
 }
@@ -196,7 +212,7 @@ fn turn_angle(p0: &Vec3, p1: &Vec3, p2: &Vec3) -> f64 {
 }
 
 /// Evaluates the run for given slip modes of its nodes and shares of the sliding ones (the
-/// derivative blocks only `with_jac`).
+/// derivative blocks as `deriv` asks).
 #[allow(clippy::too_many_arguments)]
 fn eval_modes(
     e: &RopeEffect,
@@ -207,8 +223,9 @@ fn eval_modes(
     sigma_mem: &[f64],
     modes: &[SlipMode],
     share: &[f64],
-    with_jac: bool,
+    deriv: Derivatives,
 ) -> RunEval {
+    let with_jac = deriv != Derivatives::None;
     let np = pos.len();
     let blocks = if with_jac { np * np } else { 0 };
     let props = &e.props[e.rope_of[a] as usize];
@@ -281,15 +298,22 @@ fn eval_modes(
                 mu: share[k],
             })
             .collect();
-        let ch = eval_chain(
+        let m = k1 - k0;
+        let chain_deriv = match deriv {
+            Derivatives::Bordered if m < BORDER_MIN_SEGMENTS => Derivatives::Dense,
+            d => d,
+        };
+        let mut ch = eval_chain(
             &pos[k0..=k1],
             &vel[k0..=k1],
             &nodes,
             s1 - s0,
             props.ea,
-            with_jac,
+            chain_deriv,
         );
-        let m = k1 - k0;
+        if let Some(b) = ch.border.take() {
+            ev.borders.push((k0, b));
+        }
         let mut sig = s0;
         let mut sdot = sdot0;
         for j in 0..m {
@@ -322,7 +346,9 @@ fn eval_modes(
 /// (between sticking nodes or the run's ends, which belong to both chains they bound) with each
 /// other, and neighbours. A run of sticking nodes is thus block-tridiagonal, and only a sliding
 /// chain fills its square; the pattern changes when a node starts or stops sliding (the linear
-/// solver then analyses it anew).
+/// solver then analyses it anew). A bordered chain (`RunEval::borders`) couples only
+/// neighbours directly and its dense part goes through auxiliary unknowns ([`emit_border`]);
+/// where the sink does not assemble stiffness ([`AuxSupport::Skip`]) that part is left out.
 pub fn emit(e: &RopeEffect, ctx: &EvalCtx, ev: &RunEval, sink: &mut dyn JacobianSink) {
     let np = ev.points.len();
     // sticks[i]: sticking contact nodes (interior points) among the points before i
@@ -331,10 +357,16 @@ pub fn emit(e: &RopeEffect, ctx: &EvalCtx, ev: &RunEval, sink: &mut dyn Jacobian
         let stick = j > 0 && j < np - 1 && ev.modes[j] == SlipMode::Stick;
         sticks[j + 1] = sticks[j] + usize::from(stick);
     }
-    // points x < y are coupled when no sticking node lies strictly between them
+    // interior points of bordered chains
+    let mut bordered = vec![false; np];
+    for (k0, b) in &ev.borders {
+        bordered[k0 + 1..k0 + b.uc.len()].fill(true);
+    }
+    // points x < y are coupled when no sticking node lies strictly between them (and they are
+    // neighbours, inside a bordered chain)
     let coupled = |x: usize, y: usize| {
         let (a, b) = (x.min(y), x.max(y));
-        b <= a + 1 || sticks[b] == sticks[a + 1]
+        b <= a + 1 || (sticks[b] == sticks[a + 1] && !bordered[a + 1])
     };
     let refs: Vec<PointRef> = ev
         .points
@@ -358,6 +390,56 @@ pub fn emit(e: &RopeEffect, ctx: &EvalCtx, ev: &RunEval, sink: &mut dyn Jacobian
                 fa,
                 sink,
             );
+        }
+    }
+    if sink.aux_support() == AuxSupport::Rows {
+        for (k0, b) in &ev.borders {
+            emit_border(&refs[*k0..=k0 + b.uc.len()], b, sink);
+        }
+    }
+}
+
+/// Emits the dense part of a sliding chain's stiffness through auxiliary unknowns (see
+/// [`ChainBorder`]): `y` (the change of `T_0` [N]) with `y - G . dp = 0`, and `w_j = T_0 z_j`
+/// [N] with `w_j - w_{j-1} - T_0 dlam_j . dp = 0` (scaled by `T_0` so that every auxiliary
+/// entry is of the size of a stiffness); the force on point `a` changes by
+/// `sum_j E_aj uc_j (y + w_j)`, so `K` (= `-dF/dx`) gets `-P_a^T E_aj uc_j` in the columns of
+/// `y` and `w_j`. `refs` are the chain's points.
+fn emit_border(refs: &[PointRef], b: &ChainBorder, sink: &mut dyn JacobianSink) {
+    let m = b.uc.len();
+    let Some(y) = sink.new_aux() else {
+        return;
+    };
+    for (p, g) in refs.iter().zip(&b.g) {
+        sink.add_aux_position(y, p.kin, &(-generalized(p, g)));
+    }
+    sink.add_aux_aux(y, y, 1.0);
+    // w[j] for segments 1..m (w_0 = 0: segment 0 carries T_0 alone)
+    let mut w = vec![usize::MAX; m];
+    for j in 1..m {
+        let Some(wj) = sink.new_aux() else {
+            return;
+        };
+        w[j] = wj;
+        for k in 0..3 {
+            let p = &refs[j - 1 + k];
+            sink.add_aux_position(wj, p.kin, &(-generalized(p, &(b.dlam[j][k] * b.t0))));
+        }
+        sink.add_aux_aux(wj, wj, 1.0);
+        if j > 1 {
+            sink.add_aux_aux(wj, w[j - 1], -1.0);
+        }
+    }
+    for (j, (uc, wj)) in b.uc.iter().zip(&w).enumerate() {
+        if *uc == Vec3::zeros() {
+            continue;
+        }
+        for (a, sign) in [(j, -1.0), (j + 1, 1.0)] {
+            let k: Vector6<f64> = generalized(&refs[a], &(uc * sign));
+            sink.add_stiffness_aux(refs[a].kin, y, &k);
+            if j > 0 {
+                sink.add_stiffness_aux(refs[a].kin, *wj, &k);
+            }
         }
     }
 }

@@ -41,6 +41,40 @@ pub struct SlipNode {
 /// caller keeps it sticking.
 pub const MAX_MU_TAN: f64 = 0.999;
 
+/// Which derivatives [`eval_chain`] forms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Derivatives {
+    /// Forces, rest lengths and flow only.
+    None,
+    /// The full Jacobian `(m + 1)^2` blocks.
+    Dense,
+    /// The Jacobian's sparse part (the geometric stiffness of each segment) in
+    /// [`ChainEval::jac`], and its dense part in factors ([`ChainEval::border`]).
+    Bordered,
+}
+
+/// The dense part of a taut chain's Jacobian as factors: with `E_aj = +1` for `a = j`, `-1` for
+/// `a = j + 1` (the two ends of segment `j`),
+///
+/// ```text
+/// dF_a/dp_b (dense part) = sum_j E_aj uc_j (g_b + t0 h_jb)^T,   h_jb = sum_{1<=i<=j} dlam_i/dp_b,
+/// ```
+///
+/// so with auxiliary unknowns `y = sum_b g_b . dp_b` and `z_j = z_{j-1} + dlam_j . dp`
+/// (`z_0 = 0`) the coupling is `dF_a = sum_j E_aj uc_j (y + t0 z_j)`: O(m) entries instead of
+/// `(m + 1)^2` blocks.
+#[derive(Debug, Clone, Default)]
+pub struct ChainBorder {
+    /// Tension factor `T_0` [N] (`T_j = c_j T_0`).
+    pub t0: f64,
+    /// `G_b = dT_0/dp_b` [N/m], one per point.
+    pub g: Vec<Vec3>,
+    /// `d lam_i/dp` [1/m] w.r.t. the points `i - 1, i, i + 1`, one per segment (index 0 unused).
+    pub dlam: Vec<[Vec3; 3]>,
+    /// `u_j c_j` [-], one per segment (zero for a segment without tension).
+    pub uc: Vec<Vec3>,
+}
+
 /// The result of evaluating a slipping chain.
 #[derive(Debug, Clone, Default)]
 pub struct ChainEval {
@@ -54,8 +88,11 @@ pub struct ChainEval {
     pub rest_rate: Vec<f64>,
     /// Force on each point [N] (world), length `m + 1`.
     pub force: Vec<Vec3>,
-    /// `dF_a/dp_b` [N/m], row-major `(m+1) x (m+1)`.
+    /// `dF_a/dp_b` [N/m], row-major `(m+1) x (m+1)` (with [`Derivatives::Bordered`] only the
+    /// geometric stiffness, the rest in `border`).
     pub jac: Vec<Mat3>,
+    /// The dense part of the Jacobian as factors ([`Derivatives::Bordered`], taut chains).
+    pub border: Option<ChainBorder>,
     /// Elastic energy [J].
     pub energy: f64,
     /// Power dissipated by friction at the slipping nodes [W].
@@ -77,8 +114,8 @@ pub fn edge_ratio(mu: f64, theta: f64) -> (f64, f64) {
 
 /// Evaluates a chain of `m = pos.len() - 1 >= 2` segments with the slipping interior nodes
 /// `nodes` (length `m - 1`), total rest length `rest_total` [m] and axial stiffness `ea` [N].
-/// `vel` are the point velocities [m/s] (for the rate of material flow). The Jacobian
-/// (`ChainEval::jac`) is filled only `with_jac`, else left empty.
+/// `vel` are the point velocities [m/s] (for the rate of material flow). The derivatives are
+/// formed as `deriv` asks (`ChainEval::jac` stays empty with [`Derivatives::None`]).
 ///
 /// Cost O(m) without the Jacobian: every tension is `T_j = c_j T_0`, so its gradient is
 /// `c_j (G + T_0 sum_{i<=j} d lam_i)` with one shared gradient `G = dT_0/dp` (built once from the
@@ -92,8 +129,9 @@ pub fn eval_chain(
     nodes: &[SlipNode],
     rest_total: f64,
     ea: f64,
-    with_jac: bool,
+    deriv: Derivatives,
 ) -> ChainEval {
+    let with_jac = deriv != Derivatives::None;
     let np = pos.len();
     let m = np - 1;
     debug_assert!(m >= 2 && nodes.len() == m - 1 && vel.len() == np);
@@ -208,10 +246,40 @@ pub fn eval_chain(
         out.force[j] += u[j] * te;
         out.force[j + 1] -= u[j] * te;
     }
-    if with_jac {
-        fill_jacobian(&mut out, &u, &l, &cj, t0, &g, &dlam);
+    match deriv {
+        Derivatives::None => {}
+        Derivatives::Dense => fill_jacobian(&mut out, &u, &l, &cj, t0, &g, &dlam),
+        Derivatives::Bordered => {
+            fill_geometric(&mut out, &u, &l);
+            let uc = (0..m)
+                .map(|j| {
+                    if out.tension[j] > 0.0 {
+                        u[j] * cj[j]
+                    } else {
+                        Vec3::zeros()
+                    }
+                })
+                .collect();
+            out.border = Some(ChainBorder { t0, g, dlam, uc });
+        }
     }
     out
+}
+
+/// Adds the geometric stiffness `T_j P_j / l_j` of every taut segment to the Jacobian.
+fn fill_geometric(out: &mut ChainEval, u: &[Vec3], l: &[f64]) {
+    let np = u.len() + 1;
+    for j in 0..u.len() {
+        let t = out.tension[j];
+        if t <= 0.0 {
+            continue;
+        }
+        let geo = (Mat3::identity() - u[j] * u[j].transpose()) * (t / l[j]);
+        out.jac[j * np + j + 1] += geo;
+        out.jac[j * np + j] -= geo;
+        out.jac[(j + 1) * np + j + 1] -= geo;
+        out.jac[(j + 1) * np + j] += geo;
+    }
 }
 
 /// Fills the Jacobian `dF_a/dp_b` of an evaluated, taut chain: for each taut segment `j` the

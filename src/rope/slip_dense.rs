@@ -151,7 +151,7 @@ pub fn eval_chain_dense(
 mod tests {
     use super::eval_chain_dense;
     use crate::math::{Mat3, Vec3};
-    use crate::rope::slip::{ChainEval, SlipNode, eval_chain};
+    use crate::rope::slip::{ChainEval, Derivatives, SlipNode, eval_chain};
 
     /// A small deterministic generator (64-bit LCG, top bits) of uniform numbers in [0, 1).
     struct Lcg(u64);
@@ -238,7 +238,7 @@ mod tests {
                 for _ in 0..3 {
                     let (pos, vel, nodes, rest) = random_chain(&mut rng, m, span, strain);
                     let ea = 7.5e7;
-                    let new = eval_chain(&pos, &vel, &nodes, rest, ea, true);
+                    let new = eval_chain(&pos, &vel, &nodes, rest, ea, Derivatives::Dense);
                     let old = eval_chain_dense(&pos, &vel, &nodes, rest, ea);
                     assert!(new.tension.iter().all(|t| *t > 0.0), "chain not taut");
                     let d = difference(&new, &old);
@@ -256,7 +256,7 @@ mod tests {
                         "m {m}: energy {e:.2e}, power {p:.2e}"
                     );
                     // without the Jacobian: the same forces, bit for bit, and no blocks
-                    let lean = eval_chain(&pos, &vel, &nodes, rest, ea, false);
+                    let lean = eval_chain(&pos, &vel, &nodes, rest, ea, Derivatives::None);
                     assert!(lean.jac.is_empty() && lean.force == new.force);
                     cases += 1;
                 }
@@ -272,11 +272,54 @@ mod tests {
         assert!(worst[2..].iter().all(|x| *x < 1e-12), "{worst:?}");
     }
 
+    /// The bordered form's factors, multiplied out, plus its geometric blocks give the Jacobian
+    /// of the old dense evaluation (which formed every block from full gradient rows).
+    #[test]
+    fn bordered_factors_multiply_out_to_the_dense_jacobian() {
+        let mut rng = Lcg(23);
+        let mut worst = 0.0f64;
+        for &m in &[2usize, 3, 8, 33, 130] {
+            for &(span, strain) in &[(0.3, 1e-4), (std::f64::consts::PI, 3e-3)] {
+                let (pos, vel, nodes, rest) = random_chain(&mut rng, m, span, strain);
+                let ea = 7.5e7;
+                let old = eval_chain_dense(&pos, &vel, &nodes, rest, ea);
+                let ev = eval_chain(&pos, &vel, &nodes, rest, ea, Derivatives::Bordered);
+                let br = ev.border.as_ref().expect("taut chain has factors");
+                let np = m + 1;
+                let mut jac = ev.jac.clone();
+                for j in 0..m {
+                    let mut h = Vec3::zeros();
+                    // h_jb = sum_{1<=i<=j} dlam_i/dp_b, built point by point
+                    for b in 0..np {
+                        h.fill(0.0);
+                        for i in 1..=j.min(m - 1) {
+                            if b + 1 >= i && b + 1 - i < 3 {
+                                h += br.dlam[i][b + 1 - i];
+                            }
+                        }
+                        let blk = br.uc[j] * (br.g[b] + h * br.t0).transpose();
+                        jac[j * np + b] += blk;
+                        jac[(j + 1) * np + b] -= blk;
+                    }
+                }
+                let scale = max_abs(flat(&old.jac).into_iter());
+                let d = max_abs(flat(&jac).iter().zip(flat(&old.jac)).map(|(a, b)| a - b));
+                worst = worst.max(d / scale);
+                assert_eq!(
+                    ev.force,
+                    eval_chain(&pos, &vel, &nodes, rest, ea, Derivatives::None).force
+                );
+            }
+        }
+        println!("bordered factors against the dense Jacobian: {worst:.1e}");
+        assert!(worst < 1e-12, "{worst:.2e}");
+    }
+
     #[test]
     fn slack_chain_equals_the_dense_reference() {
         let mut rng = Lcg(7);
         let (pos, vel, nodes, rest) = random_chain(&mut rng, 6, 1.0, -1e-3);
-        let new = eval_chain(&pos, &vel, &nodes, rest, 7.5e7, true);
+        let new = eval_chain(&pos, &vel, &nodes, rest, 7.5e7, Derivatives::Dense);
         let old = eval_chain_dense(&pos, &vel, &nodes, rest, 7.5e7);
         assert!(new.tension.iter().all(|t| *t == 0.0));
         assert_eq!(new.rest, old.rest);
@@ -291,7 +334,7 @@ mod tests {
         for &m in &[3usize, 12, 40] {
             let (pos, vel, nodes, rest) = random_chain(&mut rng, m, 2.5, 2e-3);
             let ea = 7.5e7;
-            let ev = eval_chain(&pos, &vel, &nodes, rest, ea, true);
+            let ev = eval_chain(&pos, &vel, &nodes, rest, ea, Derivatives::Dense);
             let np = m + 1;
             let h = 1e-7;
             let scale = max_abs(flat(&ev.jac).into_iter());
@@ -301,8 +344,8 @@ mod tests {
                     let (mut pp, mut pm) = (pos.clone(), pos.clone());
                     pp[b][c] += h;
                     pm[b][c] -= h;
-                    let fp = eval_chain(&pp, &vel, &nodes, rest, ea, false).force;
-                    let fm = eval_chain(&pm, &vel, &nodes, rest, ea, false).force;
+                    let fp = eval_chain(&pp, &vel, &nodes, rest, ea, Derivatives::None).force;
+                    let fm = eval_chain(&pm, &vel, &nodes, rest, ea, Derivatives::None).force;
                     for a in 0..np {
                         let fd = (fp[a] - fm[a]) / (2.0 * h);
                         let an = ev.jac[a * np + b].column(c).into_owned();
@@ -314,8 +357,8 @@ mod tests {
             let ht = 1e-7;
             let shift =
                 |s: f64| -> Vec<Vec3> { pos.iter().zip(&vel).map(|(p, v)| p + v * s).collect() };
-            let rp = eval_chain(&shift(ht), &vel, &nodes, rest, ea, false).rest;
-            let rm = eval_chain(&shift(-ht), &vel, &nodes, rest, ea, false).rest;
+            let rp = eval_chain(&shift(ht), &vel, &nodes, rest, ea, Derivatives::None).rest;
+            let rm = eval_chain(&shift(-ht), &vel, &nodes, rest, ea, Derivatives::None).rest;
             let rate_scale = max_abs(ev.rest_rate.iter().copied());
             let rate_err = max_abs((0..m).map(|j| (rp[j] - rm[j]) / (2.0 * ht) - ev.rest_rate[j]))
                 / rate_scale;
