@@ -73,16 +73,16 @@ fn chain_tips_match_the_extrapolated_reference() {
         (2, 2.0, [0.313524776450, -1.914746617562]),
         (8, 1.0, [5.183553317252, -4.878764572808]),
     ] {
-        let mut sim =
-            Simulation::new(chain(n), IntegratorKind::Dopri5Tree, settings(1e-12), 0.0).unwrap();
-        sim.advance_to(t_end).unwrap();
-        let p = tip(&sim);
-        let err = (p[0] - reference[0]).hypot(p[1] - reference[1]);
-        println!(
-            "chain{n}: tip error {err:.2e} m, {} steps",
-            sim.stats().steps
-        );
-        assert!(err < 1e-9, "chain{n}: tip error {err:e} m");
+        for kind in IntegratorKind::LIBRARY_ONLY {
+            let mut sim = Simulation::new(chain(n), kind, settings(1e-12), 0.0).unwrap();
+            sim.advance_to(t_end).unwrap();
+            let p = tip(&sim);
+            let err = (p[0] - reference[0]).hypot(p[1] - reference[1]);
+            let name = kind.name();
+            let steps = sim.stats().steps;
+            println!("chain{n} {name}: tip error {err:.2e} m, {steps} steps");
+            assert!(err < 1e-9, "chain{n} {name}: tip error {err:e} m");
+        }
     }
 }
 
@@ -236,8 +236,15 @@ fn three_dimensional_tree_matches_maximal_dopri5() {
         sim.advance_to(1.5).unwrap();
         sim
     };
-    let mut tree = run(IntegratorKind::Dopri5Tree);
     let mut full = run(IntegratorKind::Dopri5);
+    for kind in IntegratorKind::LIBRARY_ONLY {
+        let mut tree = run(kind);
+        compare_3d(&mut tree, &mut full);
+    }
+}
+
+/// Compares the final states of a joint-coordinate run and the maximal DOPRI5 run.
+fn compare_3d(tree: &mut Simulation, full: &mut Simulation) {
     let (mut dq, mut dv) = (0.0f64, 0.0f64);
     for b in &tree.system.model.bodies {
         let (qo, vo) = (b.q_offset, b.v_offset);
@@ -256,7 +263,8 @@ fn three_dimensional_tree_matches_maximal_dopri5() {
     }
     let (et, ef) = (tree.energy(), full.energy());
     println!(
-        "max position/rotation difference {dq:.2e}, speed difference {dv:.2e}; dissipated {:.6e} / {:.6e} J; balance drift {:.1e} J",
+        "{}: max position/rotation difference {dq:.2e}, speed difference {dv:.2e}; dissipated {:.6e} / {:.6e} J; balance drift {:.1e} J",
+        tree.integrator_kind().name(),
         et.dissipated,
         ef.dissipated,
         et.balance() - ef.balance()
@@ -268,7 +276,7 @@ fn three_dimensional_tree_matches_maximal_dopri5() {
     for (a, c) in tree.state.vdot.iter().zip(&full.state.vdot) {
         assert!((a - c).abs() < 1e-6, "vdot {a} vs {c}");
     }
-    let (pos, vel) = joint_residuals(&mut tree);
+    let (pos, vel) = joint_residuals(tree);
     assert!(pos < 1e-13 && vel < 1e-12, "|Phi| {pos:e}, |G v| {vel:e}");
 }
 

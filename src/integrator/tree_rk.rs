@@ -1,6 +1,8 @@
-//! Explicit Dormand-Prince 5(4) in joint coordinates ([`crate::tree`]): integrates the `n`
-//! joint coordinates and rates of a kinematic tree instead of the `6 N` speeds and `5 N`
-//! multipliers of the maximal form, without projections (the joints hold by construction).
+//! Explicit embedded Runge-Kutta pairs in joint coordinates ([`crate::tree`]): Dormand-Prince
+//! 5(4) ([`IntegratorKind::Dopri5Tree`]) and Verner's 6(5) ([`IntegratorKind::Verner65Tree`], for
+//! tight tolerances). They integrate the `n` joint coordinates and rates of a kinematic tree
+//! instead of the `6 N` speeds and `5 N` multipliers of the maximal form, without projections
+//! (the joints hold by construction).
 //!
 //! Error control as [`super::dopri::Dopri5`]: weighted RMS of the embedded estimate with weights
 //! `atol + rtol * scale` (scale 1 rad for angles, `|d|` for displacements, `|rate|` for rates),
@@ -13,9 +15,10 @@
 //! [`Integrator::start`] refuses models that are not such trees, naming why
 //! ([`JointTree::detect`]).
 
-use super::dopri::{A, B, C, E, MIN_ERROR_SHARE, STEP_POLICY};
+use super::dopri::{MIN_ERROR_SHARE, STEP_POLICY};
 use super::kkt::Kkt;
 use super::step_control;
+use super::tree_tableau::{DOPRI5, Tableau, VERNER65};
 use super::{
     Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
 };
@@ -24,9 +27,11 @@ use crate::math::wrms;
 use crate::state::State;
 use crate::tree::{JointTree, TreeJointKind, TreeScratch};
 
-/// Dormand-Prince 5(4) on the joint coordinates of a kinematic tree.
+/// An embedded Runge-Kutta pair on the joint coordinates of a kinematic tree.
 #[derive(Debug, Clone)]
-pub struct TreeDopri5 {
+pub struct TreeRk {
+    kind: IntegratorKind,
+    method: &'static Tableau,
     s: Settings,
     h: f64,
     stats: Stats,
@@ -38,7 +43,7 @@ pub struct TreeDopri5 {
     ys: Vec<f64>,
     k: Vec<Vec<f64>>,
     /// Dissipated and input power [W] at each stage.
-    pw: [(f64, f64); 7],
+    pw: Vec<(f64, f64)>,
     ey: Vec<f64>,
     w: Vec<f64>,
     /// Stage 0 (the derivative at `y`) is already in `k[0]`, `pw[0]`.
@@ -48,10 +53,22 @@ pub struct TreeDopri5 {
     rhs: Vec<f64>,
 }
 
-impl TreeDopri5 {
-    /// A new integrator with the given settings.
-    pub fn new(s: Settings) -> Self {
-        TreeDopri5 {
+impl TreeRk {
+    /// Dormand-Prince 5(4) with the given settings.
+    pub fn dopri5(s: Settings) -> Self {
+        Self::with(IntegratorKind::Dopri5Tree, &DOPRI5, s)
+    }
+
+    /// Verner's 6(5) with the given settings.
+    pub fn verner65(s: Settings) -> Self {
+        Self::with(IntegratorKind::Verner65Tree, &VERNER65, s)
+    }
+
+    fn with(kind: IntegratorKind, method: &'static Tableau, s: Settings) -> Self {
+        let stages = method.c.len();
+        TreeRk {
+            kind,
+            method,
             s,
             h: 0.0,
             stats: Stats::default(),
@@ -59,8 +76,8 @@ impl TreeDopri5 {
             scratch: TreeScratch::default(),
             y: Vec::new(),
             ys: Vec::new(),
-            k: vec![Vec::new(); 7],
-            pw: [(0.0, 0.0); 7],
+            k: vec![Vec::new(); stages],
+            pw: vec![(0.0, 0.0); stages],
             ey: Vec::new(),
             w: Vec::new(),
             k1_valid: false,
@@ -77,14 +94,14 @@ impl TreeDopri5 {
             .is_some_and(|_| self.scratch.q.len() == sys.n_q());
         if !found {
             let tree = JointTree::detect(sys, &st.q)
-                .map_err(|e| SolverError(format!("dopri5-tree: {e}")))?;
+                .map_err(|e| SolverError(format!("{}: {e}", self.method.name)))?;
             self.scratch = TreeScratch::default();
             self.tree = Some(tree);
         }
         let tree = self
             .tree
             .as_ref()
-            .ok_or_else(|| SolverError("dopri5-tree: no tree".into()))?;
+            .ok_or_else(|| SolverError(format!("{}: no tree", self.method.name)))?;
         let n2 = 2 * tree.n();
         self.scratch.size_for(tree, sys, &st.q);
         for v in self
@@ -109,7 +126,7 @@ impl TreeDopri5 {
     /// Derivative of the joint state `ys` at time `t` into `k[i]`, powers into `pw[i]`.
     fn stage(&mut self, sys: &mut System, t: f64, i: usize) -> Result<(), SolverError> {
         let Some(tree) = &self.tree else {
-            return Err(SolverError("dopri5-tree: not started".into()));
+            return Err(SolverError(format!("{}: not started", self.method.name)));
         };
         let n = tree.n();
         let (th, dth) = self.ys.split_at(n);
@@ -117,7 +134,7 @@ impl TreeDopri5 {
         kx.copy_from_slice(dth);
         self.scratch
             .accelerations(tree, sys, t, th, dth, kv)
-            .map_err(|e| SolverError(format!("dopri5-tree at t = {t:.9e} s: {e}")))?;
+            .map_err(|e| SolverError(format!("{} at t = {t:.9e} s: {e}", self.method.name)))?;
         self.pw[i] = sys.powers(t, &self.scratch.q, &self.scratch.v);
         self.stats.rhs_evaluations += 1;
         self.stats.factorizations += 1;
@@ -142,18 +159,19 @@ impl TreeDopri5 {
     /// scratch), the weighted error estimate returned (0 with a fixed step).
     fn try_step(&mut self, sys: &mut System, t: f64, h: f64) -> Result<f64, SolverError> {
         let n2 = self.y.len();
-        for i in 0..7 {
+        let m = self.method;
+        for i in 0..m.c.len() {
             if i == 0 && self.k1_valid {
                 continue;
             }
             for c in 0..n2 {
                 let mut s = 0.0;
-                for (j, a) in A[i][..i].iter().enumerate() {
+                for (j, a) in m.a[i][..i].iter().enumerate() {
                     s += a * self.k[j][c];
                 }
                 self.ys[c] = self.y[c] + h * s;
             }
-            self.stage(sys, t + C[i] * h, i)?;
+            self.stage(sys, t + m.c[i] * h, i)?;
             if i == 0 {
                 self.k1_valid = true;
             }
@@ -163,7 +181,7 @@ impl TreeDopri5 {
         }
         for c in 0..n2 {
             let mut s = 0.0;
-            for (i, e) in E.iter().enumerate() {
+            for (i, e) in m.e.iter().enumerate() {
                 s += e * self.k[i][c];
             }
             self.ey[c] = h * s;
@@ -176,22 +194,39 @@ impl TreeDopri5 {
         Ok(e.sqrt())
     }
 
-    /// Takes the trial step: the joint state, the maximal state, the energy accumulators.
-    fn accept(&mut self, st: &mut State, h: f64) {
-        let (pd, pi) = (0..7).fold((0.0, 0.0), |acc, i| {
-            (acc.0 + B[i] * self.pw[i].0, acc.1 + B[i] * self.pw[i].1)
+    /// Takes the trial step: the joint state, the maximal state, the energy accumulators, and
+    /// the derivative at the new point as the next first stage (the last stage when it is at the
+    /// new point, else evaluated here; it maps the new point to `q`, `v`).
+    fn accept(&mut self, sys: &mut System, st: &mut State, h: f64) -> Result<(), SolverError> {
+        let m = self.method;
+        let (pd, pi) = (0..m.b.len()).fold((0.0, 0.0), |acc, i| {
+            (acc.0 + m.b[i] * self.pw[i].0, acc.1 + m.b[i] * self.pw[i].1)
         });
         st.energy_dissipated += h * pd;
         st.work_input += h * pi;
         st.t += h;
-        std::mem::swap(&mut self.y, &mut self.ys);
-        // the last stage was evaluated at the new point (first same as last)
-        self.k.swap(0, 6);
-        self.pw[0] = self.pw[6];
+        let last = m.c.len() - 1;
+        if m.fsal {
+            std::mem::swap(&mut self.y, &mut self.ys);
+            self.k.swap(0, last);
+            self.pw[0] = self.pw[last];
+        } else {
+            for c in 0..self.y.len() {
+                let mut s = 0.0;
+                for (i, b) in m.b.iter().enumerate() {
+                    s += b * self.k[i][c];
+                }
+                self.y[c] += h * s;
+            }
+            self.ys.copy_from_slice(&self.y);
+            self.stage(sys, st.t, 0)?;
+        }
+        self.k1_valid = true;
         st.q.copy_from_slice(&self.scratch.q);
         st.v.copy_from_slice(&self.scratch.v);
         self.stats.steps += 1;
         self.stats.last_step = h;
+        Ok(())
     }
 
     /// Accelerations and multipliers of the maximal form at `st` (outputs of the state).
@@ -206,7 +241,12 @@ impl TreeDopri5 {
         self.kkt
             .factor(sys, st.t, &st.q, &st.v, 0.0)
             .and_then(|()| self.kkt.solve(&mut self.rhs))
-            .map_err(|e| SolverError(format!("dopri5-tree: accelerations of the state: {e}")))?;
+            .map_err(|e| {
+                SolverError(format!(
+                    "{}: accelerations of the state: {e}",
+                    self.method.name
+                ))
+            })?;
         st.vdot.copy_from_slice(&self.rhs[..nv]);
         st.lambda.resize(nc, 0.0);
         st.lambda.copy_from_slice(&self.rhs[nv..]);
@@ -214,9 +254,9 @@ impl TreeDopri5 {
     }
 }
 
-impl Integrator for TreeDopri5 {
+impl Integrator for TreeRk {
     fn kind(&self) -> IntegratorKind {
-        IntegratorKind::Dopri5Tree
+        self.kind
     }
 
     fn start(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
@@ -260,8 +300,8 @@ impl Integrator for TreeDopri5 {
             steps += 1;
             if steps > self.s.max_steps {
                 return Err(SolverError(format!(
-                    "more than {} steps in one call at t = {:.9e} s: the scene is too stiff for dopri5-tree, choose gen-alpha or bdf",
-                    self.s.max_steps, st.t
+                    "more than {} steps in one call at t = {:.9e} s: the scene is too stiff for {}, choose gen-alpha or bdf",
+                    self.s.max_steps, st.t, self.method.name
                 )));
             }
             let natural = if adaptive {
@@ -280,9 +320,12 @@ impl Integrator for TreeDopri5 {
                 Ok(_) | Err(_) => f64::INFINITY,
             };
             let (err, order) = if adaptive && self.s.error_per_unit_step {
-                (err / self.s.error_share(h).max(MIN_ERROR_SHARE), 4.0)
+                (
+                    err / self.s.error_share(h).max(MIN_ERROR_SHARE),
+                    self.method.order - 1.0,
+                )
             } else {
-                (err, 5.0)
+                (err, self.method.order)
             };
             if adaptive && step_control::rejects(err) {
                 self.stats.rejected += 1;
@@ -290,19 +333,19 @@ impl Integrator for TreeDopri5 {
                 self.h = step_control::after_rejection(h, step_control::proposal(err, order));
                 if step_control::collapsed(self.h, st.t) {
                     return Err(SolverError(format!(
-                        "dopri5-tree: step size fell below {:.1e} s at t = {:.9e} s (non-finite or singular accelerations?)",
-                        self.h, st.t
+                        "{}: step size fell below {:.1e} s at t = {:.9e} s (non-finite or singular accelerations?)",
+                        self.method.name, self.h, st.t
                     )));
                 }
                 continue;
             }
             if !err.is_finite() {
                 return Err(SolverError(format!(
-                    "dopri5-tree step at t = {:.9e} s produced non-finite values with the fixed step {h:.3e} s",
-                    st.t
+                    "{} step at t = {:.9e} s produced non-finite values with the fixed step {h:.3e} s",
+                    self.method.name, st.t
                 )));
             }
-            self.accept(st, h);
+            self.accept(sys, st, h)?;
             if adaptive {
                 self.h = STEP_POLICY.after_acceptance(
                     h,
@@ -348,9 +391,10 @@ impl Integrator for TreeDopri5 {
     }
 
     fn restore_memory(&mut self, m: &[f64]) -> Result<(), String> {
-        let h = *m.first().ok_or("dopri5-tree memory is empty")?;
+        let name = self.method.name;
+        let h = *m.first().ok_or_else(|| format!("{name} memory is empty"))?;
         if !(h.is_finite() && h >= 0.0) {
-            return Err(format!("dopri5-tree memory is corrupt: step size {h:e} s"));
+            return Err(format!("{name} memory is corrupt: step size {h:e} s"));
         }
         self.k1_valid = false;
         self.h = h;

@@ -5,24 +5,21 @@
 /// definite: a massless chain of bodies or non-finite values).
 pub fn factor(a: &mut [f64], n: usize) -> Result<(), String> {
     for j in 0..n {
-        let mut d = a[j * n + j];
+        let (done, rest) = a.split_at_mut(j * n);
+        let row_j = &mut rest[..n];
+        // row j: L_jk for k < j, then the pivot
         for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
+            let row_k = &done[k * n..k * n + k + 1];
+            let s: f64 = row_j[..k].iter().zip(&row_k[..k]).map(|(x, y)| x * y).sum();
+            row_j[k] = (row_j[k] - s) / row_k[k];
         }
+        let d = row_j[j] - row_j[..j].iter().map(|x| x * x).sum::<f64>();
         if !(d > 0.0 && d.is_finite()) {
             return Err(format!(
                 "the joint-space mass matrix is not positive definite (pivot {j}: {d:e})"
             ));
         }
-        let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut s = a[i * n + j];
-            for k in 0..j {
-                s -= a[i * n + k] * a[j * n + k];
-            }
-            a[i * n + j] = s / d;
-        }
+        row_j[j] = d.sqrt();
     }
     Ok(())
 }

@@ -17,7 +17,7 @@ use super::cholesky;
 use super::kinematics::{self, Link};
 use super::{JointTree, TreeJointKind};
 use crate::dae::System;
-use crate::math::{Mat3, Vec3, skew};
+use crate::math::{Mat3, Vec3};
 
 /// Scratch of the joint-space evaluation (sized once; no allocation per evaluation).
 #[derive(Debug, Clone, Default)]
@@ -154,24 +154,36 @@ impl TreeScratch {
         }
     }
 
-    /// Subtree inertias about the joint points.
+    /// Subtree inertias about the joint points. With `[a]x [b]x = b a^T - (a . b) I`, the body's
+    /// own inertia about its joint point is `R J R^T + m (|x|^2 I - x x^T)` (`x` from the joint
+    /// point to the centre of mass) and the parallel-axis shift of a subtree (mass `M`, first
+    /// moment `h` about point A) to point B = A - d adds
+    /// `2 (h . d) I - d h^T - h d^T + M (|d|^2 I - d d^T)`.
     fn composite(&mut self, tree: &JointTree) {
         for (m, j) in tree.joints.iter().enumerate() {
             let l = &self.links[m];
             let x = -l.rho_c;
-            let sx = skew(&x);
             self.cmass[m] = j.mass;
             self.cmom[m] = j.mass * x;
-            self.cinertia[m] = l.rot * j.inertia * l.rot.transpose() - j.mass * sx * sx;
+            let mut inertia = l.rot * j.inertia * l.rot.transpose();
+            add_point_mass(&mut inertia, j.mass, &x);
+            self.cinertia[m] = inertia;
         }
         for m in (0..tree.n()).rev() {
             if let Some(p) = tree.joints[m].parent {
                 let d = self.links[m].point - self.links[p].point;
-                let (sd, sh) = (skew(&d), skew(&self.cmom[m]));
-                let mm = self.cmass[m];
-                let shifted = self.cinertia[m] - (sh * sd + sd * sh + mm * sd * sd);
+                let (h, mm) = (self.cmom[m], self.cmass[m]);
+                let mut shifted = self.cinertia[m];
+                add_point_mass(&mut shifted, mm, &d);
+                let hd = h.dot(&d);
+                for r in 0..3 {
+                    shifted[(r, r)] += 2.0 * hd;
+                    for c in 0..3 {
+                        shifted[(r, c)] -= d[r] * h[c] + h[r] * d[c];
+                    }
+                }
                 self.cinertia[p] += shifted;
-                let moment = self.cmom[m] + mm * d;
+                let moment = h + mm * d;
                 self.cmom[p] += moment;
                 self.cmass[p] += mm;
             }
@@ -200,6 +212,18 @@ impl TreeScratch {
                 self.mass[a * n + m] = value;
                 k = tree.joints[a].parent;
             }
+        }
+    }
+}
+
+/// Adds the inertia of a point mass `m` [kg] at `x` [m]: `m (|x|^2 I - x x^T)`.
+#[inline]
+fn add_point_mass(inertia: &mut Mat3, m: f64, x: &Vec3) {
+    let x2 = x.norm_squared();
+    for r in 0..3 {
+        inertia[(r, r)] += m * x2;
+        for c in 0..3 {
+            inertia[(r, c)] -= m * x[r] * x[c];
         }
     }
 }
