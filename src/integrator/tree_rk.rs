@@ -369,6 +369,8 @@ impl Integrator for TreeRk {
 
     fn restart(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
         self.k1_valid = false;
+        // the system may have been replaced (`Simulation::replace_system`): find its tree again
+        self.tree = None;
         self.prepare(sys, st)?;
         self.extract(st);
         self.finish(sys, st)
