@@ -3,7 +3,7 @@
 //! Layers, each depending only on those below it:
 //!
 //! ```text
-//! fmi  ->  scene  ->  sim  ->  integrator / dae  ->  effect / model / state  ->  math
+//! fmi  ->  scene  ->  sim  ->  integrator  ->  tree  ->  dae  ->  effect / model / state  ->  math
 //! ```
 //!
 //! - [`math`]: nalgebra aliases, SO(3) exponential/logarithm maps.
@@ -15,7 +15,9 @@
 //! - [`flex`]: plate/beam finite elements, modal reduction (Craig-Bampton, free-interface) and
 //!   the inertia invariants of floating-frame flexible bodies.
 //! - [`dae`]: the system as integrators see it; sparse/dense Newton solves.
-//! - [`integrator`]: generalized-alpha, BDF, DOPRI5 behind one trait.
+//! - [`tree`]: joint coordinates of kinematic trees (detection, mapping, joint-space dynamics).
+//! - [`integrator`]: generalized-alpha, BDF, DOPRI5 (maximal coordinates) and DOPRI5 in joint
+//!   coordinates behind one trait.
 //! - [`sim`]: a simulation (system + state + integrator) with snapshots.
 //! - [`scene`]: FMI-agnostic model interface ([`scene::CoSimModel`]), variable tables, the port
 //!   value store, state serialization helpers and the models ([`scene::pid`]).
@@ -38,3 +40,4 @@ pub mod rope;
 pub mod scene;
 pub mod sim;
 pub mod state;
+pub mod tree;

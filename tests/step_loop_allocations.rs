@@ -1,5 +1,6 @@
-//! The step loops of all three integrators do not allocate once warmed up (dense and sparse
-//! Newton solves), measured with a counting global allocator.
+//! The step loops of all integrators (the three of the FMU enumeration and the joint-coordinate
+//! ones) do not allocate once warmed up (dense and sparse Newton solves), measured with a
+//! counting global allocator.
 
 use mbcosim::integrator::{IntegratorKind, Settings};
 use mbcosim::math::{Mat3, Quat, Vec3};
@@ -60,7 +61,10 @@ fn chain(n: usize) -> Model {
 
 #[test]
 fn integrators_step_without_allocating() {
-    for kind in IntegratorKind::ALL {
+    for kind in IntegratorKind::ALL
+        .into_iter()
+        .chain(IntegratorKind::LIBRARY_ONLY)
+    {
         for n in [2, 20] {
             // 2 bodies: 22 unknowns (dense LU); 20 bodies: 220 unknowns (sparse LU)
             let s = Settings {

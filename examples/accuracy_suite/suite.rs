@@ -136,12 +136,24 @@ pub enum Series {
 }
 
 impl Series {
-    pub const ALL: [Series; 4] = [
+    pub const ALL: [Series; 6] = [
         Series::Adaptive(IntegratorKind::GenAlpha),
         Series::Adaptive(IntegratorKind::Bdf),
         Series::Adaptive(IntegratorKind::Dopri5),
         Series::GenAlphaFixed,
+        Series::Adaptive(IntegratorKind::Dopri5Tree),
+        Series::Adaptive(IntegratorKind::Verner65Tree),
     ];
+
+    /// Whether the series runs on problem `name`: the joint-coordinate integrator only on the
+    /// chains (the other problems have a loop or contact events, which it refuses).
+    pub fn applies_to(self, name: &str) -> bool {
+        let tree = matches!(
+            self,
+            Series::Adaptive(IntegratorKind::Dopri5Tree | IntegratorKind::Verner65Tree)
+        );
+        !tree || name.starts_with("chain")
+    }
 
     /// Command-line name.
     pub fn name(self) -> &'static str {
@@ -149,6 +161,8 @@ impl Series {
             Series::Adaptive(IntegratorKind::GenAlpha) => "gen_alpha",
             Series::Adaptive(IntegratorKind::Bdf) => "bdf",
             Series::Adaptive(IntegratorKind::Dopri5) => "dopri5",
+            Series::Adaptive(IntegratorKind::Dopri5Tree) => "dopri5_tree",
+            Series::Adaptive(IntegratorKind::Verner65Tree) => "verner65_tree",
             Series::GenAlphaFixed => "gen_alpha_fixed",
         }
     }

@@ -21,8 +21,8 @@ use crate::dae::System;
 use crate::math::wrms;
 use crate::state::State;
 
-const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
-const A: [[f64; 6]; 7] = [
+pub(super) const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+pub(super) const A: [[f64; 6]; 7] = [
     [0.0; 6],
     [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
     [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
@@ -52,7 +52,7 @@ const A: [[f64; 6]; 7] = [
         11.0 / 84.0,
     ],
 ];
-const B: [f64; 7] = [
+pub(super) const B: [f64; 7] = [
     35.0 / 384.0,
     0.0,
     500.0 / 1113.0,
@@ -61,7 +61,7 @@ const B: [f64; 7] = [
     11.0 / 84.0,
     0.0,
 ];
-const E: [f64; 7] = [
+pub(super) const E: [f64; 7] = [
     71.0 / 57600.0,
     0.0,
     -71.0 / 16695.0,
@@ -77,10 +77,10 @@ const E: [f64; 7] = [
 /// every step may leave one tolerance and the four-bar, which amplifies a speed error 160-fold,
 /// ended 31-730 x rtol off; per unit step the errors of many steps add up to about the
 /// tolerance per second of motion.
-const MIN_ERROR_SHARE: f64 = 1e-4;
+pub(super) const MIN_ERROR_SHARE: f64 = 1e-4;
 
 /// An explicit step costs the same at any size: grow up to 5x at every chance.
-const STEP_POLICY: StepPolicy = StepPolicy {
+pub(super) const STEP_POLICY: StepPolicy = StepPolicy {
     max_growth: 5.0,
     hysteresis: 1.0,
 };

@@ -4,6 +4,9 @@
 //!   form) on the index-3 equations, on the Lie group of rotations; fixed or adaptive steps.
 //! - [`bdf::Bdf`]: variable-order (1-5), variable-step BDF on the stabilized index-2 (GGL) form.
 //! - [`dopri::Dopri5`]: explicit Dormand-Prince 5(4) on the index-1 form with projection.
+//! - [`tree_rk::TreeRk`]: explicit Dormand-Prince 5(4) or Verner 6(5) in joint coordinates, for
+//!   models whose joints form a tree of revolute and prismatic joints ([`crate::tree`]); library
+//!   options, not in the FMU enumeration.
 //!
 //! All of them take `rtol`, `atol`, `h_max`, `h_init`, stop exactly at the requested time, count
 //! their work in [`Stats`] and keep all memory that influences future steps in plain vectors, so
@@ -18,20 +21,34 @@ pub mod kkt;
 pub mod newton;
 pub mod rank;
 pub mod step_control;
+pub mod tree_rk;
+pub mod tree_tableau;
 
 use crate::dae::System;
 use crate::state::State;
 
-/// Which integrator; also the FMU enumeration (1-based there).
+/// Which integrator; the first three ([`IntegratorKind::ALL`]) are also the FMU enumeration
+/// (1-based there).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum IntegratorKind {
     GenAlpha,
     Bdf,
     Dopri5,
+    /// Dormand-Prince 5(4) in joint coordinates ([`tree_rk::TreeRk`]): only for kinematic
+    /// trees of revolute and prismatic joints; its start refuses other models, naming why.
+    /// Not in [`IntegratorKind::ALL`] (the FMU enumeration).
+    Dopri5Tree,
+    /// Verner's 6(5) pair in joint coordinates, as [`IntegratorKind::Dopri5Tree`]; for tight
+    /// tolerances.
+    Verner65Tree,
 }
 
 impl IntegratorKind {
-    /// All kinds, in enumeration order.
+    /// Kinds selectable only through the library (not in the FMU enumeration).
+    pub const LIBRARY_ONLY: [IntegratorKind; 2] =
+        [IntegratorKind::Dopri5Tree, IntegratorKind::Verner65Tree];
+
+    /// All kinds of the FMU enumeration, in enumeration order.
     pub const ALL: [IntegratorKind; 3] = [
         IntegratorKind::GenAlpha,
         IntegratorKind::Bdf,
@@ -44,6 +61,8 @@ impl IntegratorKind {
             IntegratorKind::GenAlpha => "gen-alpha",
             IntegratorKind::Bdf => "bdf",
             IntegratorKind::Dopri5 => "dopri5",
+            IntegratorKind::Dopri5Tree => "dopri5-tree",
+            IntegratorKind::Verner65Tree => "verner65-tree",
         }
     }
 }
@@ -399,6 +418,8 @@ pub fn create(kind: IntegratorKind, settings: Settings) -> Box<dyn Integrator> {
         IntegratorKind::GenAlpha => Box::new(gen_alpha::GenAlpha::new(settings)),
         IntegratorKind::Bdf => Box::new(bdf::Bdf::new(settings)),
         IntegratorKind::Dopri5 => Box::new(dopri::Dopri5::new(settings)),
+        IntegratorKind::Dopri5Tree => Box::new(tree_rk::TreeRk::dopri5(settings)),
+        IntegratorKind::Verner65Tree => Box::new(tree_rk::TreeRk::verner65(settings)),
     }
 }
 

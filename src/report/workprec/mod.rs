@@ -78,6 +78,8 @@ impl Setting {
             IntegratorKind::GenAlpha => ("gen-alpha".to_string(), 2.0),
             IntegratorKind::Bdf => (format!("bdf{order}"), order as f64),
             IntegratorKind::Dopri5 => ("dopri5".to_string(), 5.0),
+            IntegratorKind::Dopri5Tree => ("dopri5-tree".to_string(), 5.0),
+            IntegratorKind::Verner65Tree => ("verner65-tree".to_string(), 6.0),
         };
         Setting {
             series,

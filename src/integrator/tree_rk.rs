@@ -1,0 +1,405 @@
+//! Explicit embedded Runge-Kutta pairs in joint coordinates ([`crate::tree`]): Dormand-Prince
+//! 5(4) ([`IntegratorKind::Dopri5Tree`]) and Verner's 6(5) ([`IntegratorKind::Verner65Tree`], for
+//! tight tolerances). They integrate the `n` joint coordinates and rates of a kinematic tree
+//! instead of the `6 N` speeds and `5 N` multipliers of the maximal form, without projections
+//! (the joints hold by construction).
+//!
+//! Error control as [`super::dopri::Dopri5`]: weighted RMS of the embedded estimate with weights
+//! `atol + rtol * scale` (scale 1 rad for angles, `|d|` for displacements, `|rate|` for rates),
+//! error per unit step, the same step policy; exact stops at the end of every call. After every
+//! accepted step the joint state is mapped to the maximal `(q, v)` of [`State`], so hooks,
+//! outputs and energies see the usual state. Accelerations `vdot` and multipliers `lambda` of the
+//! state are computed from the maximal form (one solve of `[M G^T; G 0]`) at the end of each
+//! [`Integrator::advance_to`] call, not after every internal step.
+//!
+//! [`Integrator::start`] refuses models that are not such trees, naming why
+//! ([`JointTree::detect`]).
+
+use super::dopri::{MIN_ERROR_SHARE, STEP_POLICY};
+use super::kkt::Kkt;
+use super::step_control;
+use super::tree_tableau::{DOPRI5, Tableau, VERNER65};
+use super::{
+    Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
+};
+use crate::dae::System;
+use crate::math::wrms;
+use crate::state::State;
+use crate::tree::{JointTree, TreeJointKind, TreeScratch};
+
+/// An embedded Runge-Kutta pair on the joint coordinates of a kinematic tree.
+#[derive(Debug, Clone)]
+pub struct TreeRk {
+    kind: IntegratorKind,
+    method: &'static Tableau,
+    s: Settings,
+    h: f64,
+    stats: Stats,
+    /// The tree found at the last start (`None` before).
+    tree: Option<JointTree>,
+    scratch: TreeScratch,
+    /// Joint state `[theta, theta']` at the current state, the stage point, stage derivatives.
+    y: Vec<f64>,
+    ys: Vec<f64>,
+    k: Vec<Vec<f64>>,
+    /// Dissipated and input power [W] at each stage.
+    pw: Vec<(f64, f64)>,
+    ey: Vec<f64>,
+    w: Vec<f64>,
+    /// Stage 0 (the derivative at `y`) is already in `k[0]`, `pw[0]`.
+    k1_valid: bool,
+    /// Maximal-form solver for `vdot` and `lambda` at the end of each call, and its right-hand side.
+    kkt: Kkt,
+    rhs: Vec<f64>,
+}
+
+impl TreeRk {
+    /// Dormand-Prince 5(4) with the given settings.
+    pub fn dopri5(s: Settings) -> Self {
+        Self::with(IntegratorKind::Dopri5Tree, &DOPRI5, s)
+    }
+
+    /// Verner's 6(5) with the given settings.
+    pub fn verner65(s: Settings) -> Self {
+        Self::with(IntegratorKind::Verner65Tree, &VERNER65, s)
+    }
+
+    fn with(kind: IntegratorKind, method: &'static Tableau, s: Settings) -> Self {
+        let stages = method.c.len();
+        TreeRk {
+            kind,
+            method,
+            s,
+            h: 0.0,
+            stats: Stats::default(),
+            tree: None,
+            scratch: TreeScratch::default(),
+            y: Vec::new(),
+            ys: Vec::new(),
+            k: vec![Vec::new(); stages],
+            pw: vec![(0.0, 0.0); stages],
+            ey: Vec::new(),
+            w: Vec::new(),
+            k1_valid: false,
+            kkt: Kkt::new(),
+            rhs: Vec::new(),
+        }
+    }
+
+    /// Finds the tree (when not yet found for a system of this size) and sizes the buffers.
+    fn prepare(&mut self, sys: &System, st: &State) -> Result<(), SolverError> {
+        let found = self
+            .tree
+            .as_ref()
+            .is_some_and(|_| self.scratch.q.len() == sys.n_q());
+        if !found {
+            let tree = JointTree::detect(sys, &st.q)
+                .map_err(|e| SolverError(format!("{}: {e}", self.method.name)))?;
+            self.scratch = TreeScratch::default();
+            self.tree = Some(tree);
+        }
+        let tree = self
+            .tree
+            .as_ref()
+            .ok_or_else(|| SolverError(format!("{}: no tree", self.method.name)))?;
+        let n2 = 2 * tree.n();
+        self.scratch.size_for(tree, sys, &st.q);
+        for v in self
+            .k
+            .iter_mut()
+            .chain([&mut self.y, &mut self.ys, &mut self.ey, &mut self.w])
+        {
+            v.resize(n2, 0.0);
+        }
+        Ok(())
+    }
+
+    /// Reads the joint state from the maximal state.
+    fn extract(&mut self, st: &State) {
+        if let Some(tree) = &self.tree {
+            let n = tree.n();
+            let (th, dth) = self.y.split_at_mut(n);
+            crate::tree::extract(tree, &st.q, &st.v, th, dth);
+        }
+    }
+
+    /// Derivative of the joint state `ys` at time `t` into `k[i]`, powers into `pw[i]`.
+    fn stage(&mut self, sys: &mut System, t: f64, i: usize) -> Result<(), SolverError> {
+        let Some(tree) = &self.tree else {
+            return Err(SolverError(format!("{}: not started", self.method.name)));
+        };
+        let n = tree.n();
+        let (th, dth) = self.ys.split_at(n);
+        let (kx, kv) = self.k[i].split_at_mut(n);
+        kx.copy_from_slice(dth);
+        self.scratch
+            .accelerations(tree, sys, t, th, dth, kv)
+            .map_err(|e| SolverError(format!("{} at t = {t:.9e} s: {e}", self.method.name)))?;
+        self.pw[i] = sys.powers(t, &self.scratch.q, &self.scratch.v);
+        self.stats.rhs_evaluations += 1;
+        self.stats.factorizations += 1;
+        Ok(())
+    }
+
+    /// Error weights at the joint state `y`.
+    fn weights(&mut self) {
+        let Some(tree) = &self.tree else { return };
+        let n = tree.n();
+        for (m, j) in tree.joints.iter().enumerate() {
+            let scale = match j.kind {
+                TreeJointKind::Revolute => 1.0,
+                TreeJointKind::Prismatic => self.y[m].abs(),
+            };
+            self.w[m] = self.s.atol + self.s.rtol * scale;
+            self.w[n + m] = self.s.atol + self.s.rtol * self.y[n + m].abs();
+        }
+    }
+
+    /// One trial step of size `h` from `(t, y)`: the end point in `ys` (and mapped in the
+    /// scratch), the weighted error estimate returned (0 with a fixed step).
+    fn try_step(&mut self, sys: &mut System, t: f64, h: f64) -> Result<f64, SolverError> {
+        let n2 = self.y.len();
+        let m = self.method;
+        for i in 0..m.c.len() {
+            if i == 0 && self.k1_valid {
+                continue;
+            }
+            for c in 0..n2 {
+                let mut s = 0.0;
+                for (j, a) in m.a[i][..i].iter().enumerate() {
+                    s += a * self.k[j][c];
+                }
+                self.ys[c] = self.y[c] + h * s;
+            }
+            self.stage(sys, t + m.c[i] * h, i)?;
+            if i == 0 {
+                self.k1_valid = true;
+            }
+        }
+        if self.s.fixed_step > 0.0 {
+            return Ok(0.0);
+        }
+        for c in 0..n2 {
+            let mut s = 0.0;
+            for (i, e) in m.e.iter().enumerate() {
+                s += e * self.k[i][c];
+            }
+            self.ey[c] = h * s;
+        }
+        self.weights();
+        let n = n2 / 2;
+        let e = (wrms(&self.ey[..n], &self.w[..n]).powi(2)
+            + wrms(&self.ey[n..], &self.w[n..]).powi(2))
+            * 0.5;
+        Ok(e.sqrt())
+    }
+
+    /// Takes the trial step: the joint state, the maximal state, the energy accumulators, and
+    /// the derivative at the new point as the next first stage (the last stage when it is at the
+    /// new point, else evaluated here; it maps the new point to `q`, `v`).
+    fn accept(&mut self, sys: &mut System, st: &mut State, h: f64) -> Result<(), SolverError> {
+        let m = self.method;
+        let (pd, pi) = (0..m.b.len()).fold((0.0, 0.0), |acc, i| {
+            (acc.0 + m.b[i] * self.pw[i].0, acc.1 + m.b[i] * self.pw[i].1)
+        });
+        st.energy_dissipated += h * pd;
+        st.work_input += h * pi;
+        st.t += h;
+        let last = m.c.len() - 1;
+        if m.fsal {
+            std::mem::swap(&mut self.y, &mut self.ys);
+            self.k.swap(0, last);
+            self.pw[0] = self.pw[last];
+        } else {
+            for c in 0..self.y.len() {
+                let mut s = 0.0;
+                for (i, b) in m.b.iter().enumerate() {
+                    s += b * self.k[i][c];
+                }
+                self.y[c] += h * s;
+            }
+            self.ys.copy_from_slice(&self.y);
+            self.stage(sys, st.t, 0)?;
+        }
+        self.k1_valid = true;
+        st.q.copy_from_slice(&self.scratch.q);
+        st.v.copy_from_slice(&self.scratch.v);
+        self.stats.steps += 1;
+        self.stats.last_step = h;
+        Ok(())
+    }
+
+    /// Accelerations and multipliers of the maximal form at `st` (outputs of the state).
+    fn finish(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
+        let (nv, nc) = (sys.n_v(), sys.n_c());
+        self.rhs.resize(nv + nc, 0.0);
+        sys.forces(st.t, &st.q, &st.v, &mut self.rhs[..nv]);
+        sys.eval_constraints(st.t, &st.q, &st.v);
+        for (r, row) in sys.rows.iter().enumerate() {
+            self.rhs[nv + r] = row.gamma;
+        }
+        self.kkt
+            .factor(sys, st.t, &st.q, &st.v, 0.0)
+            .and_then(|()| self.kkt.solve(&mut self.rhs))
+            .map_err(|e| {
+                SolverError(format!(
+                    "{}: accelerations of the state: {e}",
+                    self.method.name
+                ))
+            })?;
+        st.vdot.copy_from_slice(&self.rhs[..nv]);
+        st.lambda.resize(nc, 0.0);
+        st.lambda.copy_from_slice(&self.rhs[nv..]);
+        Ok(())
+    }
+}
+
+impl Integrator for TreeRk {
+    fn kind(&self) -> IntegratorKind {
+        self.kind
+    }
+
+    fn start(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
+        self.tree = None;
+        self.prepare(sys, st)?;
+        self.extract(st);
+        self.ys.copy_from_slice(&self.y);
+        self.stage(sys, st.t, 0)?;
+        self.k1_valid = false;
+        let n = self.y.len() / 2;
+        self.weights();
+        let acc = wrms(&self.k[0][n..], &self.w[n..])
+            .max(wrms(&self.y[n..], &self.w[..n]))
+            .max(1e-12);
+        self.h = if self.s.h_init > 0.0 {
+            self.s.h_init
+        } else {
+            (0.01 / acc).clamp(super::MIN_H_MAX.min(self.s.h_max), self.s.h_max)
+        };
+        Ok(())
+    }
+
+    fn advance_to(
+        &mut self,
+        sys: &mut System,
+        st: &mut State,
+        t_end: f64,
+        hook: &mut dyn StepHook,
+    ) -> Result<(), SolverError> {
+        self.prepare(sys, st)?;
+        // the joint state is read from the state at every call (a restored or changed state),
+        // and inputs may have changed: the first stage is evaluated afresh
+        self.extract(st);
+        self.k1_valid = false;
+        let adaptive = self.s.fixed_step == 0.0;
+        if adaptive && step_control::collapsed(self.h, st.t) {
+            self.start(sys, st)?;
+        }
+        let mut steps = 0u64;
+        while t_end - st.t > time_eps(t_end) {
+            steps += 1;
+            if steps > self.s.max_steps {
+                return Err(SolverError(format!(
+                    "more than {} steps in one call at t = {:.9e} s: the scene is too stiff for {}, choose gen-alpha or bdf",
+                    self.s.max_steps, st.t, self.method.name
+                )));
+            }
+            let natural = if adaptive {
+                self.h.min(self.s.h_max)
+            } else {
+                self.s.fixed_step
+            };
+            let remaining = t_end - st.t;
+            let h = if natural >= remaining - time_eps(t_end) {
+                remaining
+            } else {
+                natural
+            };
+            let err = match self.try_step(sys, st.t, h) {
+                Ok(e) if e.is_finite() => e,
+                Ok(_) | Err(_) => f64::INFINITY,
+            };
+            let (err, order) = if adaptive && self.s.error_per_unit_step {
+                (
+                    err / self.s.error_share(h).max(MIN_ERROR_SHARE),
+                    self.method.order - 1.0,
+                )
+            } else {
+                (err, self.method.order)
+            };
+            if adaptive && step_control::rejects(err) {
+                self.stats.rejected += 1;
+                self.stats.rejected_error += 1;
+                self.h = step_control::after_rejection(h, step_control::proposal(err, order));
+                if step_control::collapsed(self.h, st.t) {
+                    return Err(SolverError(format!(
+                        "{}: step size fell below {:.1e} s at t = {:.9e} s (non-finite or singular accelerations?)",
+                        self.method.name, self.h, st.t
+                    )));
+                }
+                continue;
+            }
+            if !err.is_finite() {
+                return Err(SolverError(format!(
+                    "{} step at t = {:.9e} s produced non-finite values with the fixed step {h:.3e} s",
+                    self.method.name, st.t
+                )));
+            }
+            self.accept(sys, st, h)?;
+            if adaptive {
+                self.h = STEP_POLICY.after_acceptance(
+                    h,
+                    natural,
+                    self.h,
+                    step_control::proposal(err, order),
+                );
+            }
+            match hook.after_step(sys, st)? {
+                StepAction::Continue => {}
+                StepAction::Moved | StepAction::Restart => {
+                    self.extract(st);
+                    self.k1_valid = false;
+                }
+                StepAction::Stop => return self.finish(sys, st),
+            }
+        }
+        st.t = t_end;
+        self.finish(sys, st)
+    }
+
+    fn restart(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
+        self.k1_valid = false;
+        // the system may have been replaced (`Simulation::replace_system`): find its tree again
+        self.tree = None;
+        self.prepare(sys, st)?;
+        self.extract(st);
+        self.finish(sys, st)
+    }
+
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    fn set_stats(&mut self, stats: Stats) {
+        self.stats = stats;
+    }
+
+    fn clone_box(&self) -> Box<dyn Integrator> {
+        Box::new(self.clone())
+    }
+
+    fn memory(&self) -> Vec<f64> {
+        vec![self.h]
+    }
+
+    fn restore_memory(&mut self, m: &[f64]) -> Result<(), String> {
+        let name = self.method.name;
+        let h = *m.first().ok_or_else(|| format!("{name} memory is empty"))?;
+        if !(h.is_finite() && h >= 0.0) {
+            return Err(format!("{name} memory is corrupt: step size {h:e} s"));
+        }
+        self.k1_valid = false;
+        self.h = h;
+        Ok(())
+    }
+}
