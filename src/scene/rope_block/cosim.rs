@@ -606,12 +606,12 @@ impl CoSimModel for RopeBlockModel {
                 }
             }
             let now = RigDigest::of(&params.rig);
-            if let Some(d) = rig_digest {
-                if let Some(parts) = d.differences(&now) {
-                    return Err(ModelError::BadState(format!(
-                        "RopeBlock state refused: it was taken with another rig ({parts} differ from this instance's, made from its scenario and scene file); a state restores only into an instance with the same rig"
-                    )));
-                }
+            if let Some(d) = rig_digest
+                && let Some(parts) = d.differences(&now)
+            {
+                return Err(ModelError::BadState(format!(
+                    "RopeBlock state refused: it was taken with another rig ({parts} differ from this instance's, made from its scenario and scene file); a state restores only into an instance with the same rig"
+                )));
             }
             restored.rig_digest = Some(now);
             let sim = read_sim(&mut r, &params, version)?;
