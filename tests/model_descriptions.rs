@@ -110,8 +110,8 @@ fn the_guid_changes_with_the_interface() {
         ),
         (
             "RopeBlock",
-            "{377ce78c-ec8c-4033-8676-4c345368fcc5}",
-            0x7dfa_1312_59b2_8e78,
+            "{ae2d1cb7-69e0-45d5-88f3-bb815d2916da}",
+            0x817c_3ef4_686c_af2d,
         ),
         (
             "PidController",

@@ -39,6 +39,7 @@ fn box_block(cog: Vec3) -> BlockRig {
         plate: None,
         cog: Some(cog),
         inertia: None,
+        pose: None,
     }
 }
 

@@ -9,7 +9,7 @@
 //!
 //! Memory (see [`crate::effect::ForceEffect::n_memory`]): first [`HOOK_MEM`] values per hook
 //! (position at `t0`, velocity at `t0` and target velocity, `t0`, pay-out at `t0`, its rate and
-//! target rate, ramp time; see [`HookInit`]), then [`CONTACT_MEM`] per contact node:
+//! target rate, ramp time, mode code and target position; see [`HookInit`]), then [`CONTACT_MEM`] per contact node:
 //! `sigma` [m] and the slip state along the rope of the last accepted step, the friction share
 //! `mu_rope` [-] with which the rope slides through the node, for the friction along the edge
 //! ([`super::edge_hold`]) the anchor `u0` [m], the capacity `cap` [N] and the sliding state, and
@@ -25,7 +25,9 @@
 use super::bending;
 use super::drag;
 use super::edge_hold;
-use super::layout::{ContactInit, EdgeHold, HookInit, LayoutRope, PointAt, SlipMode, ramped};
+use super::layout::{
+    ContactInit, EdgeHold, HookInit, HookMode, LayoutRope, PointAt, SlipMode, hermite, ramped,
+};
 use super::props::RopeProps;
 use super::run::{self, RunEval};
 use super::segment::{self, Tension};
@@ -37,7 +39,7 @@ use crate::model::BodyId;
 use crate::model::kinematics::{BodyKin, kin_of};
 
 /// Memory values per hook.
-pub const HOOK_MEM: usize = 14;
+pub const HOOK_MEM: usize = 18;
 /// Memory values per contact node.
 pub const CONTACT_MEM: usize = 7;
 pub(crate) const NONE: u32 = u32::MAX;
@@ -182,7 +184,8 @@ impl RopeEffect {
                 .position
                 .iter()
                 .chain(h.velocity.iter())
-                .chain(h.target_velocity.iter());
+                .chain(h.target_velocity.iter())
+                .chain(h.target_position.iter());
             if !(vecs.into_iter().all(|x| x.is_finite()) && vals.iter().all(|x| x.is_finite())) {
                 return Err(format!(
                     "hook {k}: position, velocity or pay-out is not finite"
@@ -406,8 +409,13 @@ impl RopeEffect {
         let tau = t - m[9];
         let mut x = Vec3::zeros();
         let mut v = Vec3::zeros();
+        let position = HookMode::from_code(m[17]) == HookMode::Position;
         for i in 0..3 {
-            (x[i], v[i]) = ramped(m[i], m[3 + i], m[6 + i], m[13], tau);
+            (x[i], v[i]) = if position {
+                hermite(m[i], m[3 + i], m[14 + i], m[13], tau)
+            } else {
+                ramped(m[i], m[3 + i], m[6 + i], m[13], tau)
+            };
         }
         (x, v)
     }
@@ -416,6 +424,13 @@ impl RopeEffect {
     pub fn hook_targets(&self, memory: &[f64], k: usize) -> (Vec3, f64) {
         let m = &memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
         (Vec3::new(m[6], m[7], m[8]), m[12])
+    }
+
+    /// Command mode of hook `k` and its target position [m] (world; used in
+    /// [`HookMode::Position`]).
+    pub fn hook_position_target(&self, memory: &[f64], k: usize) -> (HookMode, Vec3) {
+        let m = &memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
+        (HookMode::from_code(m[17]), Vec3::new(m[14], m[15], m[16]))
     }
 
     /// Pay-out [m] and its rate [m/s] of hook `k` at time `t`.
@@ -435,6 +450,8 @@ impl RopeEffect {
         m[11] = h.payout_rate;
         m[12] = h.target_payout_rate;
         m[13] = h.ramp;
+        m[14..17].copy_from_slice(h.target_position.as_slice());
+        m[17] = h.mode.code();
     }
 
     /// Kinematics of the body carrying point `i` (ground for hooks).

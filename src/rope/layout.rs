@@ -99,11 +99,43 @@ pub struct LayoutRope {
     pub points: Vec<LayoutPoint>,
 }
 
-/// A prescribed hook point. Its velocity changes linearly from `velocity` to `target_velocity`
-/// over `ramp` [s] starting at `t0` [s] and stays there (a crane accelerating smoothly, so that a
-/// new command does not hit the rope with a velocity jump); the position `position` [m] (world)
-/// at `t0` integrates it. The winch pay-out [m] (lengthening the segment at the hook) changes the
-/// same way from rate `payout_rate` to `target_payout_rate` [m/s].
+/// How a hook's motion is commanded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum HookMode {
+    /// Toward a target velocity, reached linearly over the ramp time ([`ramped`]).
+    #[default]
+    Velocity,
+    /// Toward a target position, reached at rest after the ramp time along the cubic that keeps
+    /// position and velocity continuous ([`hermite`]).
+    Position,
+}
+
+impl HookMode {
+    /// Code in the effect memory.
+    pub fn code(self) -> f64 {
+        match self {
+            HookMode::Velocity => 0.0,
+            HookMode::Position => 1.0,
+        }
+    }
+
+    /// The mode of a memory code (anything but 1 is velocity).
+    pub fn from_code(c: f64) -> Self {
+        if c == 1.0 {
+            HookMode::Position
+        } else {
+            HookMode::Velocity
+        }
+    }
+}
+
+/// A prescribed hook point, from position `position` [m] and velocity `velocity` [m/s] (world)
+/// at `t0` [s]. In [`HookMode::Velocity`] its velocity changes linearly to `target_velocity` over
+/// `ramp` [s] and stays there (a crane accelerating smoothly, so that a new command does not hit
+/// the rope with a velocity jump); the position integrates it. In [`HookMode::Position`] it moves
+/// to `target_position` [m] along the cubic [`hermite`], arriving at rest after `ramp` [s], and
+/// stays there. The winch pay-out [m] (lengthening the segment at the hook) changes like a
+/// velocity in both modes, from rate `payout_rate` to `target_payout_rate` [m/s].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HookInit {
     pub position: Vec3,
@@ -114,6 +146,8 @@ pub struct HookInit {
     pub payout_rate: f64,
     pub target_payout_rate: f64,
     pub ramp: f64,
+    pub mode: HookMode,
+    pub target_position: Vec3,
 }
 
 impl HookInit {
@@ -128,7 +162,28 @@ impl HookInit {
             payout_rate: 0.0,
             target_payout_rate: 0.0,
             ramp: 0.0,
+            mode: HookMode::Velocity,
+            target_position: position,
         }
+    }
+}
+
+/// Value and rate at `tau` [s] of a move from `x0` with rate `r0` to `x1` at rest, over `duration`
+/// [s]: the cubic Hermite `x0 + (x1 - x0) (3 s^2 - 2 s^3) + r0 duration (s - 2 s^2 + s^3)`,
+/// `s = tau / duration`, which keeps value and rate continuous at both ends (its acceleration
+/// steps there, as a velocity ramp's does); `x1` at rest from `tau >= duration` on (and for a
+/// `duration` of 0).
+#[inline]
+pub fn hermite(x0: f64, r0: f64, x1: f64, duration: f64, tau: f64) -> (f64, f64) {
+    if tau < duration {
+        let s = tau / duration;
+        let d = x1 - x0;
+        (
+            x0 + d * s * s * (3.0 - 2.0 * s) + r0 * duration * s * (1.0 - s) * (1.0 - s),
+            6.0 * d * s * (1.0 - s) / duration + r0 * (1.0 - s) * (1.0 - 3.0 * s),
+        )
+    } else {
+        (x1, 0.0)
     }
 }
 

@@ -20,5 +20,8 @@ pub mod slip;
 mod slip_dense;
 
 pub use effect::{CONTACT_MEM, HOOK_MEM, NodeSegments, RopeEffect};
-pub use layout::{ContactInit, EdgeHold, HookInit, LayoutPoint, LayoutRope, PointAt, SlipMode};
+pub use layout::{
+    ContactInit, EdgeHold, HookInit, HookMode, LayoutPoint, LayoutRope, PointAt, SlipMode, hermite,
+    ramped,
+};
 pub use props::RopeProps;

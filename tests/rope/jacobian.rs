@@ -175,6 +175,7 @@ fn setup_with(
         payout_rate: 0.05,
         target_payout_rate: 0.08,
         ramp: 0.5,
+        ..HookInit::at(Vec3::new(0.5, 5.0, 0.2))
     };
     // material coordinates slightly shorter than the geometry: every segment taut
     let mut sigma = 0.0;

@@ -265,6 +265,9 @@ pub fn sync(s: &mut Structure, model: &Model, map: &BuildMap, state: &State) {
         let (x, v) = map.rope.hook_motion(mem, k, state.t);
         let (p, rate) = map.rope.hook_payout(mem, k, state.t);
         let (v1, r1) = map.rope.hook_targets(mem, k);
+        let (mode, x1) = map.rope.hook_position_target(mem, k);
+        h.mode = mode;
+        h.target_position = x1;
         h.position = x;
         h.velocity = v;
         h.target_velocity = v1;
@@ -272,7 +275,8 @@ pub fn sync(s: &mut Structure, model: &Model, map: &BuildMap, state: &State) {
         h.payout = p;
         h.payout_rate = rate;
         h.target_payout_rate = r1;
-        // the rest of the ramp continues on the same line
+        // the rest of the ramp continues on the same line (a cubic move on the same cubic: it is
+        // fixed by its end values and rates)
         h.ramp = (ramp - (state.t - t0)).max(0.0);
     }
     for (r, rope) in s.ropes.iter_mut().enumerate() {

@@ -29,6 +29,7 @@ use super::persist::{clone_sim, read_sim, write_sim};
 use super::ports::*;
 use super::rig::BlockGeometry;
 use super::rig_checks::check_rig;
+use super::rig_digest::RigDigest;
 use super::rig_file::{RigOverride, read_rig};
 use super::{RopeBlockParams, RopeBlockScene};
 use crate::math::Vec3;
@@ -44,10 +45,11 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 
 /// Version of the serialized FMU state (2 adds the friction-slide dissipation and the energy
 /// guard's reference; 3 the clock, start time and elapsed time, in place of the time; 4 the
-/// digest of the mesh file.
+/// digest of the mesh file; 5 the digest of the rig ([`RigDigest`]).
 /// Version 1 states are still read, with none booked and
-/// the guard's reference taken anew; versions 1 and 2 start at 0 s).
-const STATE_FORMAT: u32 = 4;
+/// the guard's reference taken anew; versions 1 and 2 start at 0 s; versions before 5 restore
+/// without a rig check, as before).
+const STATE_FORMAT: u32 = 5;
 use std::path::{Path, PathBuf};
 
 /// A new RopeBlock instance at default parameters.
@@ -69,13 +71,17 @@ pub struct RopeBlockModel {
     scene: Option<RopeBlockScene>,
     /// Port of each scene output (derived from the names; `None`: not a port, e.g. `time`).
     targets: Vec<Option<Target>>,
-    /// Hook commands in effect: velocity x/y/z [m/s], pay-out rate [m/s].
-    applied: [[f64; 4]; MAX_HOOKS],
+    /// Hook commands in effect, as [`HOOK_INPUTS`]: velocity x/y/z [m/s], pay-out rate [m/s],
+    /// displacement x/y/z [m].
+    applied: [[f64; N_HOOK_INPUTS]; MAX_HOOKS],
     /// Start time and time since the start (the scene's own time axis begins at 0).
     clock: Clock,
     /// Digest of the mesh file's bytes the scene was built from (none for the parametric
     /// block); kept in serialized states, which refuse to restore with a changed file.
     mesh_digest: Option<u64>,
+    /// Digest of the rig the scene was built from (none before initialization); kept in
+    /// serialized states, which refuse to restore into an instance with another rig.
+    rig_digest: Option<RigDigest>,
     resource_dir: Option<PathBuf>,
     /// The rig tables of the scene file read at instantiation (replacing parts of the
     /// scenario's rig).
@@ -92,6 +98,7 @@ impl Clone for RopeBlockModel {
             applied: self.applied,
             clock: self.clock,
             mesh_digest: self.mesh_digest,
+            rig_digest: self.rig_digest,
             resource_dir: self.resource_dir.clone(),
             rig_file: self.rig_file.clone(),
             log: self.log.clone(),
@@ -120,9 +127,10 @@ impl RopeBlockModel {
             ports: PortStore::new(info()),
             scene: None,
             targets: Vec::new(),
-            applied: [[0.0; 4]; MAX_HOOKS],
+            applied: [[0.0; N_HOOK_INPUTS]; MAX_HOOKS],
             clock: Clock::default(),
             mesh_digest: None,
+            rig_digest: None,
             resource_dir: None,
             rig_file: None,
             log: Vec::new(),
@@ -219,6 +227,10 @@ impl RopeBlockModel {
             }
             p.rig = rig.apply(&p.rig);
         }
+        if let Some(pose) = p.rig.block.pose {
+            p.block_origin = pose.position;
+            p.block_orientation = pose.orientation;
+        }
         if !file.is_empty() {
             p.rig.block.geometry = BlockGeometry::Mesh {
                 file: self.mesh_path(&file)?.to_string_lossy().into_owned(),
@@ -282,12 +294,38 @@ impl RopeBlockModel {
         self.ports.put_integer(ivr::REBUILDS, rebuilds)
     }
 
-    /// Applies hook commands that changed since they were last applied.
+    /// Applies hook commands that changed since they were last applied: with `hook_command` =
+    /// velocity the velocity and pay-out inputs, with position the displacement and pay-out
+    /// inputs (the others are ignored, and a change of them costs nothing).
     fn apply_inputs(&mut self) -> Result<(), ModelError> {
+        let position = match self.ports.get_integer(ivr::HOOK_COMMAND)? {
+            hook_command::VELOCITY => false,
+            hook_command::POSITION => true,
+            c => {
+                return Err(ModelError::InvalidValue(format!(
+                    "hook_command = {c} does not exist (1 velocity, 2 position)"
+                )));
+            }
+        };
+        let used: &[usize] = if position {
+            &[
+                HOOK_PAYOUT,
+                HOOK_DISPLACEMENT,
+                HOOK_DISPLACEMENT + 1,
+                HOOK_DISPLACEMENT + 2,
+            ]
+        } else {
+            &[
+                HOOK_VELOCITY,
+                HOOK_VELOCITY + 1,
+                HOOK_VELOCITY + 2,
+                HOOK_PAYOUT,
+            ]
+        };
         let mut cmds = self.applied;
         for (k, c) in cmds.iter_mut().enumerate() {
-            for (j, x) in c.iter_mut().enumerate() {
-                *x = self.ports.get_real(vr_input(k, j))?;
+            for &j in used {
+                c[j] = self.ports.get_real(vr_input(k, j))?;
             }
         }
         let Some(scene) = self.scene.as_mut() else {
@@ -297,19 +335,42 @@ impl RopeBlockModel {
         };
         let n_hooks = scene.params.rig.hooks.len().min(MAX_HOOKS);
         for (k, (c, a)) in cmds.iter().zip(self.applied.iter_mut()).enumerate() {
-            if k < n_hooks && c != a {
-                scene
-                    .set_hook(k, Vec3::new(c[0], c[1], c[2]), c[3])
-                    .map_err(ModelError::InvalidValue)?;
-                *a = *c;
-                self.log.push(LogRecord {
-                    level: LogLevel::Event,
-                    message: format!(
-                        "hook {k}: new command at t = {:.6} s: velocity ({}, {}, {}) m/s, pay-out {} m/s (integrator restarted)",
-                        self.clock.time(), c[0], c[1], c[2], c[3]
-                    ),
-                });
+            if k >= n_hooks || c == a {
+                continue;
             }
+            let rate = c[HOOK_PAYOUT];
+            let d = HOOK_DISPLACEMENT;
+            let message = if position {
+                let start = scene.params.rig.hooks[k].position;
+                let target = start + Vec3::new(c[d], c[d + 1], c[d + 2]);
+                scene
+                    .set_hook_target(k, target, rate)
+                    .map_err(ModelError::InvalidValue)?;
+                format!(
+                    "hook {k}: new command at t = {:.6} s: to ({}, {}, {}) m from its start position, pay-out {rate} m/s",
+                    self.clock.time(),
+                    c[d],
+                    c[d + 1],
+                    c[d + 2]
+                )
+            } else {
+                let v = HOOK_VELOCITY;
+                scene
+                    .set_hook(k, Vec3::new(c[v], c[v + 1], c[v + 2]), rate)
+                    .map_err(ModelError::InvalidValue)?;
+                format!(
+                    "hook {k}: new command at t = {:.6} s: velocity ({}, {}, {}) m/s, pay-out {rate} m/s",
+                    self.clock.time(),
+                    c[v],
+                    c[v + 1],
+                    c[v + 2]
+                )
+            };
+            *a = *c;
+            self.log.push(LogRecord {
+                level: LogLevel::Event,
+                message,
+            });
         }
         Ok(())
     }
@@ -322,6 +383,7 @@ impl RopeBlockModel {
     fn start(&mut self) -> Result<(), ModelError> {
         let p = self.params()?;
         self.mesh_digest = mesh_digest_of(&p)?;
+        self.rig_digest = Some(RigDigest::of(&p.rig));
         let mut warnings = check_rig(&p)
             .map_err(|e| ModelError::InvalidValue(format!("RopeBlock rig refused: {e}")))?;
         if p.rig.slings.len() > MAX_SLINGS {
@@ -349,7 +411,7 @@ impl RopeBlockModel {
         }
         self.targets = Self::map_targets(&scene);
         self.scene = Some(scene);
-        self.applied = [[0.0; 4]; MAX_HOOKS];
+        self.applied = [[0.0; N_HOOK_INPUTS]; MAX_HOOKS];
         self.apply_inputs()?;
         self.clear_outputs()?;
         self.publish()?;
@@ -467,6 +529,10 @@ impl CoSimModel for RopeBlockModel {
         }
         w.bool(self.mesh_digest.is_some());
         w.u64(self.mesh_digest.unwrap_or(0));
+        w.bool(self.rig_digest.is_some());
+        for d in self.rig_digest.map_or([0; 4], |d| d.parts) {
+            w.u64(d);
+        }
         match &self.scene {
             None => w.bool(false),
             Some(s) => {
@@ -487,15 +553,31 @@ impl CoSimModel for RopeBlockModel {
             let time = r.finite_f64("time")?;
             Clock::restore(0.0, time, time)?
         };
-        let mut applied = [[0.0; 4]; MAX_HOOKS];
-        for c in applied.iter_mut() {
-            let v = r.f64s_exact(4, "hook command")?;
-            c.copy_from_slice(&v);
+        // before version 5: two hooks, velocity and pay-out only
+        let (hooks, per_hook) = if version >= 5 {
+            (MAX_HOOKS, N_HOOK_INPUTS)
+        } else {
+            (2, 4)
+        };
+        let mut applied = [[0.0; N_HOOK_INPUTS]; MAX_HOOKS];
+        for c in applied.iter_mut().take(hooks) {
+            let v = r.f64s_exact(per_hook, "hook command")?;
+            c[..per_hook].copy_from_slice(&v);
         }
         let mesh_digest = if version >= 4 {
             let some = r.bool("mesh digest present")?;
             let d = r.u64("mesh digest")?;
             some.then_some(d)
+        } else {
+            None
+        };
+        let rig_digest = if version >= 5 {
+            let some = r.bool("rig digest present")?;
+            let mut parts = [0u64; 4];
+            for d in parts.iter_mut() {
+                *d = r.u64("rig digest")?;
+            }
+            some.then_some(RigDigest { parts })
         } else {
             None
         };
@@ -506,6 +588,7 @@ impl CoSimModel for RopeBlockModel {
             applied,
             clock,
             mesh_digest,
+            rig_digest,
             resource_dir: self.resource_dir.clone(),
             rig_file: self.rig_file.clone(),
             log: Vec::new(),
@@ -522,6 +605,15 @@ impl CoSimModel for RopeBlockModel {
                     )));
                 }
             }
+            let now = RigDigest::of(&params.rig);
+            if let Some(d) = rig_digest
+                && let Some(parts) = d.differences(&now)
+            {
+                return Err(ModelError::BadState(format!(
+                    "RopeBlock state refused: it was taken with another rig ({parts} differ from this instance's, made from its scenario and scene file); a state restores only into an instance with the same rig"
+                )));
+            }
+            restored.rig_digest = Some(now);
             let sim = read_sim(&mut r, &params, version)?;
             let t = sim.sim.state.t;
             if !crate::scene::clock::same_time(t, restored.clock.elapsed()) {

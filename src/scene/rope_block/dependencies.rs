@@ -19,12 +19,13 @@
 //! perturbing every known in several configurations: the input dependencies (none) are exact,
 //! the parameter dependencies a superset of what the perturbations show (never missing one).
 
-use crate::scene::port::{ModelInfo, PortSpec};
+use crate::scene::port::{Causality, ModelInfo, PortSpec};
 
-/// Knowns that do not act on the initial equilibrium (including every input).
-const NOT_STATICS: [&str; 23] = [
+/// Parameters that do not act on the initial equilibrium (nor does any input).
+const NOT_STATICS: [&str; 16] = [
     "integrator",
     "hook_ramp_time",
+    "hook_command",
     "contact_outputs",
     "drag",
     "rope_damping",
@@ -38,14 +39,6 @@ const NOT_STATICS: [&str; 23] = [
     "ground_mu",
     "ground_slip_speed",
     "rope_diameter",
-    "hook0_vx",
-    "hook0_vy",
-    "hook0_vz",
-    "hook0_payout_rate",
-    "hook1_vx",
-    "hook1_vy",
-    "hook1_vz",
-    "hook1_payout_rate",
 ];
 
 /// Knowns that place the contact nodes: the rigging geometry.
@@ -75,6 +68,10 @@ pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<
         n
     } else if STATICS_OUTPUTS.iter().any(|s| name.contains(s)) {
         let mut n = info.knowns_except(&NOT_STATICS);
+        n.retain(|k| {
+            info.port_by_name(k)
+                .is_some_and(|p| p.causality != Causality::Input)
+        });
         if name.starts_with("contact") {
             n.push("contact_outputs".into());
         }

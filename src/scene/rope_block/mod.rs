@@ -21,6 +21,7 @@ pub mod persist;
 pub mod ports;
 pub mod rig;
 pub mod rig_checks;
+pub mod rig_digest;
 pub mod rig_file;
 pub mod rigging;
 pub mod runner;
@@ -33,7 +34,7 @@ pub use cosim::{RopeBlockModel, create};
 pub use manager::{ContactSettings, Counters, Edit, NodeReport};
 pub use params::{RopeBlockParams, Route};
 pub use ports::info;
-pub use rig::{BlockGeometry, BlockRig, Lug, Plate, Rig, RigHook, RigSling};
+pub use rig::{BlockGeometry, BlockPose, BlockRig, Lug, Plate, Rig, RigHook, RigSling};
 pub use runner::RopeBlockSim;
 pub use scene::RopeBlockScene;
 pub use structure::{

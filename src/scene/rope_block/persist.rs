@@ -16,7 +16,7 @@ use super::runner::RopeBlockSim;
 use super::scene::solver_settings;
 use super::structure::{BlockSpec, EndSpec, LoadSpec, NodeContact, NodeSpec, RopeSpec, Structure};
 use crate::math::{Mat3, Quat, Vec3};
-use crate::rope::{HookInit, RopeProps, SlipMode};
+use crate::rope::{HOOK_MEM, HookInit, HookMode, RopeProps, SlipMode};
 use crate::scene::ModelError;
 use crate::scene::bytes::{ByteReader, ByteWriter};
 use crate::sim::Simulation;
@@ -173,9 +173,12 @@ fn write_hook(w: &mut ByteWriter, h: &HookInit) {
     vec3(w, &h.velocity);
     vec3(w, &h.target_velocity);
     w.f64s(&[h.t0, h.payout, h.payout_rate, h.target_payout_rate, h.ramp]);
+    w.f64(h.mode.code());
+    vec3(w, &h.target_position);
 }
 
-fn read_hook(r: &mut ByteReader<'_>) -> Result<HookInit, ModelError> {
+/// Reads a hook; state formats before 5 have no mode and target position (velocity mode).
+fn read_hook(r: &mut ByteReader<'_>, version: u32) -> Result<HookInit, ModelError> {
     let position = read_vec3(r, "hook position")?;
     let velocity = read_vec3(r, "hook velocity")?;
     let target_velocity = read_vec3(r, "hook target velocity")?;
@@ -189,6 +192,16 @@ fn read_hook(r: &mut ByteReader<'_>) -> Result<HookInit, ModelError> {
         payout_rate: v[2],
         target_payout_rate: v[3],
         ramp: v[4],
+        mode: if version >= 5 {
+            HookMode::from_code(r.finite_f64("hook mode")?)
+        } else {
+            HookMode::Velocity
+        },
+        target_position: if version >= 5 {
+            read_vec3(r, "hook target position")?
+        } else {
+            position
+        },
     })
 }
 
@@ -237,6 +250,7 @@ fn write_structure(w: &mut ByteWriter, s: &Structure) {
 fn read_structure(
     r: &mut ByteReader<'_>,
     mesh: &Arc<crate::rope::shell::ShellMesh>,
+    version: u32,
 ) -> Result<Structure, ModelError> {
     let has_gravity = r.bool("gravity flag")?;
     let g = read_vec3(r, "gravity")?;
@@ -276,7 +290,7 @@ fn read_structure(
         });
     }
     for _ in 0..count(r, "hook count")? {
-        s.hooks.push(read_hook(r)?);
+        s.hooks.push(read_hook(r, version)?);
     }
     for _ in 0..count(r, "rope count")? {
         let name = r.str("rope name")?.to_string();
@@ -383,6 +397,36 @@ pub fn write_sim(w: &mut ByteWriter, s: &RopeBlockSim) {
     w.f64(s.hook_ramp);
 }
 
+/// The effect memory as this version lays it out: the rope effect's memory starts at `offset`
+/// with [`HOOK_MEM`] values per hook; state formats before 5 had 14 (no target position and mode),
+/// the hooks get their position at `t0` as target and velocity mode.
+fn widen_hook_memory(
+    memory: Vec<f64>,
+    offset: usize,
+    hooks: usize,
+    version: u32,
+) -> Result<Vec<f64>, ModelError> {
+    const OLD: usize = 14;
+    if version >= 5 {
+        return Ok(memory);
+    }
+    let end = offset + OLD * hooks;
+    if memory.len() < end {
+        return Err(bad(
+            "serialized RopeBlock state: the effect memory is shorter than its hooks",
+        ));
+    }
+    let mut out = Vec::with_capacity(memory.len() + (HOOK_MEM - OLD) * hooks);
+    out.extend_from_slice(&memory[..offset]);
+    for m in memory[offset..end].chunks_exact(OLD) {
+        out.extend_from_slice(m);
+        out.extend_from_slice(&m[..3]);
+        out.push(HookMode::Velocity.code());
+    }
+    out.extend_from_slice(&memory[end..]);
+    Ok(out)
+}
+
 /// Reads what [`write_sim`] wrote for a scene with parameters `params`, in state format
 /// `version` (1 had no slide dissipation).
 pub fn read_sim(
@@ -393,7 +437,7 @@ pub fn read_sim(
     let design = params.design_mesh().map_err(ModelError::BadState)?;
     let (com, _, _) = params.mass_properties(&design);
     let mesh = Arc::new(design.translated(&(-com)).map_err(ModelError::BadState)?);
-    let mut structure = read_structure(r, &mesh)?;
+    let mut structure = read_structure(r, &mesh, version)?;
     // the ground comes from the parameters (its contact has no memory)
     structure.ground = params
         .ground
@@ -427,6 +471,13 @@ pub fn read_sim(
     let max_rebuilds_per_call = r.u64("rebuild bound")?;
     let hook_ramp = r.finite_f64("hook ramp")?;
     let (model, map) = build(&structure).map_err(ModelError::BadState)?;
+    let mut state = state;
+    state.memory = widen_hook_memory(
+        std::mem::take(&mut state.memory),
+        map.rope_memory,
+        structure.hooks.len(),
+        version,
+    )?;
     let (settings, contact) = solver_settings(params);
     let mut sim = Simulation::new(model, params.integrator, settings, state.t)
         .map_err(ModelError::BadState)?;

@@ -34,8 +34,8 @@ pub static INTEGRATORS: &[(&str, &str)] = &[
 
 /// Model identifier.
 pub const IDENTIFIER: &str = "RopeBlock";
-/// Hooks the inputs and outputs cover (the turn-over scene has two).
-pub const MAX_HOOKS: usize = 2;
+/// Hooks the inputs and outputs cover (a rig has at most four; the turn-over scene has two).
+pub const MAX_HOOKS: usize = super::rig::MAX_RIG_HOOKS;
 /// Slings the outputs cover (both scenes have four; a rig's slings beyond are simulated but not
 /// reported, and initialization logs a warning).
 pub const MAX_SLINGS: usize = 4;
@@ -261,7 +261,7 @@ pub static REAL_PARAMS: &[RealParam] = &[
         0.5,
         0.0,
         60.0,
-        "Time over which a hook reaches a new velocity or pay-out command, linearly from the current one (0: at once, the integrator restarts at every change; > 0: hook position and velocity stay continuous and the integrator keeps its history).",
+        "Time over which a hook reaches a new velocity or pay-out command, linearly from the current one (0: at once, the integrator restarts at every change; > 0: hook position and velocity stay continuous and the integrator keeps its history); with hook_command = position, the shortest duration of a move to a new position target.",
     ),
 ];
 
@@ -273,10 +273,32 @@ pub mod ivr {
     pub const SEGMENTS: ValueRef = 1;
     pub const INTEGRATOR: ValueRef = 2;
     pub const CONTACT_OUTPUTS: ValueRef = 3;
-    pub const CONTACT_COUNT: ValueRef = 4;
-    pub const REBUILDS: ValueRef = 5;
+    /// `hook_command` (enumeration [`super::HOOK_COMMANDS`]).
+    pub const HOOK_COMMAND: ValueRef = 4;
+    pub const CONTACT_COUNT: ValueRef = 5;
+    pub const REBUILDS: ValueRef = 6;
     /// First contact-slot integer output.
-    pub const SLOT0: ValueRef = 6;
+    pub const SLOT0: ValueRef = 7;
+}
+
+/// Items of the `hook_command` enumeration (1-based): what the hook inputs command.
+pub static HOOK_COMMANDS: &[(&str, &str)] = &[
+    (
+        "velocity",
+        "hookN_vx/vy/vz: hook velocity, reached linearly over hook_ramp_time (hookN_dx/dy/dz ignored)",
+    ),
+    (
+        "position",
+        "hookN_dx/dy/dz: hook position as a displacement from its start position, reached at rest along a cubic over hook_ramp_time or longer (hookN_vx/vy/vz ignored)",
+    ),
+];
+
+/// Codes of the `hook_command` items.
+pub mod hook_command {
+    /// Velocity commands (`hookN_vx/vy/vz`).
+    pub const VELOCITY: i32 = 1;
+    /// Position commands (`hookN_dx/dy/dz`).
+    pub const POSITION: i32 = 2;
 }
 
 /// Integer value reference of contact slot `i`'s field `j` (0 sling, 1 slip).
@@ -303,8 +325,12 @@ pub const SVR_MESH_FILE: ValueRef = 0;
 /// the slings by 19 m per 0.05 s step and the solver crawled (adversarial benchmark, seed 3).
 pub const MAX_HOOK_SPEED: f64 = 10.0;
 
-/// Per-hook inputs: (suffix, unit, description).
-pub const HOOK_INPUTS: [(&str, &str, &str); 4] = [
+/// Largest hook displacement command accepted [m], either way along each world axis.
+pub const MAX_HOOK_DISPLACEMENT: f64 = 200.0;
+
+/// Per-hook inputs: (suffix, unit, description). Indices 0-2 velocity, 3 pay-out rate, 4-6
+/// displacement ([`HOOK_VELOCITY`], [`HOOK_PAYOUT`], [`HOOK_DISPLACEMENT`]).
+pub const HOOK_INPUTS: [(&str, &str, &str); 7] = [
     ("vx", "m/s", "velocity, world x"),
     ("vy", "m/s", "velocity, world y"),
     ("vz", "m/s", "velocity, world z (up)"),
@@ -313,7 +339,30 @@ pub const HOOK_INPUTS: [(&str, &str, &str); 4] = [
         "m/s",
         "winch pay-out rate (positive lengthens the slings on this hook)",
     ),
+    (
+        "dx",
+        "m",
+        "position: displacement from the start position, world x",
+    ),
+    (
+        "dy",
+        "m",
+        "position: displacement from the start position, world y",
+    ),
+    (
+        "dz",
+        "m",
+        "position: displacement from the start position, world z (up)",
+    ),
 ];
+/// Inputs per hook.
+pub const N_HOOK_INPUTS: usize = HOOK_INPUTS.len();
+/// Index of the first velocity input in [`HOOK_INPUTS`].
+pub const HOOK_VELOCITY: usize = 0;
+/// Index of the pay-out rate in [`HOOK_INPUTS`].
+pub const HOOK_PAYOUT: usize = 3;
+/// Index of the first displacement input in [`HOOK_INPUTS`].
+pub const HOOK_DISPLACEMENT: usize = 4;
 
 /// Real value reference of hook `k`'s input `j` (index into [`HOOK_INPUTS`]).
 pub fn vr_input(k: usize, j: usize) -> ValueRef {
@@ -434,7 +483,7 @@ pub fn real_outputs() -> Vec<(String, Option<&'static str>, String)> {
             let note = if k == 0 {
                 ""
             } else {
-                " (0 in the lift scenario)"
+                " (0 when the rig has no such hook)"
             };
             v.push((
                 format!("hook{k}_{s}"),
@@ -541,6 +590,7 @@ pub fn info() -> &'static ModelInfo {
             int_param("segments", ivr::SEGMENTS, d.segments as i32, 2, 400, "Segments per sling (resolution)."),
             int_port("integrator", ivr::INTEGRATOR, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "Integrator", items: INTEGRATORS, start: Some(1) }, "Time integrator."),
             int_param("contact_outputs", ivr::CONTACT_OUTPUTS, MAX_CONTACT_SLOTS as i32, 0, MAX_CONTACT_SLOTS as i32, "Contact slots filled in the outputs (the table always has 8; the rest read 0)."),
+            int_port("hook_command", ivr::HOOK_COMMAND, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "HookCommand", items: HOOK_COMMANDS, start: Some(hook_command::VELOCITY) }, "What the hook inputs command: velocity (hookN_vx/vy/vz) or position (hookN_dx/dy/dz, displacements from the start position); hookN_payout_rate in both."),
         ];
         for (vr, name, start, desc) in [
             (bvr::FRICTION, "friction", true, "Coulomb friction between rope and plate edges (off: frictionless, `mu` ignored)."),
@@ -570,11 +620,18 @@ pub fn info() -> &'static ModelInfo {
         }
         for k in 0..MAX_HOOKS {
             for (j, (s, u, desc)) in HOOK_INPUTS.iter().enumerate() {
-                let note = if k == 0 { "" } else { " Accepted and ignored in the lift scenario." };
+                let note = if k == 0 { "" } else { " Accepted and ignored when the rig has no such hook." };
+                let (how, bound) = if j >= HOOK_DISPLACEMENT {
+                    (format!("used when hook_command = position; reached at rest along a cubic (position and velocity continuous) over hook_ramp_time, or longer so that the move's own speed stays within {} m/s; at most {MAX_HOOK_DISPLACEMENT} m either way", super::runner::HOOK_MOVE_SPEED), MAX_HOOK_DISPLACEMENT)
+                } else if j == HOOK_PAYOUT {
+                    (format!("reached linearly over hook_ramp_time from the previous command, then held; at most {MAX_HOOK_SPEED} m/s either way"), MAX_HOOK_SPEED)
+                } else {
+                    (format!("used when hook_command = velocity; reached linearly over hook_ramp_time from the previous command (position stays continuous), then held; at most {MAX_HOOK_SPEED} m/s either way"), MAX_HOOK_SPEED)
+                };
                 ports.push(
-                    PortSpec::real_input(&format!("hook{k}_{s}"), vr_input(k, j), 0.0, Some(u), &format!("Hook {k} command: {desc}; reached linearly over hook_ramp_time from the previous command (position stays continuous), then held; at most {MAX_HOOK_SPEED} m/s either way.{note}"))
-                        .with_min(-MAX_HOOK_SPEED)
-                        .with_max(MAX_HOOK_SPEED),
+                    PortSpec::real_input(&format!("hook{k}_{s}"), vr_input(k, j), 0.0, Some(u), &format!("Hook {k} command: {desc}; {how}.{note}"))
+                        .with_min(-bound)
+                        .with_max(bound),
                 );
             }
         }
@@ -589,7 +646,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{377ce78c-ec8c-4033-8676-4c345368fcc5}",
+            guid: "{ae2d1cb7-69e0-45d5-88f3-bb815d2916da}",
             description: "Ship-block lift with lumped-mass wire-rope slings contacting the block's shell plate edges through contact nodes with Coulomb friction; one-hook lift or two-hook turn-over.",
             ports,
             default_stop_time: 10.0,

@@ -12,9 +12,13 @@
 //! `block_mass`), so the built-in scenes keep answering to those parameters.
 
 use super::params::Route;
-use crate::math::{Mat3, Vec3};
+use crate::math::{Mat3, Quat, Vec3};
 use crate::rope::RopeProps;
 use crate::rope::shell::parametric::BlockShape;
+
+/// Largest deviation of a block orientation's norm from 1 accepted [-] (a quaternion written
+/// with 12 significant digits is within 1e-11).
+pub const UNIT_QUATERNION_TOLERANCE: f64 = 1e-9;
 
 /// Most hooks a rig may have.
 pub const MAX_RIG_HOOKS: usize = 4;
@@ -51,6 +55,18 @@ pub struct BlockRig {
     /// Inertia about the centre of gravity [kg m^2], design-frame axes; `None`: a uniform thin
     /// shell of the block's mass.
     pub inertia: Option<Mat3>,
+    /// Start pose of the design frame in the world; `None`: on the world frame. The scene settles
+    /// to its static equilibrium from there.
+    pub pose: Option<BlockPose>,
+}
+
+/// Where the block's design frame starts in the world frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlockPose {
+    /// World position of the design frame's origin [m].
+    pub position: Vec3,
+    /// Rotation from the design frame to the world frame (a unit quaternion).
+    pub orientation: Quat,
 }
 
 /// A lug (padeye) on the block.
@@ -159,6 +175,7 @@ impl Default for Rig {
                 plate: None,
                 cog: None,
                 inertia: None,
+                pose: None,
             },
             lugs: vec![
                 lug(1.0, 1.0),
@@ -233,6 +250,20 @@ impl Rig {
         }
         if let Some(i) = b.inertia {
             check_inertia(&i)?;
+        }
+        if let Some(pose) = b.pose {
+            let q = pose.orientation.quaternion();
+            if !(pose.position.iter().all(|x| x.is_finite())
+                && q.coords.iter().all(|x| x.is_finite()))
+            {
+                return Err("block start pose is not finite".into());
+            }
+            if (q.norm() - 1.0).abs() > UNIT_QUATERNION_TOLERANCE {
+                return Err(format!(
+                    "block orientation must be a unit quaternion, |q| = {}",
+                    q.norm()
+                ));
+            }
         }
         if let BlockGeometry::Mesh { scale, .. } = &b.geometry {
             positive("mesh scale".into(), *scale)?;

@@ -8,6 +8,9 @@
 //! mass = 250e3                 # [kg]; or plate_thickness [m] and plate_density [kg/m3]
 //! cog = [0.0, 0.0, 3.5]        # [m], design frame; default: the shell's area centroid
 //! inertia = [ixx, iyy, izz, ixy, ixz, iyz]   # [kg m2] about the cog; default: thin shell
+//! position = [0.0, 0.0, 0.0]   # start: world position of the design frame's origin [m]
+//! orientation = [1.0, 0.0, 0.0, 0.0]   # design to world, unit quaternion [w, x, y, z];
+//!                              # or roll_pitch_yaw = [r, p, y] [rad], R = Rz(y) Ry(p) Rx(r)
 //!
 //! [[lug]]                      # lug 0, 1, ... in file order
 //! position = [7.0, 7.3, 7.0]   # [m], design frame
@@ -29,10 +32,14 @@
 //! scenario's lugs, slings and hooks); relative mesh paths are relative to the scene file's folder.
 
 use super::params::Route;
-use super::rig::{BlockGeometry, BlockRig, Lug, Plate, Rig, RigHook, RigSling};
-use crate::math::{Mat3, Vec3};
+use super::rig::{
+    BlockGeometry, BlockPose, BlockRig, Lug, Plate, Rig, RigHook, RigSling,
+    UNIT_QUATERNION_TOLERANCE,
+};
+use crate::math::{Mat3, Quat, Vec3};
 use crate::rope::shell::parametric::BlockShape;
 use crate::scene::scene_file::{SceneEntry, SceneTable, SceneValue};
+use nalgebra::Quaternion;
 use std::path::Path;
 
 /// The parts of a rig a scene file gives.
@@ -263,12 +270,53 @@ impl Reader<'_> {
                 Mat3::new(v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2])
             }
         });
+        let pose = self.pose()?;
         Ok(BlockRig {
             geometry,
             mass,
             plate,
             cog,
             inertia,
+            pose,
+        })
+    }
+
+    /// The block's start pose: `position` [m] (world position of the design frame's origin) and
+    /// `orientation = [w, x, y, z]` (unit quaternion, design to world) or `roll_pitch_yaw`
+    /// [rad] (`R = Rz(yaw) Ry(pitch) Rx(roll)`, world axes); `None` when neither is given.
+    fn pose(&mut self) -> Result<Option<BlockPose>, String> {
+        let position = self.vec3("position")?;
+        let quat = self.reals("orientation", &[4])?;
+        let rpy = self.reals("roll_pitch_yaw", &[3])?;
+        let orientation = match (quat, rpy) {
+            (Some(_), Some((_, line))) => {
+                return Err(self.at(
+                    line,
+                    "give either `orientation` or `roll_pitch_yaw`, not both",
+                ));
+            }
+            (Some((q, line)), None) => {
+                let q = Quaternion::new(q[0], q[1], q[2], q[3]);
+                if (q.norm() - 1.0).abs() > UNIT_QUATERNION_TOLERANCE {
+                    return Err(self.at(
+                        line,
+                        format!(
+                            "`orientation` must be a unit quaternion [w, x, y, z], its norm is {}",
+                            q.norm()
+                        ),
+                    ));
+                }
+                Some(Quat::from_quaternion(q))
+            }
+            (None, Some((a, _))) => Some(Quat::from_euler_angles(a[0], a[1], a[2])),
+            (None, None) => None,
+        };
+        Ok(match (position, orientation) {
+            (None, None) => None,
+            (p, q) => Some(BlockPose {
+                position: p.unwrap_or_else(Vec3::zeros),
+                orientation: q.unwrap_or_else(Quat::identity),
+            }),
         })
     }
 
@@ -311,7 +359,9 @@ impl Reader<'_> {
 
 fn keys_of(table: &str) -> &'static str {
     match table {
-        "block" => "box, mesh, mesh_scale, mass, plate_thickness, plate_density, cog, inertia",
+        "block" => {
+            "box, mesh, mesh_scale, mass, plate_thickness, plate_density, cog, inertia, position, orientation, roll_pitch_yaw"
+        }
         "lug" => "position",
         "sling" => {
             "lug, hook, length, length_factor, ea, mass_per_length, diameter, damping, breaking_load, route, via"

@@ -9,7 +9,7 @@ use crate::dae::System;
 use crate::effect::ForceEffect;
 use crate::integrator::{IntegratorKind, Settings};
 use crate::math::Vec3;
-use crate::rope::SlipMode;
+use crate::rope::{HookInit, HookMode, SlipMode};
 use crate::sim::{Energy, Simulation};
 use crate::state::State;
 use std::sync::Arc;
@@ -305,16 +305,59 @@ impl RopeBlockSim {
         velocity: Vec3,
         payout_rate: f64,
     ) -> Result<(), String> {
+        if !velocity.iter().all(|x| x.is_finite()) {
+            return Err(format!("hook {k}: velocity must be finite"));
+        }
+        let ramp = self.hook_ramp;
+        self.command_hook(k, payout_rate, |h| {
+            h.mode = HookMode::Velocity;
+            h.target_velocity = velocity;
+            h.target_position = h.position;
+            h.ramp = ramp;
+        })
+    }
+
+    /// Commands hook `k` to move to `target` [m] (world) and its pay-out rate [m/s]. The hook
+    /// moves from its current position and velocity along the cubic [`crate::rope::hermite`]
+    /// (position and velocity continuous, acceleration stepping at both ends, as a ramp) and
+    /// arrives at rest after [`hook_move_time`] (the ramp time, or longer for a long move); the
+    /// pay-out rate is reached linearly over the ramp time. The integrator keeps its history
+    /// unless the move takes no time (no distance and a ramp of 0).
+    pub fn set_hook_target(
+        &mut self,
+        k: usize,
+        target: Vec3,
+        payout_rate: f64,
+    ) -> Result<(), String> {
+        if !target.iter().all(|x| x.is_finite()) {
+            return Err(format!("hook {k}: target position must be finite"));
+        }
+        let ramp = self.hook_ramp;
+        self.command_hook(k, payout_rate, |h| {
+            h.mode = HookMode::Position;
+            h.target_velocity = Vec3::zeros();
+            h.ramp = hook_move_time(ramp, (target - h.position).norm());
+            h.target_position = target;
+        })
+    }
+
+    /// Writes hook `k`'s new command: its motion from now (position, velocity and pay-out as they
+    /// are), the pay-out rate to reach and what `set` writes; keeps the integrator's history when
+    /// the motion stays continuous (the command's time is > 0), else restarts it.
+    fn command_hook(
+        &mut self,
+        k: usize,
+        payout_rate: f64,
+        set: impl FnOnce(&mut HookInit),
+    ) -> Result<(), String> {
         if k >= self.map.rope.n_hooks() {
             return Err(format!(
                 "hook {k} does not exist ({} hooks)",
                 self.map.rope.n_hooks()
             ));
         }
-        if !(velocity.iter().all(|x| x.is_finite()) && payout_rate.is_finite()) {
-            return Err(format!(
-                "hook {k}: velocity and pay-out rate must be finite"
-            ));
+        if !payout_rate.is_finite() {
+            return Err(format!("hook {k}: pay-out rate must be finite"));
         }
         let t = self.sim.state.t;
         let base = self.map.rope_memory;
@@ -322,22 +365,34 @@ impl RopeBlockSim {
         let mem = &self.sim.state.memory[base..base + n];
         let (x, v) = self.map.rope.hook_motion(mem, k, t);
         let (p, rate) = self.map.rope.hook_payout(mem, k, t);
-        let h = crate::rope::HookInit {
+        let mut h = HookInit {
             position: x,
             velocity: v,
-            target_velocity: velocity,
             t0: t,
             payout: p,
             payout_rate: rate,
             target_payout_rate: payout_rate,
             ramp: self.hook_ramp,
+            ..HookInit::at(x)
         };
+        set(&mut h);
         crate::rope::RopeEffect::write_hook(&mut self.sim.state.memory[base..base + n], k, &h);
-        if self.hook_ramp > 0.0 {
+        if h.ramp > 0.0 {
             // continuous command: the system follows the new memory, the history stays
             self.sim.sync_memory().map_err(|e| e.0)
         } else {
             self.sim.restart().map_err(|e| e.0)
         }
     }
+}
+
+/// Largest speed of a hook's own move to a position target [m/s]: the cubic's peak speed is
+/// 1.5 x distance / duration, so a move lasts at least 1.5 x distance / this.
+pub const HOOK_MOVE_SPEED: f64 = 2.0;
+
+/// Duration [s] of a hook's move over `distance` [m] with ramp time `ramp` [s]: the ramp time,
+/// or longer so that the cubic's own peak speed `1.5 distance / duration` stays within
+/// [`HOOK_MOVE_SPEED`].
+pub fn hook_move_time(ramp: f64, distance: f64) -> f64 {
+    ramp.max(1.5 * distance / HOOK_MOVE_SPEED)
 }

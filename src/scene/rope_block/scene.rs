@@ -215,6 +215,17 @@ impl RopeBlockScene {
         self.sim.set_hook_rates(k, velocity, payout_rate)
     }
 
+    /// Sends hook `k` to `target` [m] (world), arriving at rest (see
+    /// [`super::RopeBlockSim::set_hook_target`]), with pay-out rate `payout_rate` [m/s].
+    pub fn set_hook_target(
+        &mut self,
+        k: usize,
+        target: Vec3,
+        payout_rate: f64,
+    ) -> Result<(), String> {
+        self.sim.set_hook_target(k, target, payout_rate)
+    }
+
     /// Advances by `h` [s].
     pub fn step(&mut self, h: f64) -> Result<(), String> {
         if !(h.is_finite() && h > 0.0) {
