@@ -325,17 +325,30 @@ fn each_hinge_latches_at_its_own_lock_angle() {
     let mut m = instance(&text).unwrap();
     m.initialize(0.0).unwrap();
     let h = 0.05;
+    let mut sums = [0.0; 4];
+    let mut n = 0;
     for i in 0..(60.0 / h) as usize {
         m.do_step(i as f64 * h, h).unwrap();
+        if (i + 1) as f64 * h > 40.0 {
+            for (k, s) in sums.iter_mut().enumerate() {
+                *s += real(&m, &format!("hinge{k}_angle"));
+            }
+            n += 1;
+        }
     }
     for (k, l) in locks.iter().enumerate() {
         let t = real(&m, &format!("hinge{k}_lock_time"));
-        let a = real(&m, &format!("hinge{k}_angle"));
-        eprintln!("hinge {k}: lock angle {l} rad, locked at {t:.3} s, angle {a:.5} rad");
+        let mean = sums[k] / n as f64;
+        eprintln!(
+            "hinge {k}: lock angle {l} rad, locked at {t:.3} s, mean angle over 40-60 s {mean:.5} rad"
+        );
         assert!(t > 0.0, "hinge {k} did not lock");
-        // within 0.06 rad of its own angle: the groove's play and the locked array's rattle
-        // leave the default array's hinges 0.025-0.047 rad beyond their lock angles at 60 s
-        assert!((a - l).abs() < 0.06, "hinge {k}: {a} rad against {l} rad");
+        // the locked array's pins rattle in the grooves' play (+-0.05 rad about the lock angle in
+        // the example scene); the mean over the last 20 s is within 0.04 rad of the lock angle
+        assert!(
+            (mean - l).abs() < 0.04,
+            "hinge {k}: {mean} rad against {l} rad"
+        );
     }
 }
 
