@@ -105,8 +105,8 @@ fn the_guid_changes_with_the_interface() {
     let recorded: [(&str, &str, u64); 3] = [
         (
             "PanelLock",
-            "{6f0e2a51-8c3d-4b7e-9a14-2d5c7f3b9e60}",
-            0xb94f_af7b_84d6_fff7,
+            "{efa16639-02fb-4a25-af14-b17f9ee31a7a}",
+            0x0e4c_f24f_0067_5f4f,
         ),
         (
             "RopeBlock",

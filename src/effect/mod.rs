@@ -14,6 +14,7 @@ pub mod cable_loop;
 pub mod constraint;
 pub mod gravity;
 pub mod ground_contact;
+pub mod hinge_friction;
 pub mod latch;
 pub mod plane_contact;
 pub mod point_force;

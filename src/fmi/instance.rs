@@ -576,11 +576,18 @@ impl Instance {
             return Err(not_ours(existing));
         }
         let (create, dir) = (self.create, self.resource_dir.clone());
+        let scene = self.scene.clone();
         let make = move || {
             let mut m = create();
             if let Some(dir) = &dir {
                 // the folder was accepted for this model at instantiation
                 let _ = m.set_resource_dir(dir);
+            }
+            // the scene file's tables (a PanelLock array, a RopeBlock rig) belong to the
+            // instance, as at fmi2Reset: the state is decoded into a model made like it (it was
+            // accepted at instantiation; the state's own values then replace the parameters)
+            if let Some((scene, origin)) = &scene {
+                let _ = scene_file::apply(m.as_mut(), scene, origin);
             }
             m
         };

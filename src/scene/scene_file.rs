@@ -18,8 +18,9 @@
 //! Any TOML syntax is read: basic and literal strings with all their escapes, multi-line
 //! strings, `_` between digits, `parameters = { .. }` or `parameters.name = ..` for the table.
 //! A RopeBlock scene may also describe its rig in the tables `[block]`, `[[lug]]`, `[[sling]]`,
-//! `[[hook]]` ([`TABLES`]; arrays of numbers allowed there), read by the model
-//! ([`CoSimModel::set_tables`], `docs/rope_block_rig.md`).
+//! `[[hook]]`, a PanelLock scene its array in `[[hinge]]` and `[[panel]]` ([`TABLES`]; arrays of
+//! numbers allowed there), read by the model ([`CoSimModel::set_tables`],
+//! `docs/rope_block_rig.md`, `docs/panel_lock_array.md`).
 //! What is not a parameter value is refused with the file and line: arrays, inline tables and
 //! date-times as values, other tables (`[settings]`, `[parameters.sub]`, `[[parameters]]`),
 //! keys other than `model` outside `[parameters]`, and dotted keys inside it (`a.b = 1` is a
@@ -59,9 +60,11 @@ pub enum SceneValue {
 }
 
 /// Tables a scene file may hold besides `[parameters]`: a RopeBlock rig, as `[block]` and the
-/// arrays of tables `[[lug]]`, `[[sling]]`, `[[hook]]` (see `docs/rope_block_rig.md`). Their
-/// keys are read by the model ([`CoSimModel::set_tables`]); a model without tables refuses them.
-pub const TABLES: [&str; 4] = ["block", "lug", "sling", "hook"];
+/// arrays of tables `[[lug]]`, `[[sling]]`, `[[hook]]` (see `docs/rope_block_rig.md`), and a
+/// PanelLock array, `[[hinge]]` and `[[panel]]` (`docs/panel_lock_array.md`). Which of them a
+/// model takes is the model's to say: [`CoSimModel::set_tables`] reads their keys and refuses
+/// the tables of another model (a model without tables refuses them all).
+pub const TABLES: [&str; 6] = ["block", "lug", "sling", "hook", "hinge", "panel"];
 
 /// One `[name]` table or one `[[name]]` element of a scene file (a name of [`TABLES`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -153,7 +156,7 @@ pub fn parse(text: &str, origin: &str) -> Result<SceneFile, String> {
                     _ => {
                         return Err(src.at(
                             pos,
-                            format!("`{name}` must be written as a table header (`[block]`, `[[lug]]`, `[[sling]]`, `[[hook]]`)"),
+                            format!("`{name}` must be written as a table header (`[{name}]` or `[[{name}]]`)"),
                         ));
                     }
                 };

@@ -17,6 +17,7 @@ use crate::contact::latch::{LatchGeometry, LatchParams};
 use crate::effect::angle_stop::{AngleStop, AngleStops};
 use crate::effect::body_load::{InputLoad, InputLoads};
 use crate::effect::cable_loop::{CableLoop, CableLoops};
+use crate::effect::hinge_friction::{DEFAULT_SLIP_RATE, HingeFriction, HingeFrictions};
 use crate::effect::latch::{Latch, Latches};
 use crate::flex::ModalBodyData;
 use crate::math::{Mat3, Quat, Vec3};
@@ -130,13 +131,7 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
     // plate frame of a flexible panel (x length, y width, z normal) in the rigid panel frame
     // (x length, y normal, z width = hinge axis): a quarter turn about x
     let plate_turn = Quat::from_axis_angle(&Vec3::x_axis(), std::f64::consts::FRAC_PI_2);
-    let law = ContactLaw::new(
-        p.contact_law,
-        p.contact_stiffness,
-        p.contact_exponent,
-        p.restitution,
-    )
-    .map_err(|e| e.to_string())?;
+    let mut frictions = Vec::new();
     let mut latches = Vec::new();
     let mut stops = Vec::new();
     let (mut phi, mut pos) = (0.0, Vec3::zeros());
@@ -150,16 +145,14 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
         } else {
             1.0
         };
-        let (lock, stow) = if k == 0 {
-            (p.root_lock_angle, p.root_stowed_angle)
-        } else {
-            (p.panel_lock_angle, p.panel_stowed_angle)
-        };
+        let hv = p.hinge(k);
+        let (lock, stow) = (hv.lock_angle, hv.stowed_angle);
         phi += s * (stow - lock);
+        let pv = p.panel(k);
         let (len, mass, name) = if k == 0 {
             (p.yoke_length, p.yoke_mass, "yoke".to_string())
         } else {
-            (p.panel_length, p.panel_mass(), format!("panel{k}"))
+            (pv.length, pv.mass(), format!("panel{k}"))
         };
         let dir = rot(phi) * Vec3::x();
         let hinge_inertia = Mat3::identity() * (p.hinge_mass * p.hinge_gyration_radius.powi(2));
@@ -170,7 +163,7 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
             BodyInit::at(pos).oriented(rot(phi)),
         )?;
         let flex = if k > 0 && p.flexible_panels {
-            Some(flex_panel(p, k == n - 1)?)
+            Some(flex_panel(&p.with_panel(k), k == n - 1)?)
         } else {
             None
         };
@@ -178,7 +171,7 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
             None => b.add_rigid_body(
                 &name,
                 mass,
-                plate_inertia(mass, len, p.panel_width, p.panel_thickness),
+                plate_inertia(mass, len, pv.width, pv.thickness),
                 BodyInit::at(pos + 0.5 * len * dir).oriented(rot(phi)),
             )?,
             Some(f) => {
@@ -186,7 +179,7 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
                 b.add_modal_body(
                     &name,
                     f.data.clone(),
-                    BodyInit::at(pos - 0.5 * p.panel_width * ez).oriented(rot(phi) * plate_turn),
+                    BodyInit::at(pos - 0.5 * pv.width * ez).oriented(rot(phi) * plate_turn),
                     &zeros,
                     &zeros,
                 )?
@@ -216,18 +209,14 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
                 ),
             },
         )?;
-        let (preload, stiffness) = if k == 0 {
-            (p.root_spring_preload, p.root_spring_stiffness)
-        } else {
-            (p.panel_spring_preload, p.panel_spring_stiffness)
-        };
+        let (preload, stiffness, damping) = (hv.spring_preload, hv.spring_stiffness, hv.damping);
         if stiffness > 0.0 {
             b.add_torsion_spring(TorsionSpring {
                 name: format!("hinge{k} spring"),
                 frame_i: fi,
                 frame_j: fj,
                 stiffness,
-                damping: p.hinge_damping,
+                damping,
                 free_angle: lock + preload / stiffness,
                 angle_offset: lock,
             })?;
@@ -240,19 +229,35 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
                     torque: Profile::constant(preload),
                 })?;
             }
-            if p.hinge_damping > 0.0 {
+            if damping > 0.0 {
                 b.add_torsion_spring(TorsionSpring {
                     name: format!("hinge{k} damper"),
                     frame_i: fi,
                     frame_j: fj,
                     stiffness: 0.0,
-                    damping: p.hinge_damping,
+                    damping,
                     free_angle: 0.0,
                     angle_offset: lock,
                 })?;
             }
         }
+        if hv.friction_torque > 0.0 {
+            frictions.push(HingeFriction {
+                name: format!("hinge{k} friction"),
+                frame_i: fi,
+                frame_j: fj,
+                torque: hv.friction_torque,
+                slip_rate: DEFAULT_SLIP_RATE,
+            });
+        }
         if p.latches {
+            let law = ContactLaw::new(
+                hv.contact_law,
+                hv.contact_stiffness,
+                hv.contact_exponent,
+                hv.restitution,
+            )
+            .map_err(|e| format!("latch of hinge {k}: {e}"))?;
             let geometry = LatchGeometry::new(LatchParams {
                 cam_radius: p.cam_radius,
                 groove_width: p.groove_width,
@@ -316,13 +321,15 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
         layout.latches = Some(l.clone());
         b.add_force_effect(l);
     }
+    if !frictions.is_empty() {
+        b.add_force_effect(Arc::new(HingeFrictions {
+            elements: frictions,
+        }));
+    }
     if p.cable_loop {
         let span = |k: usize| {
-            if k == 0 {
-                p.root_lock_angle - p.root_stowed_angle
-            } else {
-                p.panel_lock_angle - p.panel_stowed_angle
-            }
+            let h = p.hinge(k);
+            h.lock_angle - h.stowed_angle
         };
         let loops = (0..n - 1)
             .map(|k| CableLoop {

@@ -1,19 +1,23 @@
 //! PanelLock as a co-simulation model: ports in, the native scene inside, outputs after each step.
 
+use super::array::{HingeTable, PanelTable};
+use super::array_file::read_array;
 use super::ports::*;
 use super::{PanelLock, PanelLockParams};
 use crate::integrator::Stats;
 use crate::scene::bytes::{ByteReader, ByteWriter};
 use crate::scene::clock::Clock;
 use crate::scene::port::ValueRef;
+use crate::scene::scene_file::SceneTable;
 use crate::scene::store::PortStore;
 use crate::scene::view::Snapshot;
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use crate::state::State;
 
 /// Version of the serialized FMU state (2: the clock, start time and elapsed time, in
-/// place of the time, and the solver counters; version 1 states start at 0 s and count from 0).
-const STATE_FORMAT: u32 = 2;
+/// place of the time, and the solver counters; version 1 states start at 0 s and count from 0;
+/// 3: the digest of the array's per-hinge and per-panel values, checked on restore).
+const STATE_FORMAT: u32 = 3;
 
 /// A new PanelLock instance at default parameters.
 pub fn create() -> Box<dyn CoSimModel> {
@@ -27,6 +31,8 @@ pub struct PanelLockModel {
     scene: Option<PanelLock>,
     /// Start time and time since the start (the scene's own time axis begins at 0).
     clock: Clock,
+    /// The scene file's `[[hinge]]` and `[[panel]]` tables (empty: the globals everywhere).
+    tables: (Vec<HingeTable>, Vec<PanelTable>),
     log: Vec<LogRecord>,
 }
 
@@ -43,6 +49,7 @@ impl PanelLockModel {
             ports: PortStore::new(info()),
             scene: None,
             clock: Clock::default(),
+            tables: (Vec::new(), Vec::new()),
             log: Vec::new(),
         }
     }
@@ -61,6 +68,8 @@ impl PanelLockModel {
             flexible_panels: self.ports.get_boolean(bvr::FLEXIBLE_PANELS)?,
             n_modes: self.ports.get_integer(ivr::N_MODES)?.max(0) as usize,
             load_frame: load_frame_of(self.ports.get_integer(ivr::LOAD_FRAME)?),
+            hinge_tables: self.tables.0.clone(),
+            panel_tables: self.tables.1.clone(),
             ..PanelLockParams::default()
         };
         for (i, rp) in REAL_PARAMS.iter().enumerate() {
@@ -277,6 +286,7 @@ impl CoSimModel for PanelLockModel {
             None => w.bool(false),
             Some(s) => {
                 w.bool(true);
+                w.u64(s.params.array_digest());
                 let st = &s.sim.state;
                 w.f64(st.t);
                 w.f64s(&st.q);
@@ -308,9 +318,22 @@ impl CoSimModel for PanelLockModel {
             ports,
             scene: None,
             clock,
+            tables: self.tables.clone(),
             log: Vec::new(),
         };
         if r.bool("initialized scene")? {
+            let digest = if version >= 3 {
+                Some(r.u64("array digest")?)
+            } else {
+                None
+            };
+            let params = restored.params()?;
+            if let Some(d) = digest.filter(|d| *d != params.array_digest()) {
+                return Err(ModelError::BadState(format!(
+                    "the state was taken from an array with other per-hinge or per-panel values (digest {d:016x}, this instance {:016x}): a state restores only into an instance made with the same [[hinge]] and [[panel]] tables of its scene file (and the same n_panels)",
+                    params.array_digest()
+                )));
+            }
             let t = r.finite_f64("state time")?;
             if !crate::scene::clock::same_time(t, restored.clock.elapsed()) {
                 return Err(ModelError::BadState(format!(
@@ -338,7 +361,7 @@ impl CoSimModel for PanelLockModel {
             } else {
                 None
             };
-            let mut scene = PanelLock::new(restored.params()?).map_err(ModelError::BadState)?;
+            let mut scene = PanelLock::new(params).map_err(ModelError::BadState)?;
             if inputs.len() != scene.sim.system.inputs.len() {
                 return Err(ModelError::BadState(
                     "serialized PanelLock state has the wrong number of inputs".into(),
@@ -359,6 +382,7 @@ impl CoSimModel for PanelLockModel {
         Ok(())
     }
 
+    /// Back to a fresh instance, tables included (the FMI wrapper applies the scene file again).
     fn reset(&mut self) {
         *self = PanelLockModel::new();
     }
@@ -374,5 +398,19 @@ impl CoSimModel for PanelLockModel {
 
     fn solver_stats(&self) -> Option<Stats> {
         self.scene.as_ref().map(|s| s.sim.stats())
+    }
+
+    /// Reads the scene file's `[[hinge]]` and `[[panel]]` tables and checks them with the
+    /// parameters set so far (again at initialization, with the importer's values).
+    fn set_tables(&mut self, tables: &[SceneTable], origin: &str) -> Result<(), String> {
+        if self.ports.is_initialized() {
+            return Err(format!(
+                "{origin}: the array's tables are set before initialization only"
+            ));
+        }
+        self.tables = read_array(tables, origin)?;
+        self.params()
+            .map(|_| ())
+            .map_err(|e| format!("{origin}: {e}"))
     }
 }

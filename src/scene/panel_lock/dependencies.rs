@@ -22,7 +22,7 @@ use super::ports::SATELLITE_LOAD_INPUTS;
 use crate::scene::port::{ModelInfo, PortSpec};
 
 /// Knowns that do not act on the initial (stowed, resting) state.
-const MOTION_ONLY: [&str; 18] = [
+const MOTION_ONLY: [&str; 19] = [
     "integrator",
     "load_frame",
     "contact_law",
@@ -31,6 +31,7 @@ const MOTION_ONLY: [&str; 18] = [
     "atol",
     "h_max",
     "hinge_damping",
+    "hinge_friction_torque",
     "stop_damping",
     "cam_radius",
     "groove_width",

@@ -54,6 +54,8 @@
 //! contact-only 2.15 suggests), so the tuning is done on the latch geometry, the panel
 //! properties stay at physical values. The rigid defaults keep the 2 mm play (rigid tests).
 
+pub mod array;
+mod array_file;
 mod build;
 mod cosim;
 mod demo;
@@ -68,6 +70,7 @@ pub mod study;
 pub mod trace;
 mod view;
 
+pub use array::{HingeTable, HingeValues, PanelTable, PanelValues};
 pub use build::{Layout, build};
 pub use cosim::{PanelLockModel, create};
 pub use demo::run_demo;

@@ -58,6 +58,15 @@ pub struct PanelLockParams {
     pub panel_spring_stiffness: f64,
     /// Viscous hinge damping [N m s/rad] (friction of the hinge shaft); the effect is off at 0.
     pub hinge_damping: f64,
+    /// Coulomb friction torque of every hinge shaft [N m] (`crate::effect::hinge_friction`,
+    /// regularized over a slip rate of 1e-4 rad/s); the effect is assembled only when some hinge
+    /// has friction.
+    pub hinge_friction_torque: f64,
+    /// Per-hinge values over the globals (scene-file `[[hinge]]` tables, hinge 0 = root first;
+    /// hinges beyond them use the globals), see [`super::array`].
+    pub hinge_tables: Vec<super::array::HingeTable>,
+    /// Per-panel values over the globals (scene-file `[[panel]]` tables, panel 1 first).
+    pub panel_tables: Vec<super::array::PanelTable>,
     /// Lock angles [rad]: root hinge and panel hinges (deployment angle at the groove centre).
     pub root_lock_angle: f64,
     pub panel_lock_angle: f64,
@@ -145,6 +154,9 @@ impl Default for PanelLockParams {
             panel_spring_preload: 0.4,
             panel_spring_stiffness: 0.05,
             hinge_damping: 0.02,
+            hinge_friction_torque: 0.0,
+            hinge_tables: Vec::new(),
+            panel_tables: Vec::new(),
             root_lock_angle: std::f64::consts::FRAC_PI_2,
             panel_lock_angle: std::f64::consts::PI,
             root_stowed_angle: 0.0,
@@ -379,13 +391,14 @@ impl PanelLockParams {
 
     /// The parameters [`Self::validate`] wants finite and >= 0, at most [`ENVELOPE_DECADES`]
     /// above their default.
-    fn non_negative_values(&self) -> [(&'static str, f64); 9] {
+    fn non_negative_values(&self) -> [(&'static str, f64); 10] {
         [
             ("root_spring_preload", self.root_spring_preload),
             ("root_spring_stiffness", self.root_spring_stiffness),
             ("panel_spring_preload", self.panel_spring_preload),
             ("panel_spring_stiffness", self.panel_spring_stiffness),
             ("hinge_damping", self.hinge_damping),
+            ("hinge_friction_torque", self.hinge_friction_torque),
             ("cable_stiffness", self.cable_stiffness),
             ("cable_damping", self.cable_damping),
             ("stop_stiffness", self.stop_stiffness),
@@ -467,6 +480,7 @@ impl PanelLockParams {
             );
         }
         self.validate_deployment_speed()?;
+        self.validate_array()?;
         self.validate_flexible()?;
         self.solver_settings().validate().map(|_| ())
     }

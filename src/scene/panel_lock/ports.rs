@@ -310,6 +310,12 @@ pub static REAL_PARAMS: &[RealParam] = &[
         set: |p, v| p.settings.h_max = v,
         unit_note: None,
     },
+    real_param!(
+        "hinge_friction_torque",
+        hinge_friction_torque,
+        Some("N.m"),
+        "Coulomb friction torque of every hinge shaft, opposing the hinge rate (regularized over a slip rate of 1e-4 rad/s); 0: no friction effect. Per hinge: [[hinge]] friction_torque in the scene file."
+    ),
 ];
 
 /// Value reference of the motor-torque input (after the real parameters).
@@ -770,7 +776,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{6f0e2a51-8c3d-4b7e-9a14-2d5c7f3b9e60}",
+            guid: "{efa16639-02fb-4a25-af14-b17f9ee31a7a}",
             description: "Deployment and lock-up of a solar array: yoke and panels joined by hinge bodies with preloaded torsion springs, pin/groove latches with a selectable contact law, stow stops, optional cable loops; rigid panels or flexible (Craig-Bampton modal) panels.",
             ports,
             default_stop_time: 60.0,

@@ -59,12 +59,14 @@ impl PanelLock {
             .enumerate()
         {
             let hinge = kin(self.layout.hinges[k]);
+            // the yoke is drawn as wide as the first panel
+            let pv = p.panel(k.max(1));
             shapes.push(Shape {
                 name: format!("hinge{k}"),
                 role: Role::Hinge,
                 geometry: Geometry::Cylinder {
                     radius: hinge_radius,
-                    length: p.panel_width,
+                    length: pv.width,
                 },
                 pose: Pose::from_matrix(hinge.r, &hinge.rot),
             });
@@ -72,14 +74,11 @@ impl PanelLock {
             let flexible = k > 0 && p.flexible_panels;
             let (size, centre) = if flexible {
                 (
-                    Vec3::new(len, p.panel_width, p.panel_thickness),
-                    Vec3::new(0.5 * len, 0.5 * p.panel_width, 0.0),
+                    Vec3::new(len, pv.width, pv.thickness),
+                    Vec3::new(0.5 * len, 0.5 * pv.width, 0.0),
                 )
             } else {
-                (
-                    Vec3::new(len, p.panel_thickness, p.panel_width),
-                    Vec3::zeros(),
-                )
+                (Vec3::new(len, pv.thickness, pv.width), Vec3::zeros())
             };
             let (name, role) = if k == 0 {
                 ("yoke".to_string(), Role::Yoke)
