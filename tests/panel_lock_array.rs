@@ -423,7 +423,11 @@ fn every_bad_table_is_refused_with_its_message_and_line() {
         ),
         (
             "[[hinge]]\nfriction_torque = -0.1\n".into(),
-            "`friction_torque` = -0.1 [N m] is outside the range of hinge_friction_torque, [0, inf]",
+            "`friction_torque` = -0.1 [N m] is outside the range of hinge_friction_torque, [0, 1]",
+        ),
+        (
+            "[[hinge]]\nfriction_torque = 1.5\n".into(),
+            "`friction_torque` = 1.5 [N m] is outside the range of hinge_friction_torque, [0, 1]",
         ),
         (
             "[[hinge]]\n[[hinge]]\nlock_angle = 3.5\n".into(),

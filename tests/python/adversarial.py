@@ -73,9 +73,14 @@ BASE_STATES = {
 }
 # Findings deep in the physics that stay open (docs/adversarial_harness.md, with reproducers):
 # model, violation class, a pattern of the finding's text. test_adversarial.py accepts these
-# and nothing else. Empty since the last five were fixed (docs/adversarial_harness.md): a new
-# entry needs a reproducer and a test that it still fails, as the fixed ones had.
-KNOWN_FAILURES = []
+# and nothing else. Each entry has a reproducer and a test that it still fails
+# (test_known_failures_still_fail), so a fix shows up and the entry goes.
+KNOWN_FAILURES = [
+    # DOPRI5 on the two-hook turn-over with rope_damping 1e9 N s, 200 kg/m and drag: the stiff
+    # rope is refused, but only after 12-16 s CPU (seed 25, case 5393; docs/adversarial_harness.md)
+    {"model": "RopeBlock", "cls": "hang", "case": 5393,
+     "pattern": r"rope_damping=1000000000\.0.*integrator=3.*rope_mass_per_length=200\.0.*scenario=1"},
+]
 
 
 def known_failure(model, cls, text):

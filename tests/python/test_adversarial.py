@@ -71,6 +71,16 @@ def test_seeded_slice_has_no_crash_hang_or_nan_with_ok(tmp_path, capsys):
         print(f"\n[adversarial slice] {A.counts_line(s)} in {s['seconds']} s")
 
 
+@pytest.mark.parametrize("known", A.KNOWN_FAILURES, ids=lambda k: f"{k['model']}-{k['case']}")
+def test_known_failures_still_fail(known, tmp_path):
+    """Each accepted finding is reproduced alone (seed SEED, its case): when it stops failing
+    this test fails, and the entry must go from KNOWN_FAILURES."""
+    s = harness(tmp_path, "--seed", SEED, "--first", known["case"], "--count", 1, "--workers", 1,
+                "--cpu-limit", CPU_LIMIT)
+    found = [(cls, text) for f in s["findings"] for cls, text in f["violations"]]
+    assert found and all(A.known_failure(known["model"], cls, text) for cls, text in found), found
+
+
 @pytest.mark.parametrize("model", A.MODELS)
 def test_every_field_of_the_state_format_is_forged(model, tmp_path, models):
     m = models[model]

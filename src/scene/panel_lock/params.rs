@@ -433,6 +433,12 @@ impl PanelLockParams {
         for ((name, v), (_, d)) in non_negative.iter().zip(d.non_negative_values()) {
             envelope(name, *v, d, false)?;
         }
+        if self.hinge_friction_torque > MAX_HINGE_FRICTION_TORQUE {
+            return Err(format!(
+                "hinge_friction_torque = {} N m is above {MAX_HINGE_FRICTION_TORQUE} N m (friction above the deployment springs' preloads keeps the array stowed, and its regularized slope makes the equations stiff beyond what the integrators resolve)",
+                self.hinge_friction_torque
+            ));
+        }
         if self.latches {
             self.validate_latch()?;
         }
@@ -618,6 +624,14 @@ impl PanelLockParams {
 /// name the springs and lengths ([`PanelLockParams::fast_deployment_note`]).
 pub const FAST_DEPLOYMENT_FACTOR: f64 = 100.0;
 
+/// Largest hinge Coulomb friction torque [N m] [`PanelLockParams::validate`] accepts (the
+/// default 0 gives the decades of the envelope nothing to scale): twice the larger default
+/// spring preload (0.6 N m) would keep the default array stowed, and above it the friction
+/// law's viscous slope `T_f / w_s` (1e4 N m s/rad at 1 N m) outgrows the stiffest hinge damping
+/// the envelope allows (20 N m s/rad) by 500 times, so explicit integration stalls without a
+/// message that could name the parameter (found by the adversarial harness at 1e300 N m).
+pub const MAX_HINGE_FRICTION_TORQUE: f64 = 1.0;
+
 /// Largest deployment tip speed [m/s] [`PanelLockParams::validate`] accepts (upper estimate,
 /// [`PanelLockParams::deployment_tip_speeds`]): 2 % of the elastic wave speed of aluminium
 /// (about 5 km/s), where a quasi-static contact law such as Hertz with Lankarani-Nikravesh
@@ -642,6 +656,9 @@ pub fn declared_range(name: &str) -> Option<DeclaredRange> {
         // restitution: also <= 1
         let hi = if name == "restitution" { 1.0 } else { v * k };
         return Some(closed(Some(v / k), Some(hi)));
+    }
+    if name == "hinge_friction_torque" {
+        return Some(closed(Some(0.0), Some(MAX_HINGE_FRICTION_TORQUE)));
     }
     if let Some((_, v)) = d.non_negative_values().iter().find(|(n, _)| *n == name) {
         return Some(closed(Some(0.0), (*v > 0.0).then_some(v * k)));
