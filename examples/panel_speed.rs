@@ -2,7 +2,8 @@
 //! lock force and thread CPU time (best of N) of one setting. Reported, never asserted.
 //!
 //! `cargo run --release --example panel_speed -- KIND RTOL [step|unit|default] [REPEATS]`
-//! (KIND: gen-alpha, bdf, dopri5; atol = rtol / 100, h_max 0.02 s as in `bench_core`).
+//! (KIND: gen-alpha, bdf, dopri5; atol = rtol / 100, h_max 0.02 s as in `bench_core`; the
+//! environment variables `T_END` [s] and `H_MAX` [s] change the run's length and h_max).
 
 use mbcosim::integrator::{IntegratorKind, Settings};
 use mbcosim::scene::panel_lock::{ErrorControl, PanelLock, PanelLockParams};
@@ -41,12 +42,15 @@ fn main() {
     let t_end: f64 = std::env::var("T_END")
         .ok()
         .map_or(60.0, |s| s.parse().expect("T_END"));
+    let h_max: f64 = std::env::var("H_MAX")
+        .ok()
+        .map_or(0.02, |s| s.parse().expect("H_MAX"));
     let p = PanelLockParams {
         integrator: kind,
         settings: Settings {
             rtol,
             atol: rtol * 1e-2,
-            h_max: 0.02,
+            h_max,
             ..Settings::default()
         },
         error_control: control,
