@@ -105,7 +105,7 @@ impl Instance {
     /// `fmi3GetInt64`: enumerations.
     pub fn get_int64(&mut self, vrs: &[u32], out: &mut [i64]) -> Outcome {
         let refs = self.vrs2(Type3::Enumeration, vrs)?;
-        let mut values = vec![0 as c_int; refs.len()];
+        let mut values: Vec<c_int> = vec![0; refs.len()];
         let status = self.get_integers(&refs, &mut values)?;
         for (o, v) in out.iter_mut().zip(values) {
             *o = i64::from(v);
@@ -116,7 +116,7 @@ impl Instance {
     /// `fmi3GetBoolean`: 1 or 0.
     pub fn get_boolean3(&mut self, vrs: &[u32], out: &mut [u8]) -> Outcome {
         let refs = self.vrs2(Type3::Boolean, vrs)?;
-        let mut values = vec![0 as c_int; refs.len()];
+        let mut values: Vec<c_int> = vec![0; refs.len()];
         let status = self.get_booleans(&refs, &mut values)?;
         for (o, v) in out.iter_mut().zip(values) {
             *o = u8::from(v != 0);

@@ -92,7 +92,7 @@ pub fn write(info: &ModelInfo) -> Result<String, String> {
         }
     }
     // the independent variable is in seconds
-    units.insert("s", units::parse("s").map_err(|e| e.to_string())?);
+    units.insert("s", units::parse("s")?);
     let mut enums = BTreeMap::new();
     for p in &info.ports {
         if let PortType::Enumeration {

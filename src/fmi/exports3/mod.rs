@@ -8,6 +8,9 @@
 //!
 //! [`Instance`]: super::instance::Instance
 
+// the argument lists are the standard's
+#![allow(clippy::too_many_arguments)]
+
 mod common;
 mod cosim;
 mod fmu_state;
