@@ -28,18 +28,42 @@ fn checked_in_descriptions_match_the_tables() {
     );
 }
 
+/// The FMI 3.0 descriptions under `modelDescription/fmi3/` (docs/fmi3.md) must equal what the
+/// same tables produce.
+#[test]
+fn checked_in_fmi3_descriptions_match_the_tables() {
+    let mut problems = Vec::new();
+    for e in registry() {
+        if let Err(msg) = package::checked_description3(&e, &dir()) {
+            problems.push(msg);
+        }
+    }
+    assert!(
+        problems.is_empty(),
+        "{}\n(regenerate with `{}`)",
+        problems.join("\n"),
+        package::REGENERATE
+    );
+}
+
 #[test]
 fn no_description_without_a_registered_model() {
     let known: Vec<String> = registry()
         .iter()
         .map(|e| format!("{}.xml", (e.info)().identifier))
         .collect();
-    for f in std::fs::read_dir(dir()).unwrap() {
-        let name = f.unwrap().file_name().to_string_lossy().into_owned();
-        assert!(
-            known.contains(&name),
-            "modelDescription/{name} belongs to no registered model"
-        );
+    for (folder, sub) in [(dir(), ""), (dir().join("fmi3"), "fmi3/")] {
+        for f in std::fs::read_dir(folder).unwrap() {
+            let f = f.unwrap();
+            let name = f.file_name().to_string_lossy().into_owned();
+            if sub.is_empty() && name == "fmi3" && f.path().is_dir() {
+                continue;
+            }
+            assert!(
+                known.contains(&name),
+                "modelDescription/{sub}{name} belongs to no registered model"
+            );
+        }
     }
 }
 

@@ -175,18 +175,52 @@ pub fn resource_folder(location: Outcome<&str>) -> Result<(PathBuf, Option<Strin
             uri.escape_debug()
         ));
     };
+    existing_folder(path, "fmuResourceLocation", uri)
+}
+
+/// FMI 3.0's `resourcePath`: an absolute path of the resources folder, normally with a trailing
+/// separator (a `file:` URI, as FMI 2.0 gives, is accepted too); otherwise as
+/// [`resource_folder`].
+pub fn resource_folder3(location: Outcome<&str>) -> Result<(PathBuf, Option<String>), String> {
+    let text = location?;
+    if text.starts_with("file:") {
+        let path = path_from_file_uri(text).ok_or_else(|| {
+            format!(
+                "resourcePath `{}` is neither an absolute path nor a file:// URI of a local folder",
+                text.escape_debug()
+            )
+        })?;
+        return existing_folder(path, "resourcePath", text);
+    }
+    let path = PathBuf::from(text);
+    if !path.is_absolute() {
+        return Err(format!(
+            "resourcePath `{}` is not an absolute path",
+            text.escape_debug()
+        ));
+    }
+    existing_folder(path, "resourcePath", text)
+}
+
+/// `path` when it is an existing folder; the FMU's root folder is taken to mean its
+/// `resources/` folder, with a note saying so. `what` and `given` name the argument.
+fn existing_folder(
+    path: PathBuf,
+    what: &str,
+    given: &str,
+) -> Result<(PathBuf, Option<String>), String> {
     if !path.is_dir() {
         return Err(format!(
-            "fmuResourceLocation `{}` names {}, which is not an existing folder",
-            uri.escape_debug(),
+            "{what} `{}` names {}, which is not an existing folder",
+            given.escape_debug(),
             path.display()
         ));
     }
     let inner = path.join("resources");
     if path.join("modelDescription.xml").is_file() && inner.is_dir() {
         let note = format!(
-            "fmuResourceLocation `{}` is the FMU's root folder, not its resources folder; using {}",
-            uri.escape_debug(),
+            "{what} `{}` is the FMU's root folder, not its resources folder; using {}",
+            given.escape_debug(),
             inner.display()
         );
         return Ok((inner, Some(note)));

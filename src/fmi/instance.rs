@@ -685,6 +685,9 @@ fn unavailable_status(kind: fmi2StatusKind) -> String {
     )
 }
 
+#[path = "instance3.rs"]
+mod fmi3;
+
 #[cfg(test)]
 #[path = "instance_tests.rs"]
 mod tests;

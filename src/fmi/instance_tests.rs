@@ -713,3 +713,120 @@ fn panel_lock_logs_solver_statistics_at_terminate() {
     assert_eq!(unsafe { fmi2Terminate(h.c) }, fmi2OK);
     assert!(h.take_log().iter().all(|m| m.1 != Category::Solver));
 }
+
+/// The FMI 3.0 functions drive the same instance: typed value references, `time`, the step's
+/// output flags, refusals with messages, and a panic that becomes `fmi3Fatal`.
+#[test]
+fn fmi3_functions_drive_the_same_instance() {
+    use crate::fmi::exports3::*;
+    use crate::fmi::types3::*;
+    use crate::fmi::variables3::{TIME_VR, VR_BLOCK};
+    let h = H::probe();
+    let (mode, label, panic) = (VR_BLOCK, 3 * VR_BLOCK, 2 * VR_BLOCK + PANIC_NOW);
+    let vals = [2.0, 3.0];
+    assert_eq!(
+        unsafe { fmi3SetFloat64(h.c, [MASS, FORCE].as_ptr(), 2, vals.as_ptr(), 2) },
+        fmi3OK
+    );
+    assert_eq!(unsafe { fmi3SetInt64(h.c, &mode, 1, &2, 1) }, fmi3OK);
+    let text = CString::new("hi").unwrap();
+    let p = text.as_ptr();
+    assert_eq!(unsafe { fmi3SetString(h.c, &label, 1, &p, 1) }, fmi3OK);
+    assert_eq!(
+        unsafe { fmi3EnterInitializationMode(h.c, 0, 0.0, 1.0, 1, 10.0) },
+        fmi3OK
+    );
+    let mut t = f64::NAN;
+    assert_eq!(
+        unsafe { fmi3GetFloat64(h.c, &TIME_VR, 1, &mut t, 1) },
+        fmi3OK
+    );
+    assert_eq!(t, 1.0, "time is the start time in initialization mode");
+    assert_eq!(unsafe { fmi3ExitInitializationMode(h.c) }, fmi3OK);
+    let (mut ev, mut term, mut early, mut last) = (9u8, 9u8, 9u8, f64::NAN);
+    let step = |t0: f64, h0: f64, ev: &mut u8, term: &mut u8, early: &mut u8, last: &mut f64| unsafe {
+        fmi3DoStep(h.c, t0, h0, 1, ev, term, early, last)
+    };
+    assert_eq!(
+        step(1.0, 0.5, &mut ev, &mut term, &mut early, &mut last),
+        fmi3OK
+    );
+    assert_eq!((ev, term, early, last), (0, 0, 0, 1.5));
+    let mut out = [0.0; 2];
+    assert_eq!(
+        unsafe { fmi3GetFloat64(h.c, [X, TIME_VR].as_ptr(), 2, out.as_mut_ptr(), 2) },
+        fmi3OK
+    );
+    assert_eq!(out, [7.5, 1.5]);
+    let mut m = 0i64;
+    assert_eq!(unsafe { fmi3GetInt64(h.c, &mode, 1, &mut m, 1) }, fmi3OK);
+    assert_eq!(m, 2);
+    let mut s: fmi3String = null();
+    assert_eq!(unsafe { fmi3GetString(h.c, &label, 1, &mut s, 1) }, fmi3OK);
+    assert_eq!(
+        unsafe { std::ffi::CStr::from_ptr(s) }.to_str().unwrap(),
+        "hi"
+    );
+    assert!(h.take_log().iter().all(|m| m.0 < fmi2Discard));
+
+    // refusals: wrong family, unknown reference, mismatched lengths, an unused type
+    let mut i = 0i32;
+    assert_eq!(unsafe { fmi3GetInt32(h.c, &mode, 1, &mut i, 1) }, fmi3Error);
+    let e = h.last_error();
+    assert!(
+        e.contains("fmi3GetInt32") && e.contains("Enumeration"),
+        "{e}"
+    );
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+    assert_eq!(
+        unsafe { fmi3GetFloat64(h.c, &TIME_VR, 1, &mut t, 1) },
+        fmi3Error
+    );
+    assert!(h.last_error().contains("illegal call sequence"));
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+    assert_eq!(unsafe { fmi3SetFloat64(h.c, &77, 1, &1.0, 1) }, fmi3Error);
+    assert!(h.last_error().contains("unknown value reference 77"));
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+    assert_eq!(
+        unsafe { fmi3SetFloat64(h.c, &TIME_VR, 1, &1.0, 1) },
+        fmi3Error
+    );
+    assert!(h.last_error().contains("cannot be set"));
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+    assert_eq!(unsafe { fmi3SetFloat64(h.c, &MASS, 1, &1.0, 2) }, fmi3Error);
+    assert!(h.last_error().contains("nValues = 2"));
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+    assert_eq!(
+        unsafe { fmi3SetInt64(h.c, &mode, 1, &(1 << 40), 1) },
+        fmi3Error
+    );
+    assert!(h.last_error().contains("enumeration items"));
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+    let mut i8v = 0i8;
+    assert_eq!(
+        unsafe { fmi3GetInt8(h.c, null(), 0, &mut i8v, 0) },
+        fmi3Error,
+        "illegal in instantiated"
+    );
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+    assert_eq!(unsafe { fmi3SetInt8(h.c, null(), 0, null(), 0) }, fmi3OK);
+    assert_eq!(unsafe { fmi3SetInt8(h.c, &5, 1, &1, 1) }, fmi3Error);
+    assert!(h.last_error().contains("no Int8 variables"));
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+    assert_eq!(unsafe { fmi3EnterEventMode(h.c) }, fmi3Error);
+    assert!(h.last_error().contains("not supported"));
+
+    // a panic in the model becomes fmi3Fatal, and only freeing is allowed then
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+    assert_eq!(
+        unsafe { fmi3EnterInitializationMode(h.c, 0, 0.0, 0.0, 0, 0.0) },
+        fmi3OK
+    );
+    assert_eq!(unsafe { fmi3ExitInitializationMode(h.c) }, fmi3OK);
+    assert_eq!(unsafe { fmi3SetBoolean(h.c, &panic, 1, &1, 1) }, fmi3OK);
+    assert_eq!(
+        step(0.0, 0.1, &mut ev, &mut term, &mut early, &mut last),
+        fmi3Fatal
+    );
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3Error);
+}

@@ -108,6 +108,17 @@ enum Sink {
         ),
         Env,
     ),
+    /// The importer's FMI 3.0 callback (`fmi3LogMessageCallback`: not variadic, no instance
+    /// name).
+    Importer3(
+        unsafe extern "C" fn(
+            super::types3::fmi3InstanceEnvironment,
+            super::types3::fmi3Status,
+            super::types3::fmi3String,
+            super::types3::fmi3String,
+        ),
+        Env,
+    ),
     /// No callback: stderr, for discard, error and fatal messages only.
     Stderr,
     /// Collected in memory (unit tests).
@@ -138,6 +149,25 @@ impl Logger {
     ) -> Self {
         let sink = match callback {
             Some(f) => Sink::Importer(f, Env(env)),
+            None => Sink::Stderr,
+        };
+        Self {
+            sink,
+            name: to_cstring(name),
+            logging_on,
+            enabled: [true; CATEGORIES.len()],
+        }
+    }
+
+    /// A logger for an FMI 3.0 instance `name`; `callback` may be `None`.
+    pub fn new3(
+        callback: super::types3::fmi3LogMessageCallback,
+        env: super::types3::fmi3InstanceEnvironment,
+        name: &str,
+        logging_on: bool,
+    ) -> Self {
+        let sink = match callback {
+            Some(f) => Sink::Importer3(f, Env(env)),
             None => Sink::Stderr,
         };
         Self {
@@ -216,6 +246,11 @@ impl Logger {
                         msg.as_ptr(),
                     )
                 }
+            }
+            Sink::Importer3(f, env) => {
+                let msg = to_cstring(message);
+                // SAFETY: as above; the FMI 3.0 logger takes the message as plain text.
+                unsafe { f(env.0, status, category.name().as_ptr(), msg.as_ptr()) }
             }
             Sink::Stderr => {
                 eprintln!(

@@ -1,4 +1,8 @@
-//! FMI 2.0 Co-Simulation wrapper around any [`crate::scene::CoSimModel`].
+//! FMI 2.0 and FMI 3.0 Co-Simulation wrapper around any [`crate::scene::CoSimModel`].
+//!
+//! FMI 3.0 (docs/fmi3.md) drives the same [`instance::Instance`], state machine and variable
+//! table: [`types3`], [`variables3`] (FMI 3.0 value references), `exports3` (every `fmi3*`
+//! function), [`model_description3`], and [`package::pack3`] for `dist/fmi3/<Model>.fmu`.
 //!
 //! The only module with `unsafe` code and the C ABI. One generic wrapper serves every model in
 //! [`crate::scene::registry()`]: `fmi2Instantiate` picks the model by GUID, and the same shared
@@ -16,16 +20,21 @@
 pub mod boundary;
 pub mod documentation;
 mod exports;
+mod exports3;
 pub mod instance;
 pub mod logger;
 pub mod machine;
 pub mod model_description;
+pub mod model_description3;
 pub mod package;
 pub mod sketch;
 pub mod snapshot;
 #[cfg(test)]
 mod test_probe;
 pub mod types;
+pub mod types3;
 pub mod units;
+pub mod variables3;
 
 pub use exports::*;
+pub use exports3::*;

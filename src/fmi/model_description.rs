@@ -35,41 +35,41 @@ pub fn fmt_real(v: f64) -> String {
     s.strip_suffix(".0").map(str::to_string).unwrap_or(s)
 }
 
-fn fmt_bool(b: bool) -> &'static str {
+pub(crate) fn fmt_bool(b: bool) -> &'static str {
     if b { "true" } else { "false" }
 }
 
-type Attrs = Vec<(&'static str, String)>;
+pub(crate) type Attrs = Vec<(&'static str, String)>;
 
-struct Xml {
-    w: Writer<Vec<u8>>,
+pub(crate) struct Xml {
+    pub(crate) w: Writer<Vec<u8>>,
 }
 
 impl Xml {
-    fn start(&mut self, name: &str, attrs: &[(&str, String)]) -> io::Result<()> {
+    pub(crate) fn start(&mut self, name: &str, attrs: &[(&str, String)]) -> io::Result<()> {
         let mut e = BytesStart::new(name);
         for (k, v) in attrs {
             e.push_attribute((*k, v.as_str()));
         }
         self.w.write_event(Event::Start(e))
     }
-    fn empty(&mut self, name: &str, attrs: &[(&str, String)]) -> io::Result<()> {
+    pub(crate) fn empty(&mut self, name: &str, attrs: &[(&str, String)]) -> io::Result<()> {
         let mut e = BytesStart::new(name);
         for (k, v) in attrs {
             e.push_attribute((*k, v.as_str()));
         }
         self.w.write_event(Event::Empty(e))
     }
-    fn end(&mut self, name: &str) -> io::Result<()> {
+    pub(crate) fn end(&mut self, name: &str) -> io::Result<()> {
         self.w.write_event(Event::End(BytesEnd::new(name)))
     }
-    fn comment(&mut self, text: &str) -> io::Result<()> {
+    pub(crate) fn comment(&mut self, text: &str) -> io::Result<()> {
         self.w.write_event(Event::Comment(BytesText::new(text)))
     }
 }
 
 /// The `initial` attribute the standard assumes when none is written.
-fn default_initial(p: &PortSpec) -> Option<&'static str> {
+pub(crate) fn default_initial(p: &PortSpec) -> Option<&'static str> {
     match (p.causality, p.variability) {
         (_, Variability::Constant) => Some("exact"),
         (Causality::Parameter, _) => Some("exact"),
@@ -79,7 +79,7 @@ fn default_initial(p: &PortSpec) -> Option<&'static str> {
 }
 
 /// The `initial` attribute this port needs written (`None` when the default applies).
-fn initial_attr(p: &PortSpec) -> Option<&'static str> {
+pub(crate) fn initial_attr(p: &PortSpec) -> Option<&'static str> {
     let wanted = match (p.causality, p.variability, p.ty.has_start()) {
         (Causality::Input, _, _) => None,
         (Causality::Parameter, _, _) | (_, Variability::Constant, _) => Some("exact"),

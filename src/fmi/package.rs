@@ -1,10 +1,12 @@
 //! Builds `.fmu` archives: one zip per registered model around the same shared library.
 //!
-//! Layout of `<Identifier>.fmu`:
+//! Layout of `<Identifier>.fmu` (FMI 2.0, [`pack`]) and `fmi3/<Identifier>.fmu` (FMI 3.0,
+//! [`pack3`], its description from `modelDescription/fmi3/`):
 //!
 //! ```text
 //! modelDescription.xml              the checked-in modelDescription/<Identifier>.xml
 //! binaries/linux64/<Identifier>.so  the crate's cdylib, renamed (no `lib` prefix)
+//!                                   (FMI 3.0: binaries/x86_64-linux/<Identifier>.so)
 //! documentation/index.html          generated from the variable table
 //! resources/scene.toml               the default scene (parameters), read at instantiation
 //! resources/...                     the model's data files, when it has any
@@ -21,7 +23,7 @@ use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
 
-use super::{documentation, model_description};
+use super::{documentation, model_description, model_description3};
 use crate::scene::ModelEntry;
 
 /// Where the checked-in description of `identifier` lives under `dir` (`modelDescription/`).
@@ -56,8 +58,52 @@ pub fn pack(
     descriptions: &Path,
     out_dir: &Path,
 ) -> Result<PathBuf, String> {
-    let info = (entry.info)();
     let xml = checked_description(entry, descriptions)?;
+    write_fmu(entry, cdylib, xml, "linux64", out_dir)
+}
+
+/// Where the checked-in FMI 3.0 description of `identifier` lives under `dir`
+/// (`modelDescription/fmi3/`).
+pub fn description_path3(dir: &Path, identifier: &str) -> PathBuf {
+    dir.join("fmi3").join(format!("{identifier}.xml"))
+}
+
+/// Reads the checked-in FMI 3.0 description of `entry` and checks that it matches the table.
+pub fn checked_description3(entry: &ModelEntry, descriptions: &Path) -> Result<String, String> {
+    let info = (entry.info)();
+    let path = description_path3(descriptions, info.identifier);
+    let on_disk =
+        fs::read_to_string(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    if on_disk != model_description3::write(info)? {
+        return Err(format!(
+            "{} differs from the variable table of {}; regenerate it with `{REGENERATE}` (and change the GUID if the variables changed)",
+            path.display(),
+            info.identifier
+        ));
+    }
+    Ok(on_disk)
+}
+
+/// Writes the FMI 3.0 FMU `<out_dir>/<Identifier>.fmu` for `entry` (the same library, under the
+/// FMI 3.0 platform tuple `binaries/x86_64-linux/`); returns its path.
+pub fn pack3(
+    entry: &ModelEntry,
+    cdylib: &Path,
+    descriptions: &Path,
+    out_dir: &Path,
+) -> Result<PathBuf, String> {
+    let xml = checked_description3(entry, descriptions)?;
+    write_fmu(entry, cdylib, xml, "x86_64-linux", out_dir)
+}
+
+fn write_fmu(
+    entry: &ModelEntry,
+    cdylib: &Path,
+    xml: String,
+    platform: &str,
+    out_dir: &Path,
+) -> Result<PathBuf, String> {
+    let info = (entry.info)();
     let binary = fs::read(cdylib)
         .map_err(|e| format!("cannot read the shared library {}: {e}", cdylib.display()))?;
     fs::create_dir_all(out_dir).map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
@@ -74,7 +120,7 @@ pub fn pack(
     let mut entries: Vec<(String, Vec<u8>, u32)> = vec![
         ("modelDescription.xml".into(), xml.into_bytes(), 0o644),
         (
-            format!("binaries/linux64/{}.so", info.identifier),
+            format!("binaries/{platform}/{}.so", info.identifier),
             binary,
             0o755,
         ),

@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use mbcosim::fmi::{model_description, package};
+use mbcosim::fmi::{model_description, model_description3, package};
 use mbcosim::scene::{self, native, scene_file};
 
 /// True when `dir` is the root of the mbcosim source tree.
@@ -96,10 +96,15 @@ fn pack_all(what: &str, dist: &Path) -> Result<Vec<PathBuf>, String> {
     let repo = repo_root(what)?;
     let lib = fresh_cdylib(&repo, dist)?;
     let descriptions = repo.join("modelDescription");
-    scene::registry()
-        .iter()
-        .map(|e| package::pack(e, &lib, &descriptions, dist))
-        .collect()
+    let mut packed = Vec::new();
+    for e in scene::registry() {
+        packed.push(package::pack(&e, &lib, &descriptions, dist)?);
+    }
+    // FMI 3.0 FMUs of the same models, from the same library (docs/fmi3.md)
+    for e in scene::registry() {
+        packed.push(package::pack3(&e, &lib, &descriptions, &dist.join("fmi3"))?);
+    }
+    Ok(packed)
 }
 
 #[derive(clap::Args)]
@@ -133,7 +138,13 @@ pub fn model_descriptions(a: &DescriptionArgs) -> Result<(), String> {
         let path = package::description_path(&dir, info.identifier);
         let xml = model_description::write(info)?;
         let scene_path = scenes.join(format!("{}.toml", info.identifier));
-        for (path, text) in [(path, xml), (scene_path, scene_file::render(info))] {
+        let path3 = package::description_path3(&dir, info.identifier);
+        let xml3 = model_description3::write(info)?;
+        for (path, text) in [
+            (path, xml),
+            (path3, xml3),
+            (scene_path, scene_file::render(info)),
+        ] {
             if std::fs::read_to_string(&path).ok().as_deref() == Some(text.as_str()) {
                 continue;
             }

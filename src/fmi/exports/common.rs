@@ -111,18 +111,36 @@ unsafe fn instantiate(
         Ok(g) => g,
         Err(e) => return fail(e),
     };
+    let folder = resource_folder(unsafe { c_str(resource_location, "fmuResourceLocation") });
+    create("fmi2Instantiate", "GUID", logger, guid, folder)
+}
+
+/// The instance of the model whose GUID is `guid`, with its logger and resources folder, or NULL
+/// with the reason logged. Shared by `fmi2Instantiate` and `fmi3InstantiateCoSimulation`: `func`
+/// names the caller in messages, `token` the GUID argument.
+pub(crate) fn create(
+    func: &str,
+    token: &str,
+    logger: Logger,
+    guid: &str,
+    folder: Result<(std::path::PathBuf, Option<String>), String>,
+) -> fmi2Component {
     let Some(entry) = scene::find_by_guid(guid) else {
         let known: Vec<String> = scene::registry()
             .iter()
             .map(|e| format!("{} {}", (e.info)().identifier, (e.info)().guid))
             .collect();
-        return fail(format!(
-            "unknown GUID `{}`: the modelDescription.xml does not match this binary (known: {})",
-            guid.escape_debug(),
-            known.join(", ")
-        ));
+        logger.log(
+            fmi2Error,
+            Category::StatusError,
+            &format!(
+                "{func}: unknown {token} `{}`: the modelDescription.xml does not match this binary (known: {}); instance not created",
+                guid.escape_debug(),
+                known.join(", ")
+            ),
+        );
+        return null_mut();
     };
-    let folder = resource_folder(unsafe { c_str(resource_location, "fmuResourceLocation") });
     let mut inst = Instance::new(&entry, logger);
     let dir = match folder {
         Ok((dir, note)) => {
@@ -130,7 +148,7 @@ unsafe fn instantiate(
                 inst.log.log(
                     fmi2Warning,
                     Category::StatusWarning,
-                    &format!("fmi2Instantiate: {note}"),
+                    &format!("{func}: {note}"),
                 );
             }
             Some(dir)
@@ -140,7 +158,7 @@ unsafe fn instantiate(
                 fmi2Warning,
                 Category::StatusWarning,
                 &format!(
-                    "fmi2Instantiate: {reason}; the FMU's scene.toml is not read, the model starts from its built-in defaults"
+                    "{func}: {reason}; the FMU's scene.toml is not read, the model starts from its built-in defaults"
                 ),
             );
             None
@@ -150,7 +168,7 @@ unsafe fn instantiate(
                 fmi2Error,
                 Category::StatusError,
                 &format!(
-                    "fmi2Instantiate: {reason}; model `{}` needs its resources folder (its data files); instance not created",
+                    "{func}: {reason}; model `{}` needs its resources folder (its data files); instance not created",
                     (entry.info)().identifier
                 ),
             );
@@ -161,7 +179,7 @@ unsafe fn instantiate(
         inst.log.log(
             fmi2Error,
             Category::StatusError,
-            &format!("fmi2Instantiate: {reason}; instance not created"),
+            &format!("{func}: {reason}; instance not created"),
         );
         return null_mut();
     }
@@ -201,7 +219,29 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     categories: *const fmi2String,
 ) -> fmi2Status {
     unsafe {
-        guard(c, "fmi2SetDebugLogging", ALIVE, |inst| {
+        set_debug_logging(
+            "fmi2SetDebugLogging",
+            c,
+            loggingOn != 0,
+            nCategories,
+            categories,
+        )
+    }
+}
+
+/// The body of `fmi2SetDebugLogging` and `fmi3SetDebugLogging` (`func`).
+///
+/// # Safety
+/// As for `fmi2SetDebugLogging`.
+pub(crate) unsafe fn set_debug_logging(
+    func: &'static str,
+    c: fmi2Component,
+    on: bool,
+    nCategories: usize,
+    categories: *const fmi2String,
+) -> fmi2Status {
+    unsafe {
+        guard(c, func, ALIVE, |inst| {
             let names = in_slice(categories, nCategories, "categories[]")?;
             let mut parsed = Vec::with_capacity(names.len());
             for (k, p) in names.iter().enumerate() {
@@ -219,7 +259,7 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
                 })?;
                 parsed.push(cat);
             }
-            inst.log.set_debug_logging(loggingOn != 0, &parsed);
+            inst.log.set_debug_logging(on, &parsed);
             Ok(fmi2OK)
         })
     }
