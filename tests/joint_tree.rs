@@ -18,33 +18,9 @@ use std::sync::Arc;
 
 const G: f64 = 9.81;
 
-/// The accuracy suite's chain: `n` rods (1 m, 1 kg, inertia diag(1e-4, 1/12, 1/12) kg m^2),
-/// hinged about z, released at rest from horizontal (along +x).
+/// The accuracy suite's chain ([`common::planar_rod_chain`]).
 fn chain(n: usize) -> Model {
-    let mut b = ModelBuilder::new();
-    b.set_gravity(Some(Vec3::new(0.0, -G, 0.0))).unwrap();
-    let inertia = Mat3::from_diagonal(&Vec3::new(1e-4, 1.0 / 12.0, 1.0 / 12.0));
-    let half = Vec3::new(0.5, 0.0, 0.0);
-    let mut prev = (BodyId::GROUND, Vec3::zeros());
-    for k in 0..n {
-        let id = b
-            .add_rigid_body(
-                &format!("rod{k}"),
-                1.0,
-                inertia,
-                BodyInit::at(Vec3::new(k as f64 + 0.5, 0.0, 0.0)),
-            )
-            .unwrap();
-        b.add_joint(
-            &format!("hinge{k}"),
-            JointKind::Revolute,
-            Frame::new(prev.0, prev.1),
-            Frame::new(id, -half),
-        )
-        .unwrap();
-        prev = (id, half);
-    }
-    b.build().unwrap()
+    common::planar_rod_chain(n)
 }
 
 fn settings(rtol: f64) -> Settings {

@@ -4,6 +4,8 @@
 //! PanelLock (modal mass blocks), a closed four-bar with redundant rows (LU) and the RopeBlock lift
 //! (rope nodes, lug and contact joints on one block), with and without a compliance `c`.
 
+mod common;
+
 use mbcosim::dae::System;
 use mbcosim::dae::linear::LinearSolver;
 use mbcosim::integrator::IntegratorKind;
@@ -71,35 +73,14 @@ fn compare(sys: &mut System, st: &State, c: f64) -> (f64, [f64; 2], bool) {
     (diff / scale, res, kkt.is_range_space())
 }
 
+/// The accuracy suite's planar chain of `n` rods ([`common::planar_rod_chain`]) under DOPRI5.
 fn chain(n: usize) -> Simulation {
-    let mut b = ModelBuilder::new();
-    b.set_gravity(Some(Vec3::new(0.0, -9.81, 0.0))).unwrap();
-    let inertia = Mat3::from_diagonal(&Vec3::new(1e-4, 1.0 / 12.0, 1.0 / 12.0));
-    let mut prev = (BodyId::GROUND, Vec3::zeros());
-    for k in 0..n {
-        let id = b
-            .add_rigid_body(
-                &format!("rod{k}"),
-                1.0,
-                inertia,
-                BodyInit::at(Vec3::new(k as f64 + 0.5, 0.0, 0.0)),
-            )
-            .unwrap();
-        b.add_joint(
-            &format!("hinge{k}"),
-            JointKind::Revolute,
-            Frame::new(prev.0, prev.1),
-            Frame::new(id, Vec3::new(-0.5, 0.0, 0.0)),
-        )
-        .unwrap();
-        prev = (id, Vec3::new(0.5, 0.0, 0.0));
-    }
     let s = Settings {
         rtol: 1e-8,
         atol: 1e-8,
         ..Settings::default()
     };
-    Simulation::new(b.build().unwrap(), IntegratorKind::Dopri5, s, 0.0).unwrap()
+    Simulation::new(common::planar_rod_chain(n), IntegratorKind::Dopri5, s, 0.0).unwrap()
 }
 
 /// Crank-rocker four-bar (3 bodies, 4 revolute joints: 3 redundant rows dropped).
