@@ -94,7 +94,6 @@ pub fn eval(
     }
     let mut modes = vec![SlipMode::Stick; np];
     let mut share = vec![0.0; np];
-    let none = Derivatives::None;
     if !ctx.frozen.is_empty() {
         // decisions frozen for a Newton iteration (see `RopeEffect::freeze`), or those of the
         // accepted step for a report
@@ -103,14 +102,12 @@ pub fn eval(
             modes[k] = SlipMode::from_code(ctx.frozen[2 * c]);
             share[k] = ctx.frozen[2 * c + 1];
         }
-        let mut ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, none);
-        let state = (pos.as_slice(), vel.as_slice(), sigma_mem.as_slice());
-        settle_shares(e, ctx, a, state, &modes, &mut share, &mut ev);
-        return with_derivatives(e, ctx, a, state, &modes, &share, ev, deriv);
+        return eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, deriv);
     }
     for k in 1..np - 1 {
         (modes[k], share[k]) = e.contact_state(ctx.memory, e.contact[a + k] as usize);
     }
+    let none = Derivatives::None;
     let mut ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, none);
     for _ in 0..4 * np {
         let mut changed = false;
@@ -135,54 +132,23 @@ pub fn eval(
                 }
             }
         }
-        if changed {
-            ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, none);
-            continue;
-        }
-        // modes settled: the sliding nodes' shares at this state, then the modes again if
-        // they moved
-        let state = (pos.as_slice(), vel.as_slice(), sigma_mem.as_slice());
-        if !settle_shares(e, ctx, a, state, &modes, &mut share, &mut ev) {
+        if !changed {
             break;
         }
+        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, none);
     }
-    let state = (pos.as_slice(), vel.as_slice(), sigma_mem.as_slice());
-    with_derivatives(e, ctx, a, state, &modes, &share, ev, deriv)
-}
-
-/// The run evaluated at settled modes and shares (`ev`, without derivatives) again with the
-/// derivative blocks `deriv` asks for (same forces), including the shares' dependence on the
-/// holds ([`add_share_coupling`]; a run with such a node gets dense chains).
-#[allow(clippy::too_many_arguments)]
-fn with_derivatives(
-    e: &RopeEffect,
-    ctx: &EvalCtx,
-    a: usize,
-    state: (&[Vec3], &[Vec3], &[f64]),
-    modes: &[SlipMode],
-    share: &[f64],
-    ev: RunEval,
-    deriv: Derivatives,
-) -> RunEval {
-    if deriv == Derivatives::None {
-        return ev;
-    }
-    let (pos, vel, sigma_mem) = state;
-    let np = pos.len();
-    let coupled = (1..np - 1).any(|k| coupled_hold(e, ctx, a, k, modes, &ev).is_some());
-    let deriv = if coupled { Derivatives::Dense } else { deriv };
-    // the settled modes again, now with the derivative blocks (same forces)
-    let mut ev = eval_modes(e, ctx, a, pos, vel, sigma_mem, modes, share, deriv);
-    if coupled {
-        add_share_coupling(e, ctx, a, state, modes, share, &mut ev);
+    if deriv != Derivatives::None {
+        // the settled modes again, now with the derivative blocks (same forces)
+        ev = eval_modes(e, ctx, a, &pos, &vel, &sigma_mem, &modes, &share, deriv);
     }
     ev
 }
 
 /// Whether the rope starts sliding through the sticking contact node of slot `c` (points `p`:
 /// previous, node, next; tensions `tp`, `tn` [N] of its segments): the node's Coulomb cone
-/// leaves the share `s` along the rope ([`cone_coefficients`]); the rope slides in the direction
-/// of the larger tension, with that share, when the tensions leave the share's band.
+/// leaves the share `s` along the rope ([`friction::rope_share`] of the hold's force along the
+/// edge and the rope's pull); the rope slides in the direction of the larger tension, with that
+/// share, when the tensions leave the share's band.
 fn starts_sliding(
     e: &RopeEffect,
     ctx: &EvalCtx,
@@ -191,7 +157,31 @@ fn starts_sliding(
     tp: f64,
     tn: f64,
 ) -> Option<(SlipMode, f64)> {
-    let (turn, [s_fwd, s_bwd], _) = cone_coefficients(e, ctx, c, p, (tp, tn), None)?;
+    let mu = e.contact_mu(ctx.memory, c);
+    let turn = turn_angle(&p[0], &p[1], &p[2]);
+    let (la, lb) = ((p[0] - p[1]).norm(), (p[2] - p[1]).norm());
+    if la <= 0.0 || lb <= 0.0 {
+        return None;
+    }
+    let (ea, eb) = ((p[0] - p[1]) / la, (p[2] - p[1]) / lb);
+    let (s_fwd, s_bwd) = match e.edge_direction(ctx, c) {
+        Some(edge) => {
+            let frame = ContactFrame::new(&edge, &friction::any_normal(&edge), &ea, &eb);
+            let pull = friction::rope_pull(&frame, &ea, &eb, tp, tn);
+            let fe = e.edge_hold(ctx, c).map(|h| h.force).unwrap_or(0.0);
+            let s = friction::rope_share(mu, pull.normal, fe);
+            if pull.normal > 0.0 {
+                // the law's coefficient in the rope's plane that gives the share in the
+                // edge's frame (they differ while the rope is tilted along the edge)
+                let [f, b] = friction::plane_coefficients(&frame, &ea, &eb, turn, s);
+                (f.unwrap_or(s), b.unwrap_or(s))
+            } else {
+                (s, s)
+            }
+        }
+        // no element along the edge: the cone in the rope's plane is the band of mu
+        None => (mu, mu),
+    };
     for (s, mode) in [
         (s_fwd, SlipMode::SlipForward),
         (s_bwd, SlipMode::SlipBackward),
@@ -209,271 +199,6 @@ fn starts_sliding(
         }
     }
     None
-}
-
-/// The turning angle [rad] of the rope at the contact node of slot `c` and the sharp-edge
-/// coefficients `[forward, backward]` [-] of the share its Coulomb cone leaves along the rope
-/// (points `p`: previous, node, next; tensions `tp`, `tn` [N] of its segments): the share
-/// [`friction::rope_share`] of the hold's force along the edge and the rope's pull, as the
-/// coefficient in the rope's own plane that gives it in the edge's frame
-/// ([`friction::plane_coefficients`]; they differ while the rope is tilted along the edge).
-/// Without a hold the cone in the rope's plane is `mu` itself. `hold_force` [N] replaces the
-/// hold's force at `ctx` when given (for its derivative). `None` where a segment has no length.
-fn cone_coefficients(
-    e: &RopeEffect,
-    ctx: &EvalCtx,
-    c: usize,
-    p: &[Vec3],
-    (tp, tn): (f64, f64),
-    hold_force: Option<f64>,
-) -> Option<(f64, [f64; 2], f64)> {
-    let mu = e.contact_mu(ctx.memory, c);
-    let turn = turn_angle(&p[0], &p[1], &p[2]);
-    let (la, lb) = ((p[0] - p[1]).norm(), (p[2] - p[1]).norm());
-    if la <= 0.0 || lb <= 0.0 {
-        return None;
-    }
-    let (ea, eb) = ((p[0] - p[1]) / la, (p[2] - p[1]) / lb);
-    let Some(edge) = e.edge_direction(ctx, c) else {
-        return Some((turn, [mu, mu], f64::INFINITY));
-    };
-    let frame = ContactFrame::new(&edge, &friction::any_normal(&edge), &ea, &eb);
-    let pull = friction::rope_pull(&frame, &ea, &eb, tp, tn);
-    let fe = hold_force.unwrap_or_else(|| e.edge_hold(ctx, c).map(|h| h.force).unwrap_or(0.0));
-    let s = friction::rope_share(mu, pull.normal, fe);
-    if pull.normal <= 0.0 {
-        return Some((turn, [s, s], pull.normal));
-    }
-    let [f, b] = friction::plane_coefficients(&frame, &ea, &eb, turn, s);
-    Some((turn, [f.unwrap_or(s), b.unwrap_or(s)], pull.normal))
-}
-
-/// Relative change [-] of a sliding node's share below which [`settle_shares`] stops.
-const SHARE_TOL: f64 = 1e-13;
-
-/// Passes of [`settle_shares`] at most.
-const SHARE_PASSES: usize = 40;
-
-/// The share [-] the cone of sliding node `k` leaves at the run's evaluated tensions `ev`, in the
-/// direction it slides; `None` at sticking nodes and where the sharp-edge law cannot take it.
-fn cone_share(
-    e: &RopeEffect,
-    ctx: &EvalCtx,
-    a: usize,
-    k: usize,
-    pos: &[Vec3],
-    modes: &[SlipMode],
-    ev: &RunEval,
-) -> Option<f64> {
-    let forward = match modes[k] {
-        SlipMode::Stick => return None,
-        m => m == SlipMode::SlipForward,
-    };
-    let c = e.contact[a + k] as usize;
-    let ts = (ev.tension[k - 1], ev.tension[k]);
-    let (turn, [f, b], normal) = cone_coefficients(e, ctx, c, &pos[k - 1..=k + 1], ts, None)?;
-    if normal <= 0.0 {
-        return None;
-    }
-    let s = if forward { f } else { b };
-    // a share beyond the sharp-edge law's reach keeps the value it has (the law clamps)
-    (s * (0.5 * turn).tan() < MAX_MU_TAN).then_some(s)
-}
-
-/// Sets the share of every sliding node of the run to what its Coulomb cone leaves at the
-/// evaluated state ([`cone_coefficients`] in the direction it slides): the share is a function of
-/// the positions, the velocities and the memory, not a value remembered from when the rope
-/// started sliding, so friction along the rope stays on the cone while the load along the edge
-/// changes. The normal force depends on the tensions the share gives, so the share solves
-/// `g(s) = s` (`g` the cone's share at the tensions of `s`): near the cone's tip (`F_e -> mu N`)
-/// plain iteration of `g` cycles, so each node keeps a bracket (`g(s) > s` below the root) and
-/// steps by regula falsi (Illinois) once it has one, by `g` before. `ev` is evaluated anew
-/// (without derivative blocks) until no share moves by more than [`SHARE_TOL`]. Returns whether
-/// any share changed.
-#[allow(clippy::too_many_arguments)]
-fn settle_shares(
-    e: &RopeEffect,
-    ctx: &EvalCtx,
-    a: usize,
-    (pos, vel, sigma_mem): (&[Vec3], &[Vec3], &[f64]),
-    modes: &[SlipMode],
-    share: &mut [f64],
-    ev: &mut RunEval,
-) -> bool {
-    let np = pos.len();
-    let mut changed = false;
-    // per node: (s, g(s) - s) below the root and above it, and which end moved last
-    let mut below: Vec<Option<(f64, f64)>> = vec![None; np];
-    let mut above: Vec<Option<(f64, f64)>> = vec![None; np];
-    let mut last_side = vec![0i8; np];
-    for _ in 0..SHARE_PASSES {
-        let mut moved = false;
-        for k in 1..np - 1 {
-            let Some(g) = cone_share(e, ctx, a, k, pos, modes, ev) else {
-                continue;
-            };
-            let (s, r) = (share[k], g - share[k]);
-            if r.abs() <= SHARE_TOL * g.max(s).max(1e-3) {
-                continue;
-            }
-            // Illinois: halve the residual kept at the end that did not move twice in a row
-            let side = if r > 0.0 { 1 } else { -1 };
-            if r > 0.0 {
-                below[k] = Some((s, r));
-                if let (1, Some((x, f))) = (last_side[k], above[k]) {
-                    above[k] = Some((x, 0.5 * f));
-                }
-            } else {
-                above[k] = Some((s, r));
-                if let (-1, Some((x, f))) = (last_side[k], below[k]) {
-                    below[k] = Some((x, 0.5 * f));
-                }
-            }
-            last_side[k] = side;
-            share[k] = match (below[k], above[k]) {
-                (Some((lo, flo)), Some((hi, fhi))) if flo > fhi => {
-                    lo - flo * (hi - lo) / (fhi - flo)
-                }
-                _ => g,
-            };
-            moved = true;
-        }
-        if !moved {
-            break;
-        }
-        changed = true;
-        *ev = eval_modes(
-            e,
-            ctx,
-            a,
-            pos,
-            vel,
-            sigma_mem,
-            modes,
-            share,
-            Derivatives::None,
-        );
-    }
-    changed
-}
-
-/// The hold's force [N] at sliding node `k` of the run whose share depends on it enough to
-/// enter the Jacobian ([`add_share_coupling`]): more than 1e-6 of the node's tensions; `None`
-/// at sticking nodes, without a hold, or where the edge carries (almost) nothing.
-fn coupled_hold(
-    e: &RopeEffect,
-    ctx: &EvalCtx,
-    a: usize,
-    k: usize,
-    modes: &[SlipMode],
-    ev: &RunEval,
-) -> Option<super::edge_hold::Hold> {
-    if modes[k] == SlipMode::Stick {
-        return None;
-    }
-    let h = e.edge_hold(ctx, e.contact[a + k] as usize)?;
-    let scale = ev.tension[k - 1].abs() + ev.tension[k].abs();
-    (h.force.abs() > 1e-6 * scale && h.df_du != 0.0).then_some(h)
-}
-
-/// Adds to the run's stiffness blocks what the shares of its sliding nodes contribute through
-/// the hold's force along the edge ([`settle_shares`] makes the share a function of it: near
-/// the cone's tip, `F_e -> mu N`, a small move of the node along the edge changes the friction
-/// along the rope by more than the hold's own stiffness, and Newton's method without this term
-/// diverges). For sliding node `k`: `dF_x/dp_k += (dF_x/ds_k) (ds_k/dF_e) (dF_e/du) e_w^T`, the
-/// first two by central differences of an evaluation without derivatives and of
-/// [`cone_coefficients`] (`ds_k/dF_e` of the fixed point `s = g(s)`: `g_F / (1 - g_s)`), `dF_e/du` and the edge direction `e_w` from the hold (and likewise
-/// the velocity blocks with the hold's damping `dF_e/du_dot`). The share's
-/// dependence on the normal force and on the block's motion is left out (smaller by the share's
-/// ratio `F_e / N` and by the mass ratio). The chain must have dense blocks (not bordered).
-#[allow(clippy::too_many_arguments)]
-fn add_share_coupling(
-    e: &RopeEffect,
-    ctx: &EvalCtx,
-    a: usize,
-    (pos, vel, sigma_mem): (&[Vec3], &[Vec3], &[f64]),
-    modes: &[SlipMode],
-    share: &[f64],
-    ev: &mut RunEval,
-) {
-    let np = pos.len();
-    for k in 1..np - 1 {
-        let Some(h) = coupled_hold(e, ctx, a, k, modes, ev) else {
-            continue;
-        };
-        let c = e.contact[a + k] as usize;
-        let Some(edge) = e.edge_direction(ctx, c) else {
-            continue;
-        };
-        let ts = (ev.tension[k - 1], ev.tension[k]);
-        let forward = modes[k] == SlipMode::SlipForward;
-        let p = &pos[k - 1..=k + 1];
-        let coefficient = |fe: f64| {
-            cone_coefficients(e, ctx, c, p, ts, Some(fe)).and_then(|(turn, [f, b], _)| {
-                let s = if forward { f } else { b };
-                (s * (0.5 * turn).tan() < MAX_MU_TAN).then_some(s)
-            })
-        };
-        let d = 1e-7 * (ts.0.abs() + ts.1.abs());
-        let (Some(hi), Some(lo)) = (coefficient(h.force + d), coefficient(h.force - d)) else {
-            continue;
-        };
-        let ds_dfe = (hi - lo) / (2.0 * d);
-        if ds_dfe == 0.0 {
-            continue;
-        }
-        let eps = 1e-7 * share[k].max(1e-3);
-        let mut shifted = share.to_vec();
-        shifted[k] = share[k] + eps;
-        let up = eval_modes(
-            e,
-            ctx,
-            a,
-            pos,
-            vel,
-            sigma_mem,
-            modes,
-            &shifted,
-            Derivatives::None,
-        );
-        shifted[k] = share[k] - eps;
-        let down = eval_modes(
-            e,
-            ctx,
-            a,
-            pos,
-            vel,
-            sigma_mem,
-            modes,
-            &shifted,
-            Derivatives::None,
-        );
-        // the share solves s = g(s) (the normal force moves with the tensions): its total
-        // derivative is dg/dF_e / (1 - dg/ds)
-        let ds_dfe = match (
-            cone_share(e, ctx, a, k, pos, modes, &up),
-            cone_share(e, ctx, a, k, pos, modes, &down),
-        ) {
-            (Some(gu), Some(gd)) => {
-                let g_s = (gu - gd) / (2.0 * eps);
-                if 1.0 - g_s > 0.1 {
-                    ds_dfe / (1.0 - g_s)
-                } else {
-                    ds_dfe
-                }
-            }
-            _ => ds_dfe,
-        };
-        let grad = edge * (ds_dfe * h.df_du);
-        let grad_v = edge * (ds_dfe * h.df_dudot);
-        for x in 0..np {
-            let df_ds = (up.force[x] - down.force[x]) / (2.0 * eps);
-            if df_ds != Vec3::zeros() {
-                ev.jac[x * np + k] += df_ds * grad.transpose();
-                ev.damp[x * np + k] += df_ds * grad_v.transpose();
-            }
-        }
-    }
 }
 
 /// Turning angle [rad] of the rope at `p1` between `p0` and `p2`.
