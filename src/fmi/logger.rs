@@ -151,12 +151,7 @@ impl Logger {
             Some(f) => Sink::Importer(f, Env(env)),
             None => Sink::Stderr,
         };
-        Self {
-            sink,
-            name: to_cstring(name),
-            logging_on,
-            enabled: [true; CATEGORIES.len()],
-        }
+        Self::with_sink(sink, name, logging_on)
     }
 
     /// A logger for an FMI 3.0 instance `name`; `callback` may be `None`.
@@ -170,6 +165,11 @@ impl Logger {
             Some(f) => Sink::Importer3(f, Env(env)),
             None => Sink::Stderr,
         };
+        Self::with_sink(sink, name, logging_on)
+    }
+
+    /// A logger writing to `sink` for the instance `name`, every category enabled.
+    fn with_sink(sink: Sink, name: &str, logging_on: bool) -> Self {
         Self {
             sink,
             name: to_cstring(name),

@@ -147,10 +147,15 @@ fn type_element(p: &PortSpec) -> (&'static str, Attrs) {
     (name, a)
 }
 
-/// Writes the model description of `info` as a UTF-8 XML document.
-///
-/// Fails when the table is invalid ([`ModelInfo::validate`]) or uses an unknown unit.
-pub fn write(info: &ModelInfo) -> Result<String, String> {
+/// The units and enumeration types a valid table declares (by name), shared by the FMI 2.0 and
+/// FMI 3.0 writers. Fails when the table is invalid ([`ModelInfo::validate`]), uses an unknown
+/// unit, or declares one enumeration type with different items.
+pub(crate) type Declared<'a> = (
+    BTreeMap<&'a str, units::SiUnit>,
+    BTreeMap<&'a str, &'a [(&'a str, &'a str)]>,
+);
+
+pub(crate) fn declared(info: &ModelInfo) -> Result<Declared<'_>, String> {
     info.validate().map_err(|errs| {
         format!(
             "{}: invalid variable table: {}",
@@ -182,6 +187,14 @@ pub fn write(info: &ModelInfo) -> Result<String, String> {
             ));
         }
     }
+    Ok((units, enums))
+}
+
+/// Writes the model description of `info` as a UTF-8 XML document.
+///
+/// Fails when the table is invalid ([`ModelInfo::validate`]) or uses an unknown unit.
+pub fn write(info: &ModelInfo) -> Result<String, String> {
+    let (units, enums) = declared(info)?;
     let mut x = Xml {
         w: Writer::new_with_indent(Vec::new(), b' ', 2),
     };

@@ -74,40 +74,10 @@ fn type_attrs(p: &PortSpec) -> (&'static str, Attrs, Option<&'static str>) {
 /// Fails when the table is invalid, uses an unknown unit, or does not map to FMI 3.0 value
 /// references ([`variables3::check`]).
 pub fn write(info: &ModelInfo) -> Result<String, String> {
-    info.validate().map_err(|errs| {
-        format!(
-            "{}: invalid variable table: {}",
-            info.identifier,
-            errs.join("; ")
-        )
-    })?;
+    let (mut units, enums) = super::model_description::declared(info)?;
     variables3::check(info)?;
-    let mut units = BTreeMap::new();
-    for p in &info.ports {
-        if let Some(u) = p.unit {
-            units.insert(
-                u,
-                units::parse(u).map_err(|e| format!("{}: `{}`: {e}", info.identifier, p.name))?,
-            );
-        }
-    }
     // the independent variable is in seconds
     units.insert("s", units::parse("s")?);
-    let mut enums = BTreeMap::new();
-    for p in &info.ports {
-        if let PortType::Enumeration {
-            type_name, items, ..
-        } = &p.ty
-            && enums
-                .insert(*type_name, *items)
-                .is_some_and(|old| old != *items)
-        {
-            return Err(format!(
-                "{}: enumeration type {type_name} is declared with different items",
-                info.identifier
-            ));
-        }
-    }
     let mut x = Xml {
         w: Writer::new_with_indent(Vec::new(), b' ', 2),
     };
