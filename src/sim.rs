@@ -152,6 +152,9 @@ impl Simulation {
                     _ => StepAction::Continue,
                 })
             }
+            fn pause(&self) -> bool {
+                self.0.pause()
+            }
         }
         if !(t_end.is_finite() && t_end >= self.state.t) {
             return Err(SolverError(format!(
@@ -161,6 +164,13 @@ impl Simulation {
         }
         self.integrator
             .advance_to(&mut self.system, &mut self.state, t_end, &mut Both(hook))
+    }
+
+    /// Advances towards `t_end` [s] by one accepted step (exactly to `t_end` when that step
+    /// reaches it), with the step's memory update and action carried out as in
+    /// [`Simulation::advance_to`].
+    pub fn advance_one_step(&mut self, t_end: f64) -> Result<(), SolverError> {
+        self.advance_with(t_end, &mut OneStep::default())
     }
 
     /// Replaces the system (after a structural change such as an inserted contact node) with
@@ -302,5 +312,25 @@ impl Simulation {
         self.state = state;
         self.system.memory.copy_from_slice(&self.state.memory);
         self.integrator.restore_memory(memory)
+    }
+}
+
+/// A hook that asks for control back after the first accepted step.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct OneStep {
+    stepped: bool,
+}
+
+impl StepHook for OneStep {
+    fn after_step(
+        &mut self,
+        _sys: &mut System,
+        _st: &mut State,
+    ) -> Result<StepAction, SolverError> {
+        self.stepped = true;
+        Ok(StepAction::Continue)
+    }
+    fn pause(&self) -> bool {
+        self.stepped
     }
 }

@@ -40,6 +40,12 @@ pub unsafe fn guard(
         eprintln!("mbcosim: {func} called with a NULL instance (fmi2Component)");
         return fmi2Error;
     }
+    if super::intermediate::reentered(c as usize) {
+        eprintln!(
+            "mbcosim: {func} called from inside the instance's own intermediate-update callback (intermediateVariableGetAllowed and intermediateVariableSetRequested are false): refused"
+        );
+        return fmi2Error;
+    }
     let inst = c.cast::<Instance>();
     // SAFETY: per the contract above, `inst` points to a live Instance not used elsewhere.
     let result = catch_unwind(AssertUnwindSafe(|| {

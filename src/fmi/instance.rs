@@ -10,12 +10,14 @@ use std::ffi::CString;
 use std::os::raw::{c_char, c_int};
 use std::path::Path;
 
+use super::intermediate::{ImporterOptions, ImporterWatch};
 use super::logger::{Category, Logger, to_cstring};
 use super::machine::{Machine, Mask, State, past_initialization};
 use super::snapshot::{self, Snapshot};
 use super::types::*;
 use crate::scene::port::{BaseType, Causality, ModelInfo, PortSpec, ValueRef};
 use crate::scene::store::{PortIndex, check_integer, check_real, check_writable};
+use crate::scene::watch::{NoWatch, StepEnd, StepWatch};
 use crate::scene::{CoSimModel, LogLevel, ModelEntry, TIME_RTOL, check_step, scene_file};
 
 /// Result of a function body: the status to return, or the reason for an `fmi2Error`.
@@ -46,6 +48,8 @@ pub struct Instance {
     /// The resources folder given at instantiation (models restored from serialized states get
     /// it too).
     resource_dir: Option<std::path::PathBuf>,
+    /// FMI 3.0: early return and the intermediate-update callback (none for FMI 2.0).
+    pub importer: ImporterOptions,
 }
 
 /// Name of the real parameter that `fmi2SetupExperiment`'s tolerance sets (when the importer
@@ -83,6 +87,7 @@ impl Instance {
                 .map(|p| p.vr),
             rtol_set_by_importer: false,
             resource_dir: None,
+            importer: ImporterOptions::default(),
         }
     }
 
@@ -475,6 +480,23 @@ impl Instance {
 
     /// `fmi2DoStep` from `t` over `h` [s].
     pub fn do_step(&mut self, t: f64, h: f64) -> Outcome {
+        self.do_step_watched(t, h, &mut NoWatch).map(|_| fmi2OK)
+    }
+
+    /// `fmi3DoStep`: [`Instance::do_step`] under the importer's early-return and
+    /// intermediate-update choices ([`ImporterOptions`]); `true` when the step ended early (the
+    /// model's time says where).
+    pub fn do_step3(&mut self, t: f64, h: f64) -> Outcome<bool> {
+        let mut watch = ImporterWatch {
+            options: self.importer,
+            instance: self as *const Instance as usize,
+        };
+        let end = self.do_step_watched(t, h, &mut watch)?;
+        Ok(matches!(end, StepEnd::Early { .. }))
+    }
+
+    /// The body of both: the step under `watch`.
+    fn do_step_watched(&mut self, t: f64, h: f64, watch: &mut dyn StepWatch) -> Outcome<StepEnd> {
         check_step(self.model.time(), t, h).map_err(|e| e.to_string())?;
         if let Some(stop) = self.machine.stop_time {
             let end = t + h;
@@ -484,14 +506,27 @@ impl Instance {
                 ));
             }
         }
-        if let Err(e) = self.model.do_step(t, h) {
-            self.log_solver_stats(&format!("after the failed step from t = {t} s"));
-            return Err(format!("step from t = {t} s with h = {h} s failed: {e}"));
-        }
+        let end = match self.model.do_step_watched(t, h, watch) {
+            Ok(end) => end,
+            Err(e) => {
+                self.log_solver_stats(&format!("after the failed step from t = {t} s"));
+                return Err(format!("step from t = {t} s with h = {h} s failed: {e}"));
+            }
+        };
         finite_outputs(self.model.as_ref())
             .map_err(|e| format!("the step from t = {t} s with h = {h} s {e}"))?;
         self.machine.last_successful_time = self.model.time();
-        Ok(fmi2OK)
+        if let StepEnd::Early { reason } = &end {
+            self.log.log(
+                fmi2OK,
+                Category::Events,
+                &format!(
+                    "early return from the step from t = {t} s with h = {h} s at t = {} s: {reason}",
+                    self.model.time()
+                ),
+            );
+        }
+        Ok(end)
     }
 
     /// `fmi2GetFMUstate`: a new handle, or `existing` overwritten (0 means none).

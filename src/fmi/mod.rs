@@ -22,6 +22,7 @@ pub mod documentation;
 mod exports;
 mod exports3;
 pub mod instance;
+pub mod intermediate;
 pub mod logger;
 pub mod machine;
 pub mod model_description;

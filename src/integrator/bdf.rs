@@ -952,6 +952,9 @@ impl Integrator for Bdf {
         let mut refreshed = false;
         let mut fails = 0;
         while t_end - st.t > time_eps(t_end) {
+            if hook.pause() {
+                return Ok(());
+            }
             steps += 1;
             if steps > self.s.max_steps {
                 return Err(SolverError(format!(

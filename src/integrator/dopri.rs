@@ -595,6 +595,9 @@ impl Integrator for Dopri5 {
         self.watch_stages = locate;
         let mut steps = 0u64;
         while t_end - st.t > time_eps(t_end) {
+            if hook.pause() {
+                return Ok(());
+            }
             steps += 1;
             if steps > self.s.max_steps {
                 return Err(SolverError(format!(

@@ -740,6 +740,9 @@ impl Integrator for GenAlpha {
         let mut steps = 0u64;
         let mut refreshed = false;
         while t_end - st.t > time_eps(t_end) {
+            if hook.pause() {
+                return Ok(());
+            }
             steps += 1;
             if steps > self.s.max_steps {
                 return Err(SolverError(format!(

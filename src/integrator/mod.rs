@@ -355,6 +355,14 @@ pub trait StepHook {
         sys: &mut System,
         state: &mut State,
     ) -> Result<StepAction, SolverError>;
+
+    /// True when the caller wants control back before the next step (checked before each step
+    /// of [`Integrator::advance_to`], after the previous step's action was carried out in full,
+    /// step-size selection included); the call then returns with `state.t < t_end`. Default:
+    /// never.
+    fn pause(&self) -> bool {
+        false
+    }
 }
 
 /// The hook that only updates the effects' discrete memory.

@@ -297,6 +297,9 @@ impl Integrator for TreeRk {
         }
         let mut steps = 0u64;
         while t_end - st.t > time_eps(t_end) {
+            if hook.pause() {
+                return self.finish(sys, st);
+            }
             steps += 1;
             if steps > self.s.max_steps {
                 return Err(SolverError(format!(

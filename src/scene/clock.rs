@@ -139,6 +139,13 @@ impl Clock {
         self.elapsed = step.end;
         self.now = step.time;
     }
+
+    /// Moves the clock to `elapsed` [s] inside a step that ended early (at an event): the
+    /// importer's time is then `start + elapsed`, which it passes back as the next step's start.
+    pub fn advance_early(&mut self, elapsed: f64) {
+        self.elapsed = elapsed;
+        self.now = self.start + elapsed;
+    }
 }
 
 /// Relative tolerance of [`same_time`]: far above the rounding of importer time grids against

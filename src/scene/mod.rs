@@ -26,6 +26,7 @@ pub mod rope_block;
 pub mod scene_file;
 pub mod store;
 pub mod view;
+pub mod watch;
 
 use port::{ModelInfo, ValueRef};
 
@@ -140,6 +141,19 @@ pub trait CoSimModel: Send {
 
     /// Advances from `t` to `t + h` [s]; `t` must equal the model's current time (within rounding).
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError>;
+
+    /// [`CoSimModel::do_step`] under `watch` ([`watch`]): the step may end early, at an event of
+    /// the model (when the watcher stops at events) or where the watcher asks; the model's time
+    /// then tells where. The default (a model without events or internal steps) completes the
+    /// step.
+    fn do_step_watched(
+        &mut self,
+        t: f64,
+        h: f64,
+        _watch: &mut dyn watch::StepWatch,
+    ) -> Result<watch::StepEnd, ModelError> {
+        self.do_step(t, h).map(|()| watch::StepEnd::Complete)
+    }
 
     /// Current simulation time [s].
     fn time(&self) -> f64;

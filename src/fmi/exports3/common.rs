@@ -6,6 +6,8 @@ use std::ptr::null_mut;
 
 use crate::fmi::boundary::{c_str, guard, in_slice, panic_message, resource_folder3};
 use crate::fmi::exports::{create, fmi2FreeInstance, set_debug_logging};
+use crate::fmi::instance::Instance;
+use crate::fmi::intermediate::ImporterOptions;
 use crate::fmi::logger::{Category, Logger};
 use crate::fmi::machine::{ALIVE, INIT_MODE, INSTANTIATED, TERMINATE};
 use crate::fmi::types::{fmi2Error, fmi2Warning};
@@ -43,9 +45,10 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
 }
 
 /// Creates a Co-Simulation instance of the model whose GUID is `instantiationToken`; NULL (with
-/// the reason logged) for an unknown token or missing arguments. Event mode, early return and
-/// intermediate updates are not provided: `eventModeUsed` and `earlyReturnAllowed` are accepted
-/// and have no effect (a note is logged), the intermediate-update callback is never called.
+/// the reason logged) for an unknown token or missing arguments. Event mode is not provided
+/// (`eventModeUsed` is accepted with a warning and has no effect); `earlyReturnAllowed` and the
+/// intermediate-update callback are kept for `fmi3DoStep` ([`crate::fmi::intermediate`]);
+/// required intermediate variables are never offered (a warning says so).
 ///
 /// # Safety
 /// Pointers must be NULL or valid per FMI 3.0.
@@ -62,7 +65,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     nRequiredIntermediateVariables: usize,
     instanceEnvironment: fmi3InstanceEnvironment,
     logMessage: fmi3LogMessageCallback,
-    _intermediateUpdate: fmi3IntermediateUpdateCallback,
+    intermediateUpdate: fmi3IntermediateUpdateCallback,
 ) -> fmi3Instance {
     let run = AssertUnwindSafe(|| unsafe {
         let name = c_str(instanceName, "instanceName");
@@ -94,10 +97,6 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 "eventModeUsed = true: hasEventMode=\"false\", so the instance never enters event mode",
             ),
             (
-                earlyReturnAllowed != 0,
-                "earlyReturnAllowed = true: mightReturnEarlyFromDoStep=\"false\", so fmi3DoStep always completes its step",
-            ),
-            (
                 nRequiredIntermediateVariables > 0,
                 "requiredIntermediateVariables given: providesIntermediateUpdate=\"false\", so they are never offered",
             ),
@@ -111,7 +110,17 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
             }
         }
         let folder = resource_folder3(c_str(resourcePath, "resourcePath"));
-        create(F, "instantiationToken", logger, token, folder)
+        let instance = create(F, "instantiationToken", logger, token, folder);
+        if !instance.is_null() {
+            // SAFETY: `create` returned a live instance that nobody else holds yet.
+            let inst = &mut *instance.cast::<Instance>();
+            inst.importer = ImporterOptions {
+                early_return: earlyReturnAllowed != 0,
+                callback: intermediateUpdate,
+                environment: instanceEnvironment as usize,
+            };
+        }
+        instance
     });
     catch_unwind(run).unwrap_or_else(|p| {
         eprintln!(

@@ -4,10 +4,14 @@ use crate::fmi::boundary::{guard, out_ref};
 use crate::fmi::machine::{DO_STEP, GET_OUTPUT_DERIVATIVES};
 use crate::fmi::types3::*;
 
-/// Advances from `currentCommunicationPoint` over `communicationStepSize` [s]. The step always
-/// completes (no event mode, no early return): `eventHandlingNeeded`, `terminateSimulation` and
-/// `earlyReturn` are false and `lastSuccessfulTime` is the end of the step; a model failure
-/// returns `fmi3Error` with the reason logged and `lastSuccessfulTime` the start of the step.
+/// Advances from `currentCommunicationPoint` over `communicationStepSize` [s]. With
+/// `earlyReturnAllowed` at instantiation the step ends at the model's first event (located in
+/// time, see [`crate::scene::watch`]), or where the intermediate-update callback asks; then
+/// `earlyReturn` is true and `lastSuccessfulTime` is where the model stopped (the importer's next
+/// step starts there). Otherwise the step completes and `lastSuccessfulTime` is its end.
+/// `eventHandlingNeeded` and `terminateSimulation` are always false (no event mode). A model
+/// failure returns `fmi3Error` with the reason logged and `lastSuccessfulTime` the start of the
+/// step.
 ///
 /// # Safety
 /// `instance` NULL or a live handle; the four output pointers NULL or valid.
@@ -24,18 +28,20 @@ pub unsafe extern "C" fn fmi3DoStep(
 ) -> fmi3Status {
     unsafe {
         guard(instance, "fmi3DoStep", DO_STEP, |i| {
-            let flags = [
+            let mut flags = [
                 out_ref(eventHandlingNeeded, "eventHandlingNeeded")?,
                 out_ref(terminateSimulation, "terminateSimulation")?,
                 out_ref(earlyReturn, "earlyReturn")?,
             ];
             let last = out_ref(lastSuccessfulTime, "lastSuccessfulTime")?;
-            for f in flags {
-                *f = 0;
+            for f in flags.iter_mut() {
+                **f = 0;
             }
-            let result = i.do_step(currentCommunicationPoint, communicationStepSize);
+            let result = i.do_step3(currentCommunicationPoint, communicationStepSize);
             *last = i.last_successful_time();
-            result
+            let early = result?;
+            *flags[2] = u8::from(early);
+            Ok(crate::fmi::types::fmi2OK)
         })
     }
 }

@@ -11,6 +11,7 @@ use crate::scene::port::ValueRef;
 use crate::scene::scene_file::SceneTable;
 use crate::scene::store::PortStore;
 use crate::scene::view::Snapshot;
+use crate::scene::watch::{NoWatch, StepEnd, StepWatch, Stopped, advance_watched};
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use crate::state::State;
 
@@ -229,10 +230,20 @@ impl CoSimModel for PanelLockModel {
     }
 
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
+        self.do_step_watched(t, h, &mut NoWatch).map(|_| ())
+    }
+
+    fn do_step_watched(
+        &mut self,
+        t: f64,
+        h: f64,
+        watch: &mut dyn StepWatch,
+    ) -> Result<StepEnd, ModelError> {
         if !self.ports.is_initialized() {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
         let step = self.clock.step(t, h)?;
+        let start = self.clock.start();
         let before = self.lock_times();
         let scene = self.scene()?;
         // a communication step h_max cannot cover within max_steps fails only after minutes of
@@ -244,19 +255,36 @@ impl CoSimModel for PanelLockModel {
                 settings.max_steps, settings.h_max
             )));
         }
-        scene.advance_to(step.end).map_err(|e| {
+        let stopped = advance_watched(scene, step.end, start, watch).map_err(|e| {
             ModelError::SolverFailure(format!(
                 "PanelLock solver failed: {e}{}",
                 scene.params.fast_deployment_note()
             ))
         })?;
-        for note in scene.sim.take_solver_notes() {
+        let notes = scene.sim.take_solver_notes();
+        let now = scene.sim.state.t;
+        for note in notes {
             self.log.push(LogRecord {
                 level: LogLevel::Warning,
                 message: note,
             });
         }
-        self.clock.advance(&step);
+        let end = match stopped {
+            Stopped::AtEnd => {
+                self.clock.advance(&step);
+                StepEnd::Complete
+            }
+            Stopped::Event(reason) => {
+                self.clock.advance_early(now);
+                StepEnd::Early { reason }
+            }
+            Stopped::Requested => {
+                self.clock.advance_early(now);
+                StepEnd::Early {
+                    reason: "the importer asked for an early return".into(),
+                }
+            }
+        };
         let after = self.lock_times();
         for (k, (a, b)) in after.iter().zip(&before).enumerate() {
             if a.is_finite() && !b.is_finite() {
@@ -266,7 +294,8 @@ impl CoSimModel for PanelLockModel {
                 });
             }
         }
-        self.publish()
+        self.publish()?;
+        Ok(end)
     }
 
     fn time(&self) -> f64 {

@@ -60,6 +60,7 @@ mod build;
 mod cosim;
 mod demo;
 mod dependencies;
+mod events;
 pub mod flex_outputs;
 pub mod flex_panel;
 mod params;

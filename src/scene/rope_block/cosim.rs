@@ -40,6 +40,7 @@ use crate::scene::port::{PortType, ValueRef};
 use crate::scene::scene_file::SceneTable;
 use crate::scene::store::PortStore;
 use crate::scene::view::Snapshot;
+use crate::scene::watch::{NoWatch, StepEnd, StepWatch, Stopped, advance_watched};
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -460,6 +461,15 @@ impl CoSimModel for RopeBlockModel {
     }
 
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
+        self.do_step_watched(t, h, &mut NoWatch).map(|_| ())
+    }
+
+    fn do_step_watched(
+        &mut self,
+        t: f64,
+        h: f64,
+        watch: &mut dyn StepWatch,
+    ) -> Result<StepEnd, ModelError> {
         if !self.ports.is_initialized() {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
@@ -469,14 +479,17 @@ impl CoSimModel for RopeBlockModel {
         let (t0, t_end) = (self.clock.elapsed(), step.end);
         let start = self.clock.start();
         let scene = self.scene()?;
-        match catch_unwind(AssertUnwindSafe(|| scene.sim.advance_to(t_end))) {
-            Ok(Ok(())) => {
+        let stopped = match catch_unwind(AssertUnwindSafe(|| {
+            advance_watched(&mut scene.sim, t_end, start, watch)
+        })) {
+            Ok(Ok(stopped)) => {
                 for note in scene.sim.sim.take_solver_notes() {
                     self.log.push(LogRecord {
                         level: LogLevel::Warning,
                         message: note,
                     });
                 }
+                stopped
             }
             Ok(Err(e)) => {
                 return Err(ModelError::SolverFailure(format!(
@@ -495,8 +508,24 @@ impl CoSimModel for RopeBlockModel {
                     panic_text(p.as_ref())
                 )));
             }
-        }
-        self.clock.advance(&step);
+        };
+        let now = self.scene()?.sim.time();
+        let end = match stopped {
+            Stopped::AtEnd => {
+                self.clock.advance(&step);
+                StepEnd::Complete
+            }
+            Stopped::Event(reason) => {
+                self.clock.advance_early(now);
+                StepEnd::Early { reason }
+            }
+            Stopped::Requested => {
+                self.clock.advance_early(now);
+                StepEnd::Early {
+                    reason: "the importer asked for an early return".into(),
+                }
+            }
+        };
         self.publish()?;
         let after = self.contact_count();
         if after != before {
@@ -504,11 +533,11 @@ impl CoSimModel for RopeBlockModel {
                 level: LogLevel::Event,
                 message: format!(
                     "contact nodes: {before} -> {after} at t = {:.6} s",
-                    start + t_end
+                    self.clock.time()
                 ),
             });
         }
-        Ok(())
+        Ok(end)
     }
 
     fn time(&self) -> f64 {

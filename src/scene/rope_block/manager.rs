@@ -94,6 +94,10 @@ pub struct Manager<'a> {
     energy_before_slides: Option<f64>,
     /// Scratch for the energy evaluations (mass times speeds).
     energy_scratch: Vec<f64>,
+    /// Ask the integrator for control back after the first accepted step.
+    pub one_step: bool,
+    /// An accepted step was managed.
+    stepped: bool,
 }
 
 impl<'a> Manager<'a> {
@@ -115,6 +119,8 @@ impl<'a> Manager<'a> {
             scratch: Vec::new(),
             energy_before_slides: None,
             energy_scratch: Vec::new(),
+            one_step: false,
+            stepped: false,
         }
     }
 }
@@ -612,7 +618,12 @@ impl Manager<'_> {
 }
 
 impl StepHook for Manager<'_> {
+    fn pause(&self) -> bool {
+        self.one_step && self.stepped
+    }
+
     fn after_step(&mut self, sys: &mut System, st: &mut State) -> Result<StepAction, SolverError> {
+        self.stepped = true;
         let changed = if self.map.contacts.is_empty() {
             false
         } else {

@@ -15,6 +15,7 @@ pub mod demo;
 pub mod demo_plots;
 mod dependencies;
 pub mod edit;
+mod events;
 pub mod manager;
 pub mod params;
 pub mod persist;

@@ -162,14 +162,20 @@ impl RopeBlockSim {
     /// Advances to `t_end` [s], managing contact nodes after every step; checks the energy
     /// balance at the end ([`RopeBlockSim::check_energy`]).
     pub fn advance_to(&mut self, t_end: f64) -> Result<(), String> {
+        self.advance(t_end, false)
+    }
+
+    /// [`RopeBlockSim::advance_to`], or with `one_step` only one accepted step towards `t_end`
+    /// (with the contact manager's edits and rebuild after it).
+    pub fn advance(&mut self, t_end: f64, one_step: bool) -> Result<(), String> {
         if self.energy_reference.is_none() {
             self.check_energy()?;
         }
-        self.advance_contacts(t_end)?;
+        self.advance_contacts(t_end, one_step)?;
         self.check_energy()
     }
 
-    fn advance_contacts(&mut self, t_end: f64) -> Result<(), String> {
+    fn advance_contacts(&mut self, t_end: f64, one_step: bool) -> Result<(), String> {
         let mut rebuilds = 0;
         loop {
             let mut mgr = Manager::new(
@@ -179,6 +185,7 @@ impl RopeBlockSim {
                 &mut self.counters,
                 &mut self.slide_dissipation,
             );
+            mgr.one_step = one_step;
             self.sim.advance_with(t_end, &mut mgr).map_err(|e| e.0)?;
             let edits = std::mem::take(&mut mgr.edits);
             if edits.is_empty() {
@@ -205,6 +212,9 @@ impl RopeBlockSim {
             );
             if mgr.settle_cone(&mut self.sim.system, &mut self.sim.state) {
                 self.sim.restart().map_err(|e| e.0)?;
+            }
+            if one_step {
+                return Ok(());
             }
         }
     }
