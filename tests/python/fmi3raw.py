@@ -74,6 +74,7 @@ class Instance:
                  required_intermediate=()):
         self.lib = lib
         self.log = []
+        self.early_return_allowed = early_return_allowed
 
         def log_message(env, status, category, message):
             self.log.append((status, _text(category), _text(message)))

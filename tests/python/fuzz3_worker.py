@@ -167,9 +167,13 @@ class Fuzzer:
                 status, (ev, term, early, last) = inst.do_step(t_call, h)
                 what, rule = f"doStep(t={t_call!r}, h={h!r})", "step"
                 if status == R.OK:
-                    if (ev, term, early) != (False, False, False):
+                    if (ev, term) != (False, False) or (early and not inst.early_return_allowed):
                         self.violation(f"{what}: flags {(ev, term, early)} after OK")
-                    if not abs(last - (t_call + h)) <= 1e-9 * max(1.0, abs(t_call + h)):
+                    if early:
+                        # ended at a located event, inside the step
+                        if not t_call < last < t_call + h:
+                            self.violation(f"{what}: early return at {last!r}, outside the step")
+                    elif not abs(last - (t_call + h)) <= 1e-9 * max(1.0, abs(t_call + h)):
                         self.violation(f"{what}: lastSuccessfulTime {last!r} after OK")
                     t = last
                     self.events["completed steps"] += 1

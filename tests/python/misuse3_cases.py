@@ -506,7 +506,7 @@ CASES = [
     ("instantiate_null_name", NULL, "instanceName is NULL", lambda x: _instantiate(x, name=None)),
     ("instantiate_token_with_format_directives", NULL, "%s%n%p%n", lambda x: _instantiate(x, token="%s%n%p%n")),
     ("instantiate_relative_resource_path_is_fine", R.OK, None, lambda x: _instantiate(x, resource_path="resources/")),
-    ("instantiate_early_return_allowed_is_a_warning", R.OK, "warning:earlyReturnAllowed = true", lambda x: _instantiate(x, early_return_allowed=True, logging_on=True)),
+    ("instantiate_early_return_allowed_is_accepted", R.OK, None, lambda x: _instantiate(x, early_return_allowed=True, logging_on=True)),
     ("instantiate_null_resource_path_is_a_warning", R.OK, "warning:resourcePath is NULL",
      lambda x: _instantiate(x, resource_path=None, logging_on=True)),
     ("instantiate_missing_resource_folder_is_a_warning", R.OK, "warning:not an existing folder",
