@@ -190,3 +190,15 @@ fn default_settings_follow_the_hook_load_history() {
     );
     assert!(worst < 1e-2 * weight, "hook load off by {worst} N");
 }
+
+#[test]
+fn a_step_beyond_the_step_budget_is_refused_at_once() {
+    let mut m = started(&[("segments", 8.0)]);
+    // h_max 0.0125 s x max_steps 200,000 = 2500 s per call: this used to integrate for 97 s CPU
+    let e = m.do_step(0.0, 1e300).unwrap_err().to_string();
+    assert!(e.contains("needs more than max_steps = 200000"), "{e}");
+    assert_eq!(m.time(), 0.0);
+    // the model is unharmed: a normal step follows
+    m.do_step(0.0, 0.01).unwrap();
+    assert!((m.time() - 0.01).abs() < 1e-15);
+}

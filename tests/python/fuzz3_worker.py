@@ -81,9 +81,9 @@ class Fuzzer:
         if rng.random() < 0.75:
             return rng.choice([0.01, 0.001, rng.uniform(1e-6, 0.3)])
         bad = [0.0, -0.01, math.nan, math.inf, 1e-12, 5e-324, 1.0]
-        # an absurd step is refused at once against a stop time; without one a model may integrate
-        # for minutes before it gives up (RopeBlock: 200,000 steps), so it is drawn only with one
-        return rng.choice(bad + ([1e9, 1e300] if stop_defined else []))
+        # an absurd step is refused at once: against a stop time, or (without one) because h_max
+        # cannot cover it within max_steps (PanelLock, RopeBlock); PidController takes it
+        return rng.choice(bad + [1e9, 1e300])
 
     def check(self, inst, before, status, what, op=None, prior=None):
         """Status conventions of one call made in shadow state `prior` (`op`: its ALLOWED rule)."""

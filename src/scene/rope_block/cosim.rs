@@ -31,6 +31,7 @@ use super::rig::BlockGeometry;
 use super::rig_checks::check_rig;
 use super::rig_digest::RigDigest;
 use super::rig_file::{RigOverride, read_rig};
+use super::scene::solver_settings;
 use super::{RopeBlockParams, RopeBlockScene};
 use crate::math::Vec3;
 use crate::scene::bytes::{ByteReader, ByteWriter, checksum64};
@@ -474,6 +475,17 @@ impl CoSimModel for RopeBlockModel {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
         let step = self.clock.step(t, h)?;
+        // a step that h_max cannot cover within the integrator's max_steps per call fails only
+        // after minutes of CPU (fmi3DoStep(t, 1e300) without a stop time took 97 s): refuse it
+        let (h_max, max_steps) = {
+            let p = &self.scene()?.params;
+            (p.h_max, solver_settings(p).0.max_steps)
+        };
+        if step.h / h_max > max_steps as f64 {
+            return Err(ModelError::InvalidValue(format!(
+                "the step from t = {t} s with h = {h} s needs more than max_steps = {max_steps} integrator steps of h_max = {h_max} s: shorten the communication step or raise h_max"
+            )));
+        }
         self.apply_inputs()?;
         let before = self.contact_count();
         let (t0, t_end) = (self.clock.elapsed(), step.end);
