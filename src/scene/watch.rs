@@ -5,9 +5,9 @@
 //! (an importer's intermediate update, which may ask for an early end), and a scene asked to
 //! stop at its events compares its [`Watchable::marks`] with those of the previous accepted
 //! step. At the first step in which an event happened, the event is located by bisection:
-//! fresh integrations from a copy of the scene at the previous accepted step, to trial times
-//! inside the step, until the first time at which the event has happened is known to
-//! [`EVENT_RESOLUTION`]. The scene is left there, with the event registered, so the importer's
+//! fresh integrations from the scene at the previous accepted step (a copy of the scene at the
+//! communication step's start, integrated again to there), to trial times inside the step,
+//! until the first time at which the event has happened is known to [`EVENT_RESOLUTION`]. The scene is left there, with the event registered, so the importer's
 //! step ends exactly at the event with the model in its post-event state.
 //!
 //! Times are on the scene's own axis (0 at the start); the watcher is told importer times
