@@ -34,6 +34,8 @@ pub struct Instance {
     preview: Option<Box<dyn CoSimModel>>,
     machine: Machine,
     index: PortIndex,
+    /// The FMI 3.0 variables (arrays folded), built at the first FMI 3.0 access.
+    view3: std::cell::OnceCell<Result<super::arrays3::View3, String>>,
     /// FMU states owned by this instance, keyed by the handle given to the importer.
     states: HashMap<usize, Box<Snapshot>>,
     /// Strings returned by the last `fmi2GetString` (valid until the next call).
@@ -73,6 +75,7 @@ impl Instance {
             preview: None,
             machine: Machine::default(),
             index: PortIndex::new(info),
+            view3: std::cell::OnceCell::new(),
             states: HashMap::new(),
             strings: Vec::new(),
             scene: None,

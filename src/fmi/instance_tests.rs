@@ -830,3 +830,84 @@ fn fmi3_functions_drive_the_same_instance() {
     );
     assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3Error);
 }
+
+/// An FMI 3.0 array (the probe's `arm0_x`..`arm2_x` as `arm_x`) reads its elements in order,
+/// counts them in `nValues`, and refuses a wrong count, a folded member's old reference and
+/// being set, each with a message; the instance works again after a reset.
+#[test]
+fn fmi3_array_variables_count_their_elements() {
+    use crate::fmi::exports3::*;
+    use crate::fmi::types3::*;
+    use crate::fmi::variables3::TIME_VR;
+    let h = H::probe();
+    let vals = [2.0, 3.0];
+    assert_eq!(
+        unsafe { fmi3SetFloat64(h.c, [MASS, FORCE].as_ptr(), 2, vals.as_ptr(), 2) },
+        fmi3OK
+    );
+    let init = || unsafe {
+        assert_eq!(
+            fmi3EnterInitializationMode(h.c, 0, 0.0, 0.0, 0, 0.0),
+            fmi3OK
+        );
+        assert_eq!(fmi3ExitInitializationMode(h.c), fmi3OK);
+    };
+    init();
+    let arm = ARM_X[0];
+    let mut out = [f64::NAN; 5];
+    assert_eq!(
+        unsafe { fmi3GetFloat64(h.c, &arm, 1, out.as_mut_ptr(), 3) },
+        fmi3OK
+    );
+    assert_eq!(out[..3], [6.0, 12.0, 18.0]);
+    let vrs = [X, arm, TIME_VR];
+    assert_eq!(
+        unsafe { fmi3GetFloat64(h.c, vrs.as_ptr(), 3, out.as_mut_ptr(), 5) },
+        fmi3OK
+    );
+    assert_eq!(out, [6.0, 6.0, 12.0, 18.0, 0.0]);
+    assert!(h.take_log().iter().all(|m| m.0 < fmi2Discard));
+
+    for n in [1, 4] {
+        assert_eq!(
+            unsafe { fmi3GetFloat64(h.c, &arm, 1, out.as_mut_ptr(), n) },
+            fmi3Error
+        );
+        let e = h.last_error();
+        assert!(
+            e.contains(&format!("nValues = {n}")) && e.contains("`arm_x` (4) has 3"),
+            "{e}"
+        );
+        assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+        init();
+    }
+    assert_eq!(
+        unsafe { fmi3GetFloat64(h.c, &ARM_X[1], 1, out.as_mut_ptr(), 1) },
+        fmi3Error
+    );
+    let e = h.last_error();
+    assert!(
+        e.contains("unknown value reference 5") && e.contains("element 1 of the array `arm_x`"),
+        "{e}"
+    );
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+    init();
+    let three = [1.0; 3];
+    assert_eq!(
+        unsafe { fmi3SetFloat64(h.c, &arm, 1, three.as_ptr(), 3) },
+        fmi3Error
+    );
+    let e = h.last_error();
+    assert!(e.contains("cannot be set") && e.contains("`arm_x`"), "{e}");
+    assert_eq!(unsafe { fmi3Reset(h.c) }, fmi3OK);
+    init();
+    assert_eq!(
+        unsafe { fmi3GetFloat64(h.c, &arm, 1, out.as_mut_ptr(), 3) },
+        fmi3OK
+    );
+    assert_eq!(
+        out[..3],
+        [0.0, 0.0, 0.0],
+        "mass and force back to their defaults"
+    );
+}

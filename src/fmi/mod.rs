@@ -1,8 +1,9 @@
 //! FMI 2.0 and FMI 3.0 Co-Simulation wrapper around any [`crate::scene::CoSimModel`].
 //!
 //! FMI 3.0 (docs/fmi3.md) drives the same [`instance::Instance`], state machine and variable
-//! table: [`types3`], [`variables3`] (FMI 3.0 value references), `exports3` (every `fmi3*`
-//! function), [`model_description3`], and [`package::pack3`] for `dist/fmi3/<Model>.fmu`.
+//! table: [`types3`], [`variables3`] (FMI 3.0 value references), [`arrays3`] (families of
+//! outputs as FMI 3.0 arrays), `exports3` (every `fmi3*` function), [`model_description3`], and
+//! [`package::pack3`] for `dist/fmi3/<Model>.fmu`.
 //!
 //! The only module with `unsafe` code and the C ABI. One generic wrapper serves every model in
 //! [`crate::scene::registry()`]: `fmi2Instantiate` picks the model by GUID, and the same shared
@@ -17,6 +18,7 @@
 //!   [`package`] and [`documentation`]: the `.fmu` archive.
 #![allow(unsafe_code, non_snake_case, non_upper_case_globals)]
 
+pub mod arrays3;
 pub mod boundary;
 pub mod documentation;
 mod exports;

@@ -9,6 +9,8 @@
 //!   child); enumeration types are `EnumerationType` definitions.
 //! - Value references are unique over the model ([`super::variables3`]), and the independent
 //!   variable `time` comes first.
+//! - Families of outputs `<prefix><k>_<field>` are one array each ([`super::arrays3`]), with
+//!   `<Dimension start="n"/>`; `ModelStructure` names the array.
 //! - `ModelStructure` names variables by value reference: `Output` (with `dependencies=""`) and
 //!   `InitialUnknown` (dependencies as value references).
 
@@ -18,55 +20,95 @@ use std::io;
 use quick_xml::Writer;
 use quick_xml::events::{BytesDecl, Event};
 
+use super::arrays3::{self, Var3, View3};
 use super::logger::CATEGORIES;
 use super::model_description::{
     Attrs, GENERATION_TOOL, Xml, default_initial, fmt_bool, fmt_real, initial_attr,
 };
 use super::units::{self, BASE_NAMES};
-use super::variables3::{self, TIME_NAME, TIME_VR, Type3, vr3};
+use super::variables3::{self, TIME_NAME, TIME_VR, Type3};
 use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType};
 
 /// The element and attributes of a variable (besides name, value reference, description,
-/// causality, variability, initial), and a String start value (a `<Start>` child in FMI 3.0).
-fn type_attrs(p: &PortSpec) -> (&'static str, Attrs, Option<&'static str>) {
+/// causality, variability, initial, and its start value: see [`start_text`]).
+fn type_attrs(p: &PortSpec) -> (&'static str, Attrs) {
     let mut a: Attrs = Vec::new();
-    let mut string_start = None;
     match &p.ty {
-        PortType::Real {
-            start, min, max, ..
-        } => {
+        PortType::Real { min, max, .. } => {
             if let Some(u) = p.unit {
                 a.push(("unit", u.to_string()));
             }
-            for (k, v) in [("min", min), ("max", max), ("start", start)] {
+            for (k, v) in [("min", min), ("max", max)] {
                 if let Some(v) = v {
                     a.push((k, fmt_real(*v)));
                 }
             }
         }
-        PortType::Integer { start, min, max } => {
-            for (k, v) in [("min", min), ("max", max), ("start", start)] {
+        PortType::Integer { min, max, .. } => {
+            for (k, v) in [("min", min), ("max", max)] {
                 if let Some(v) = v {
                     a.push((k, v.to_string()));
                 }
             }
         }
-        PortType::Boolean { start } => {
-            if let Some(v) = start {
-                a.push(("start", fmt_bool(*v).to_string()));
-            }
-        }
-        PortType::String { start } => string_start = *start,
-        PortType::Enumeration {
-            type_name, start, ..
-        } => {
+        PortType::Boolean { .. } | PortType::String { .. } => {}
+        PortType::Enumeration { type_name, .. } => {
             a.push(("declaredType", type_name.to_string()));
-            if let Some(v) = start {
-                a.push(("start", v.to_string()));
-            }
         }
     }
-    (Type3::of(&p.ty).element(), a, string_start)
+    (Type3::of(&p.ty).element(), a)
+}
+
+/// The start value of a port as XML text (a `start` attribute, or for a String the value of a
+/// `<Start>` child); `None` without one.
+fn start_text(p: &PortSpec) -> Option<String> {
+    match &p.ty {
+        PortType::Real { start, .. } => start.map(fmt_real),
+        PortType::Integer { start, .. } | PortType::Enumeration { start, .. } => {
+            start.map(|v| v.to_string())
+        }
+        PortType::Boolean { start } => start.map(|v| fmt_bool(v).to_string()),
+        PortType::String { start } => start.map(str::to_string),
+    }
+}
+
+/// Writes one FMI 3.0 variable: a scalar, or an array with `<Dimension start="n"/>` and its start
+/// values (if any) in element order, space-separated (one `<Start>` per element for strings).
+fn write_variable(x: &mut Xml, info: &ModelInfo, v: &Var3) -> io::Result<()> {
+    let p = v.head(info);
+    let mut a: Attrs = vec![
+        ("name", v.name.clone()),
+        ("valueReference", v.vr.to_string()),
+        ("description", arrays3::description(info, v)),
+        ("causality", p.causality.name().to_string()),
+        ("variability", p.variability.name().to_string()),
+    ];
+    if let Some(init) = initial_attr(p) {
+        a.push(("initial", init.to_string()));
+    }
+    let (element, ta) = type_attrs(p);
+    a.extend(ta);
+    let starts: Option<Vec<String>> = v
+        .ports
+        .iter()
+        .map(|&i| start_text(&info.ports[i]))
+        .collect();
+    let is_string = matches!(p.ty, PortType::String { .. });
+    if let (Some(st), false) = (&starts, is_string) {
+        a.push(("start", st.join(" ")));
+    }
+    let string_starts = starts.filter(|_| is_string).unwrap_or_default();
+    if !v.is_array() && string_starts.is_empty() {
+        return x.empty(element, &a);
+    }
+    x.start(element, &a)?;
+    if v.is_array() {
+        x.empty("Dimension", &[("start", v.ports.len().to_string())])?;
+    }
+    for st in string_starts {
+        x.empty("Start", &[("value", st)])?;
+    }
+    x.end(element)
 }
 
 /// Writes the FMI 3.0 model description of `info` as a UTF-8 XML document.
@@ -94,7 +136,7 @@ fn write_document(
     enums: &BTreeMap<&str, &[(&str, &str)]>,
 ) -> io::Result<()> {
     let s = |v: &str| v.to_string();
-    let vr = |p: &PortSpec| vr3(p).map_err(io::Error::other);
+    let view = &View3::new(info).map_err(io::Error::other)?;
     x.w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None)))?;
     x.start(
         "fmiModelDescription",
@@ -193,44 +235,26 @@ fn write_document(
             ("unit", s("s")),
         ],
     )?;
-    for p in &info.ports {
-        let mut a: Attrs = vec![
-            ("name", p.name.clone()),
-            ("valueReference", vr(p)?.to_string()),
-            ("description", p.description.clone()),
-            ("causality", s(p.causality.name())),
-            ("variability", s(p.variability.name())),
-        ];
-        if let Some(init) = initial_attr(p) {
-            a.push(("initial", s(init)));
-        }
-        let (element, ta, string_start) = type_attrs(p);
-        a.extend(ta);
-        match string_start {
-            Some(v) => {
-                x.start(element, &a)?;
-                x.empty("Start", &[("value", s(v))])?;
-                x.end(element)?;
-            }
-            None => x.empty(element, &a)?,
-        }
+    for v in &view.vars {
+        write_variable(x, info, v)?;
     }
     x.end("ModelVariables")?;
     x.start("ModelStructure", &[])?;
-    for p in info
-        .ports
+    for v in view
+        .vars
         .iter()
-        .filter(|p| p.causality == Causality::Output)
+        .filter(|v| v.head(info).causality == Causality::Output)
     {
         x.empty(
             "Output",
             &[
-                ("valueReference", vr(p)?.to_string()),
+                ("valueReference", v.vr.to_string()),
                 ("dependencies", String::new()),
             ],
         )?;
     }
-    for p in info.ports.iter().filter(|p| {
+    for v in view.vars.iter().filter(|v| {
+        let p = v.head(info);
         matches!(
             p.causality,
             Causality::Output | Causality::CalculatedParameter
@@ -239,9 +263,9 @@ fn write_document(
             Some("calculated" | "approx")
         )
     }) {
-        let mut attrs = vec![("valueReference", vr(p)?.to_string())];
-        if let Some(names) = (info.initial_dependencies)(info, p) {
-            attrs.push(("dependencies", known_refs(info, &names)?));
+        let mut attrs = vec![("valueReference", v.vr.to_string())];
+        if let Some(refs) = initial_knowns(info, view, v)? {
+            attrs.push(("dependencies", refs));
         }
         x.empty("InitialUnknown", &attrs)?;
     }
@@ -249,15 +273,20 @@ fn write_document(
     x.end("fmiModelDescription")
 }
 
-/// The FMI 3.0 value references of the knowns `names`, ascending, space-separated.
-fn known_refs(info: &ModelInfo, names: &[String]) -> io::Result<String> {
-    let mut refs = names
-        .iter()
-        .map(|n| {
-            let p = info
+/// The FMI 3.0 value references (ascending, space-separated) of the knowns that the initial
+/// value of `v` depends on: the union over its elements; `None` when an element depends on all
+/// knowns.
+fn initial_knowns(info: &ModelInfo, view: &View3, v: &Var3) -> io::Result<Option<String>> {
+    let mut refs = Vec::new();
+    for &i in &v.ports {
+        let Some(names) = (info.initial_dependencies)(info, &info.ports[i]) else {
+            return Ok(None);
+        };
+        for n in &names {
+            let k = info
                 .ports
                 .iter()
-                .find(|p| {
+                .position(|p| {
                     p.name == *n && matches!(p.causality, Causality::Parameter | Causality::Input)
                 })
                 .ok_or_else(|| {
@@ -266,16 +295,17 @@ fn known_refs(info: &ModelInfo, names: &[String]) -> io::Result<String> {
                         info.identifier
                     ))
                 })?;
-            vr3(p).map_err(io::Error::other)
-        })
-        .collect::<io::Result<Vec<_>>>()?;
+            refs.push(view.var_of_port(k).vr);
+        }
+    }
     refs.sort_unstable();
     refs.dedup();
-    Ok(refs
-        .iter()
-        .map(|i| i.to_string())
-        .collect::<Vec<_>>()
-        .join(" "))
+    Ok(Some(
+        refs.iter()
+            .map(|i| i.to_string())
+            .collect::<Vec<_>>()
+            .join(" "),
+    ))
 }
 
 #[cfg(test)]
@@ -307,5 +337,49 @@ mod tests {
             assert!(!xml.contains("ScalarVariable"));
             assert_eq!(xml, write(info).unwrap(), "deterministic");
         }
+    }
+
+    #[test]
+    fn an_array_has_one_reference_a_dimension_and_its_start_values_in_element_order() {
+        let xml = write((crate::fmi::test_probe::probe_entry().info)()).unwrap();
+        assert!(
+            xml.contains(r#"<Float64 name="arm_x" valueReference="4" description="Array over k = 0..2, element k = `arm&lt;k&gt;_x`: Arm k: position"#),
+            "{xml}"
+        );
+        assert!(xml.contains("<Dimension start=\"3\"/>"), "{xml}");
+        assert!(!xml.contains("arm1_x") && !xml.contains(r#"valueReference="5""#));
+        assert!(xml.contains(r#"<Output valueReference="4" dependencies=""/>"#));
+        // start values (outputs of the models have none; an exact output here)
+        let with_start = |name: &str, vr, start| {
+            let mut p = PortSpec::real_output(name, vr, None, "Out.");
+            p.ty = PortType::Real {
+                start: Some(start),
+                min: None,
+                max: None,
+                open: [false; 2],
+                unit_note: None,
+            };
+            p
+        };
+        let info = ModelInfo {
+            identifier: "T",
+            guid: "{t}",
+            description: "T.",
+            ports: vec![with_start("q1_v", 0, 0.5), with_start("q0_v", 1, 2.0)],
+            default_stop_time: 1.0,
+            default_step: 0.1,
+            initial_dependencies: crate::scene::port::on_all_knowns,
+        };
+        let view = View3::new(&info).unwrap();
+        let mut x = Xml {
+            w: Writer::new_with_indent(Vec::new(), b' ', 2),
+        };
+        write_variable(&mut x, &info, &view.vars[0]).unwrap();
+        let text = String::from_utf8(x.w.into_inner()).unwrap();
+        assert!(
+            text.contains(r#"valueReference="1""#)
+                && text.contains(r#"initial="exact" start="2 0.5">"#),
+            "{text}"
+        );
     }
 }

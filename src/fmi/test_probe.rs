@@ -19,6 +19,9 @@ pub const GAIN: u32 = 1;
 pub const FORCE: u32 = 2;
 /// Real value reference: output `x` [m].
 pub const X: u32 = 3;
+/// Real value references of the outputs `arm0_x`, `arm1_x`, `arm2_x` [m] (`arm<k>_x` =
+/// (k + 1) x): an FMI 3.0 array `arm_x`.
+pub const ARM_X: [u32; 3] = [4, 5, 6];
 /// Boolean value reference: tunable `panic_now` (panic in the next step).
 pub const PANIC_NOW: u32 = 0;
 
@@ -34,6 +37,9 @@ fn test_info() -> &'static ModelInfo {
             PortSpec::real_parameter("gain", GAIN, Variability::Tunable, 1.0, None, "Gain."),
             PortSpec::real_input("force", FORCE, 0.0, Some("N"), "Force."),
             PortSpec::real_output("x", X, Some("m"), "Position."),
+            PortSpec::real_output("arm0_x", ARM_X[0], Some("m"), "Arm 0: position x."),
+            PortSpec::real_output("arm1_x", ARM_X[1], Some("m"), "Arm 1: position 2 x."),
+            PortSpec::real_output("arm2_x", ARM_X[2], Some("m"), "Arm 2: position 3 x."),
             PortSpec {
                 name: "mode".into(),
                 vr: 0,
@@ -78,6 +84,15 @@ struct Probe {
 }
 
 impl Probe {
+    /// Writes `x` and the arm outputs derived from it.
+    fn put_x(&mut self, x: f64) -> Result<(), ModelError> {
+        self.ports.put_real(X, x)?;
+        for (k, vr) in ARM_X.iter().enumerate() {
+            self.ports.put_real(*vr, (k + 1) as f64 * x)?;
+        }
+        Ok(())
+    }
+
     fn boxed() -> Box<dyn CoSimModel> {
         Box::new(Probe {
             ports: PortStore::new(test_info()),
@@ -97,7 +112,7 @@ impl CoSimModel for Probe {
     fn initialize(&mut self, t: f64) -> Result<(), ModelError> {
         self.time = t;
         let x0 = self.ports.get_real(MASS)? * self.ports.get_real(FORCE)?;
-        self.ports.put_real(X, x0)?;
+        self.put_x(x0)?;
         self.ports.mark_initialized();
         Ok(())
     }
@@ -113,7 +128,7 @@ impl CoSimModel for Probe {
             ));
         }
         let x = self.ports.get_real(X)? + self.ports.get_real(GAIN)? * f * h;
-        self.ports.put_real(X, x)?;
+        self.put_x(x)?;
         self.time = t + h;
         self.log.push(LogRecord {
             level: LogLevel::Event,

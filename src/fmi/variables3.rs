@@ -14,7 +14,11 @@
 //! | (none: FMI 3.0 only)            | `Float64` `time`        | 4 000 000               |
 //!
 //! `time` is the independent variable that FMI 3.0 requires in every model description.
+//!
+//! An array variable ([`super::arrays3`]) takes the FMI 3.0 reference of its element 0; its other
+//! elements' references are not used in FMI 3.0.
 
+use super::arrays3::View3;
 use crate::scene::port::{BaseType, ModelInfo, PortSpec, PortType, ValueRef};
 
 /// Size of one value-reference block; every FMI 2.0 value reference must be below it.
@@ -109,22 +113,29 @@ pub fn split(vr3: u32) -> Option<(BaseType, ValueRef)> {
     Some((base, vr3 % VR_BLOCK))
 }
 
-/// Checks that every port of `info` maps to a distinct FMI 3.0 value reference and that no port
-/// is named like the independent variable.
+/// Checks that the FMI 3.0 variables of `info` ([`View3`]) have distinct value references and
+/// names, none named like the independent variable.
 pub fn check(info: &ModelInfo) -> Result<(), String> {
-    let mut seen = std::collections::HashSet::new();
-    for p in &info.ports {
-        if p.name == TIME_NAME {
+    let view = View3::new(info)?;
+    let mut refs = std::collections::HashSet::new();
+    let mut names = std::collections::HashSet::new();
+    for v in &view.vars {
+        if v.name == TIME_NAME {
             return Err(format!(
-                "{}: a port is named `{TIME_NAME}`, the FMI 3.0 independent variable",
+                "{}: a variable is named `{TIME_NAME}`, the FMI 3.0 independent variable",
                 info.identifier
             ));
         }
-        let v = vr3(p).map_err(|e| format!("{}: {e}", info.identifier))?;
-        if !seen.insert(v) {
+        if !refs.insert(v.vr) || v.vr == TIME_VR {
             return Err(format!(
-                "{}: FMI 3.0 value reference {v} of `{}` is used twice",
-                info.identifier, p.name
+                "{}: FMI 3.0 value reference {} of `{}` is used twice",
+                info.identifier, v.vr, v.name
+            ));
+        }
+        if !names.insert(v.name.as_str()) {
+            return Err(format!(
+                "{}: two FMI 3.0 variables are named `{}`",
+                info.identifier, v.name
             ));
         }
     }

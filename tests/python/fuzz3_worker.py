@@ -55,7 +55,10 @@ class Fuzzer:
         vs = self.lib.md.modelVariables
         self.vars = {v.name: v for v in vs}
         self.vrs = {t: [v.valueReference for v in vs if v.type == t and v.name != "time"] for t in TYPES}
-        self.outputs = [v.valueReference for v in vs if v.type == "Float64" and v.causality == "output"]
+        outs = [v for v in vs if v.type == "Float64" and v.causality == "output"]
+        self.outputs = [v.valueReference for v in outs]
+        # values behind them: an FMI 3.0 array counts its elements
+        self.n_output_values = sum(int(v.dimensions[0].start) if v.dimensions else 1 for v in outs)
         self.time = self.vars["time"].valueReference
         self.unknown = max(v.valueReference for v in vs) + 7
         self.values = SCENARIOS.get(self.lib.id, {}).get("values", {})
@@ -180,8 +183,8 @@ class Fuzzer:
                     s, now = inst.get_float64([self.time])
                     if s != R.OK or now[0] != last:
                         self.violation(f"{what}: time reads {now} ({s}) instead of {last!r}")
-                    s, values = inst.get_float64(self.outputs)
-                    bad = [vr for vr, x in zip(self.outputs, values) if not math.isfinite(x)]
+                    s, values = inst.get_float64(self.outputs, n=self.n_output_values)
+                    bad = [k for k, x in enumerate(values) if not math.isfinite(x)]
                     if s != R.OK or bad:
                         self.violation(f"{what}: outputs {bad} not finite ({s}) after OK: {inst.messages()[-1:]}")
                 elif prior == STEP and status == R.ERROR:

@@ -41,7 +41,8 @@ class Ctx:
         self.tunable = next((v.valueReference for v in floats
                              if v.causality == "parameter" and v.variability == "tunable"), None)
         self.input = next((v.valueReference for v in floats if v.causality == "input"), None)
-        self.output = next(v.valueReference for v in floats if v.causality == "output")
+        # a scalar output (families of outputs are FMI 3.0 arrays, read with nValues = their size)
+        self.output = next(v.valueReference for v in floats if v.causality == "output" and not v.dimensions)
         first = lambda t: next((v for v in vs if v.type == t), None)
         self.int32, self.enum, self.boolean, self.string = (first(t) for t in ("Int32", "Enumeration", "Boolean", "String"))
         self.with_min = next((v for v in floats if v.causality in ("parameter", "input") and v.min is not None), None)
@@ -460,16 +461,17 @@ CASES = [
      lambda x: _typed(x.enum, lambda v: _seq(x.new(), lambda i: i.set_int64([v.valueReference], [-1])))),
     ("typed_setString_invalid_utf8", R.ERROR, "values[0] is not valid UTF-8", lambda x: _typed(x.string, lambda v: _invalid_utf8(v)(x))),
     ("setString_null_value", R.ERROR, "values[0] is NULL", lambda x: _seq(x.new(), lambda i: i.set_string([x.unknown], [None]))),
-    # array lengths: nValues must equal nValueReferences (every variable is a scalar)
-    ("nValues_larger_getFloat64", R.ERROR, "nValues = 2 differs from nValueReferences = 1",
+    # array lengths: nValues must equal the number of values (scalars here)
+    ("nValues_larger_getFloat64", R.ERROR, "nValues = 2 does not match the 1 values of the 1 value references",
      lambda x: _seq(x.ready(), lambda i: i.get_float64([x.output], n=2))),
-    ("nValues_smaller_getFloat64", R.ERROR, "nValues = 1 differs from nValueReferences = 2",
+    ("nValues_smaller_getFloat64", R.ERROR, "nValues = 1 does not match the 2 values of the 2 value references",
      lambda x: _seq(x.ready(), lambda i: i.get_float64([x.output, x.time], n=1))),
-    ("nValues_zero_setFloat64", R.ERROR, "nValues = 0 differs from nValueReferences = 1",
+    ("nValues_zero_setFloat64", R.ERROR, "nValues = 0 does not match the 1 values of the 1 value references",
      lambda x: _seq(x.new(), lambda i: i.set_float64([x.param], [], n=0))),
-    ("nValues_larger_setBoolean", R.ERROR, "differs from nValueReferences",
+    # an unknown reference is named before the count is checked
+    ("nValues_larger_setBoolean", R.ERROR, "unknown value reference",
      lambda x: _seq(x.new(), lambda i: i.set_boolean([x.unknown], [True, False]))),
-    ("nValues_larger_setString", R.ERROR, "differs from nValueReferences",
+    ("nValues_larger_setString", R.ERROR, "unknown value reference",
      lambda x: _seq(x.new(), lambda i: i.set_string([x.unknown], ["a", "b"]))),
     ("null_value_references", R.ERROR, "valueReferences[] is NULL", lambda x: _raw(x, "fmi3GetFloat64", None, 2, (fmi3Float64 * 2)(), 2)),
     ("null_values", R.ERROR, "values[] is NULL", lambda x: _raw(x, "fmi3SetFloat64", _vr(x.param), 1, None, 1)),

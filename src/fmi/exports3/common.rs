@@ -267,18 +267,6 @@ pub unsafe extern "C" fn fmi3Reset(instance: fmi3Instance) -> fmi3Status {
     unsafe { guard(instance, "fmi3Reset", ALIVE, |i| i.reset()) }
 }
 
-/// Checks the array lengths of a scalar getter or setter: `nValues` must equal
-/// `nValueReferences` (no array variables).
-pub(super) fn same_length(nvr: usize, nvalues: usize) -> Result<(), String> {
-    if nvr == nvalues {
-        Ok(())
-    } else {
-        Err(format!(
-            "nValues = {nvalues} differs from nValueReferences = {nvr}: every variable of this FMU is a scalar"
-        ))
-    }
-}
-
 /// The value references of a call, as a slice.
 ///
 /// # Safety

@@ -1,8 +1,11 @@
 //! Getting and setting values: Float64, Int32, Int64 (enumerations), Boolean and String serve
 //! the variable table; the other types have no variables in these models, so any value reference
 //! is unknown (`fmi3Error`, logged) and an empty call is `fmi3OK`.
+//!
+//! `nValues` counts values, not references: an array variable takes as many as it has elements
+//! (FMI 3.0, "Getting and Setting Variable Values"); the instance checks the count.
 
-use super::common::{refs, same_length};
+use super::common::refs;
 use crate::fmi::boundary::{c_str, guard, in_slice, out_slice};
 use crate::fmi::machine::{GET_VALUES, SET_VALUES};
 use crate::fmi::types::fmi2OK;
@@ -25,7 +28,6 @@ macro_rules! getter {
         ) -> fmi3Status {
             unsafe {
                 guard(instance, stringify!($name), GET_VALUES, |i| {
-                    same_length(nValueReferences, nValues)?;
                     let vrs = refs(valueReferences, nValueReferences)?;
                     i.$method(vrs, out_slice(values, nValues, "values[]")?)
                 })
@@ -51,7 +53,6 @@ macro_rules! setter {
         ) -> fmi3Status {
             unsafe {
                 guard(instance, stringify!($name), SET_VALUES, |i| {
-                    same_length(nValueReferences, nValues)?;
                     let vrs = refs(valueReferences, nValueReferences)?;
                     i.$method(vrs, in_slice(values, nValues, "values[]")?)
                 })
@@ -111,7 +112,6 @@ pub unsafe extern "C" fn fmi3SetString(
 ) -> fmi3Status {
     unsafe {
         guard(instance, "fmi3SetString", SET_VALUES, |i| {
-            same_length(nValueReferences, nValues)?;
             let vrs = refs(valueReferences, nValueReferences)?;
             let ptrs = in_slice(values, nValues, "values[]")?;
             let strs = ptrs
