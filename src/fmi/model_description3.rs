@@ -11,6 +11,10 @@
 //!   variable `time` comes first.
 //! - Families of outputs `<prefix><k>_<field>` are one array each ([`super::arrays3`]), with
 //!   `<Dimension start="n"/>`; `ModelStructure` names the array.
+//! - A Float64 variable's unit comes from a `Float64Type` named after the unit (`declaredType="m"`
+//!   with `<Float64Type name="m" unit="m"/>`), not from a `unit` attribute of its own: both are
+//!   FMI 3.0, and the type form is what the `fmi` crate's schema (0.8) reads (it refused the
+//!   attribute form: "UnknownField FmiFloat64 unit").
 //! - `ModelStructure` names variables by value reference: `Output` (with `dependencies=""`) and
 //!   `InitialUnknown` (dependencies as value references).
 
@@ -36,7 +40,7 @@ fn type_attrs(p: &PortSpec) -> (&'static str, Attrs) {
     match &p.ty {
         PortType::Real { min, max, .. } => {
             if let Some(u) = p.unit {
-                a.push(("unit", u.to_string()));
+                a.push(("declaredType", u.to_string()));
             }
             for (k, v) in [("min", min), ("max", max)] {
                 if let Some(v) = v {
@@ -185,24 +189,26 @@ fn write_document(
         x.end("Unit")?;
     }
     x.end("UnitDefinitions")?;
-    if !enums.is_empty() {
-        x.start("TypeDefinitions", &[])?;
-        for (name, items) in enums {
-            x.start("EnumerationType", &[("name", s(name))])?;
-            for (k, (item, desc)) in items.iter().enumerate() {
-                x.empty(
-                    "Item",
-                    &[
-                        ("name", s(item)),
-                        ("value", (k + 1).to_string()),
-                        ("description", s(desc)),
-                    ],
-                )?;
-            }
-            x.end("EnumerationType")?;
-        }
-        x.end("TypeDefinitions")?;
+    x.start("TypeDefinitions", &[])?;
+    // a variable's unit through a type named after it (see the module documentation)
+    for name in units.keys() {
+        x.empty("Float64Type", &[("name", s(name)), ("unit", s(name))])?;
     }
+    for (name, items) in enums {
+        x.start("EnumerationType", &[("name", s(name))])?;
+        for (k, (item, desc)) in items.iter().enumerate() {
+            x.empty(
+                "Item",
+                &[
+                    ("name", s(item)),
+                    ("value", (k + 1).to_string()),
+                    ("description", s(desc)),
+                ],
+            )?;
+        }
+        x.end("EnumerationType")?;
+    }
+    x.end("TypeDefinitions")?;
     x.start("LogCategories", &[])?;
     for (_, name, desc) in CATEGORIES {
         x.empty(
@@ -232,7 +238,7 @@ fn write_document(
             ("description", s("Simulation time.")),
             ("causality", s("independent")),
             ("variability", s("continuous")),
-            ("unit", s("s")),
+            ("declaredType", s("s")),
         ],
     )?;
     for v in &view.vars {

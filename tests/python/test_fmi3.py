@@ -162,7 +162,7 @@ def test_validate_fmu_finds_no_problems(model):
     kinds = {"Real": "Float64", "Integer": "Int32", "Enumeration": "Enumeration",
              "Boolean": "Boolean", "String": "String"}
     names2 = [v.name for v in md2.modelVariables]
-    expanded = [(n, v.type, v.causality, v.variability, v.unit if v.type == "Float64" else None)
+    expanded = [(n, v.type, v.causality, v.variability, (v.unit or (v.declaredType.unit if v.declaredType else None)) if v.type == "Float64" else None)
                 for v in md.modelVariables if v.name != "time" for n in elements(v, names2)]
     assert sorted(expanded) == sorted((v.name, kinds[v.type], v.causality, v.variability,
                                        v.unit if v.type == "Real" else None) for v in md2.modelVariables)
