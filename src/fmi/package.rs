@@ -59,7 +59,8 @@ pub fn pack(
     out_dir: &Path,
 ) -> Result<PathBuf, String> {
     let xml = checked_description(entry, descriptions)?;
-    write_fmu(entry, cdylib, xml, "linux64", out_dir)
+    let page = documentation::index_html((entry.info)());
+    write_fmu(entry, cdylib, xml, page, "linux64", out_dir)
 }
 
 /// Where the checked-in FMI 3.0 description of `identifier` lives under `dir`
@@ -93,13 +94,15 @@ pub fn pack3(
     out_dir: &Path,
 ) -> Result<PathBuf, String> {
     let xml = checked_description3(entry, descriptions)?;
-    write_fmu(entry, cdylib, xml, "x86_64-linux", out_dir)
+    let page = documentation::index_html3((entry.info)());
+    write_fmu(entry, cdylib, xml, page, "x86_64-linux", out_dir)
 }
 
 fn write_fmu(
     entry: &ModelEntry,
     cdylib: &Path,
     xml: String,
+    page: String,
     platform: &str,
     out_dir: &Path,
 ) -> Result<PathBuf, String> {
@@ -124,11 +127,7 @@ fn write_fmu(
             binary,
             0o755,
         ),
-        (
-            "documentation/index.html".into(),
-            documentation::index_html(info).into_bytes(),
-            0o644,
-        ),
+        ("documentation/index.html".into(), page.into_bytes(), 0o644),
         (
             format!("resources/{}", crate::scene::scene_file::FMU_SCENE),
             crate::scene::scene_file::render(info).into_bytes(),
