@@ -47,8 +47,14 @@ impl Instance {
         };
         if var.ty != want {
             return Err(format!(
-                "value reference {vr3} is `{}`, a {} variable, not {}",
+                "value reference {vr3} is `{}`, {} {} variable, not {}",
                 var.name,
+                // "an Int32", "an Enumeration"
+                if var.ty.element().starts_with(['E', 'I']) {
+                    "an"
+                } else {
+                    "a"
+                },
                 var.ty.accessor(),
                 want.element()
             ));

@@ -437,7 +437,7 @@ CASES = [
      lambda x: _typed(x.boolean, lambda v: _seq(x.ready(), lambda i: i.get_float64([v.valueReference])))),
     ("typed_wrong_type_setInt32_of_an_enumeration", R.ERROR, "not Int32",
      lambda x: _typed(x.enum, lambda v: _seq(x.new(), lambda i: i.set_int32([v.valueReference], [1])))),
-    ("typed_wrong_type_getInt64_of_an_int32", R.ERROR, "Int32 (fmi3Get/SetInt32) variable, not Enumeration",
+    ("typed_wrong_type_getInt64_of_an_int32", R.ERROR, "an Int32 (fmi3Get/SetInt32) variable, not Enumeration",
      lambda x: _typed(x.int32, lambda v: _seq(x.ready(), lambda i: i.get_int64([v.valueReference])))),
     ("typed_wrong_type_getBoolean_of_a_string", R.ERROR, "String (fmi3Get/SetString) variable, not Boolean",
      lambda x: _typed(x.string, lambda v: _seq(x.ready(), lambda i: i.get_boolean([v.valueReference])))),
