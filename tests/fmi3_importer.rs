@@ -5,34 +5,22 @@
 //! The FMU is packed into a temporary folder around the cdylib that `cargo test` has just built
 //! next to this test executable, so the test checks the current sources.
 
+mod common;
+
 use std::path::PathBuf;
+
+use common::packed::{Fmi, packed};
 
 use fmi::fmi3::import::Fmi3Import;
 use fmi::fmi3::{CoSimulation, Common, Fmi3Model, GetSet};
 use fmi::traits::FmiImport;
-use mbcosim::fmi::package;
 use mbcosim::scene::{self, native};
 
-/// Packs the FMI 3.0 PanelLock FMU once per test process; returns its path.
+/// The FMI 3.0 PanelLock FMU, packed once per test process.
 fn packed_panel_lock() -> PathBuf {
     static FMU: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
-    FMU.get_or_init(|| {
-        let exe = std::env::current_exe().unwrap();
-        let deps = exe.parent().unwrap();
-        let lib = [
-            deps.join("libmbcosim.so"),
-            deps.parent().unwrap().join("libmbcosim.so"),
-        ]
-        .into_iter()
-        .find(|p| p.is_file())
-        .expect("libmbcosim.so next to the test executable");
-        let out =
-            std::env::temp_dir().join(format!("mbcosim-fmi3-importer-{}", std::process::id()));
-        let entry = scene::find_by_identifier("PanelLock").unwrap();
-        let md = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("modelDescription");
-        package::pack3(&entry, &lib, &md, &out).unwrap()
-    })
-    .clone()
+    FMU.get_or_init(|| packed("PanelLock", Fmi::V3, "fmi3-importer"))
+        .clone()
 }
 
 /// Value reference of variable `name` in the imported description.

@@ -2,31 +2,13 @@
 //! FMU positions the packed PanelLock FMU's root hinge through its motor input, the same loop as
 //! `tests/python/test_panel_lock.py` runs in fmpy.
 
-use std::path::PathBuf;
+mod common;
+
+use common::packed::{Fmi, packed};
 
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common, InstanceCS};
-use mbcosim::fmi::package;
 use mbcosim::scene;
-
-fn packed(identifier: &str) -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let deps = exe.parent().unwrap();
-    let lib = [
-        deps.join("libmbcosim.so"),
-        deps.parent().unwrap().join("libmbcosim.so"),
-    ]
-    .into_iter()
-    .find(|p| p.is_file())
-    .expect("libmbcosim.so next to the test executable");
-    let out = std::env::temp_dir().join(format!(
-        "mbcosim-coupling-{}-{identifier}",
-        std::process::id()
-    ));
-    let entry = scene::find_by_identifier(identifier).unwrap();
-    let md = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("modelDescription");
-    package::pack(&entry, &lib, &md, &out).unwrap()
-}
 
 /// Value reference of the port `name` of model `identifier`.
 fn vr(identifier: &str, name: &str) -> u32 {
@@ -48,8 +30,8 @@ fn get(inst: &mut InstanceCS, vr: u32) -> f64 {
 #[test]
 fn pid_fmu_positions_the_panel_lock_fmu_in_the_fmi_crate() {
     let (pl, pid) = ("PanelLock", "PidController");
-    let plant_import: Fmi2Import = fmi::import::from_path(packed(pl)).unwrap();
-    let ctrl_import: Fmi2Import = fmi::import::from_path(packed(pid)).unwrap();
+    let plant_import: Fmi2Import = fmi::import::from_path(packed(pl, Fmi::V2, "coupling")).unwrap();
+    let ctrl_import: Fmi2Import = fmi::import::from_path(packed(pid, Fmi::V2, "coupling")).unwrap();
     let mut plant = plant_import.instantiate_cs("array", false, true).unwrap();
     let mut ctrl = ctrl_import.instantiate_cs("pid", false, true).unwrap();
 

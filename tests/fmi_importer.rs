@@ -4,35 +4,22 @@
 //! next to this test executable (`target/<profile>/deps/libmbcosim.so`), so the test always
 //! checks the current sources; `tests/run_all.sh` additionally checks `dist/` with fmpy.
 
+mod common;
+
 use std::path::PathBuf;
+
+use common::packed::{Fmi, packed};
 
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common, InstanceCS};
 use fmi::traits::{FmiImport, FmiInstance, FmiStatus};
-use mbcosim::fmi::package;
 use mbcosim::scene::{self, native};
 
-/// Packs the PID FMU once per test process; returns its path.
+/// The PID FMU, packed once per test process.
 fn packed_pid() -> PathBuf {
     static FMU: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
-    FMU.get_or_init(|| {
-        let exe = std::env::current_exe().unwrap();
-        let deps = exe.parent().unwrap();
-        let lib = [
-            deps.join("libmbcosim.so"),
-            deps.parent().unwrap().join("libmbcosim.so"),
-        ]
-        .into_iter()
-        .find(|p| p.is_file())
-        .expect(
-            "libmbcosim.so next to the test executable (cargo builds the cdylib with the rlib)",
-        );
-        let out = std::env::temp_dir().join(format!("mbcosim-fmi-importer-{}", std::process::id()));
-        let entry = scene::find_by_identifier("PidController").unwrap();
-        let md = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("modelDescription");
-        package::pack(&entry, &lib, &md, &out).unwrap()
-    })
-    .clone()
+    FMU.get_or_init(|| packed("PidController", Fmi::V2, "fmi-importer"))
+        .clone()
 }
 
 // PID value references (see modelDescription/PidController.xml).

@@ -13,6 +13,8 @@
 //! Times are on the scene's own axis (0 at the start); the watcher is told importer times
 //! (`start + t`).
 
+use super::clock::{Clock, Step};
+
 /// Resolution to which events are located [s], relative to `max(1 s, |t|)`: the FMU's time
 /// resolution (1 ns, see [`super::clock::RESOLUTION`]).
 pub const EVENT_RESOLUTION: f64 = 1e-9;
@@ -82,6 +84,29 @@ pub enum Stopped {
     Event(String),
     /// The watcher asked for an end before `end`; the scene is there.
     Requested,
+}
+
+impl Stopped {
+    /// How the importer's step ended, with `clock` moved to the end of `step`, or to `now`
+    /// [s, scene axis] when the step ended early.
+    pub fn finish(self, clock: &mut Clock, step: &Step, now: f64) -> StepEnd {
+        match self {
+            Stopped::AtEnd => {
+                clock.advance(step);
+                StepEnd::Complete
+            }
+            Stopped::Event(reason) => {
+                clock.advance_early(now);
+                StepEnd::Early { reason }
+            }
+            Stopped::Requested => {
+                clock.advance_early(now);
+                StepEnd::Early {
+                    reason: "the importer asked for an early return".into(),
+                }
+            }
+        }
+    }
 }
 
 /// Advances `scene` to `end` [s, scene axis] under `watch` (see the module documentation);

@@ -4,6 +4,7 @@
 pub mod flex;
 pub mod jacobian;
 pub mod outputs;
+pub mod packed;
 pub mod panel_lock;
 
 use mbcosim::math::{Mat3, Quat, Vec3};

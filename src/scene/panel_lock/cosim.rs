@@ -11,7 +11,7 @@ use crate::scene::port::ValueRef;
 use crate::scene::scene_file::SceneTable;
 use crate::scene::store::PortStore;
 use crate::scene::view::Snapshot;
-use crate::scene::watch::{NoWatch, StepEnd, StepWatch, Stopped, advance_watched};
+use crate::scene::watch::{NoWatch, StepEnd, StepWatch, advance_watched};
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use crate::state::State;
 
@@ -269,22 +269,7 @@ impl CoSimModel for PanelLockModel {
                 message: note,
             });
         }
-        let end = match stopped {
-            Stopped::AtEnd => {
-                self.clock.advance(&step);
-                StepEnd::Complete
-            }
-            Stopped::Event(reason) => {
-                self.clock.advance_early(now);
-                StepEnd::Early { reason }
-            }
-            Stopped::Requested => {
-                self.clock.advance_early(now);
-                StepEnd::Early {
-                    reason: "the importer asked for an early return".into(),
-                }
-            }
-        };
+        let end = stopped.finish(&mut self.clock, &step, now);
         let after = self.lock_times();
         for (k, (a, b)) in after.iter().zip(&before).enumerate() {
             if a.is_finite() && !b.is_finite() {

@@ -41,7 +41,7 @@ use crate::scene::port::{PortType, ValueRef};
 use crate::scene::scene_file::SceneTable;
 use crate::scene::store::PortStore;
 use crate::scene::view::Snapshot;
-use crate::scene::watch::{NoWatch, StepEnd, StepWatch, Stopped, advance_watched};
+use crate::scene::watch::{NoWatch, StepEnd, StepWatch, advance_watched};
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -522,22 +522,7 @@ impl CoSimModel for RopeBlockModel {
             }
         };
         let now = self.scene()?.sim.time();
-        let end = match stopped {
-            Stopped::AtEnd => {
-                self.clock.advance(&step);
-                StepEnd::Complete
-            }
-            Stopped::Event(reason) => {
-                self.clock.advance_early(now);
-                StepEnd::Early { reason }
-            }
-            Stopped::Requested => {
-                self.clock.advance_early(now);
-                StepEnd::Early {
-                    reason: "the importer asked for an early return".into(),
-                }
-            }
-        };
+        let end = stopped.finish(&mut self.clock, &step, now);
         self.publish()?;
         let after = self.contact_count();
         if after != before {
