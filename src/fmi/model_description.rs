@@ -78,6 +78,22 @@ pub(crate) fn default_initial(p: &PortSpec) -> Option<&'static str> {
     }
 }
 
+/// The `<Item>`s of an enumeration type (values 1, 2, ... in order), the same in FMI 2.0's
+/// `SimpleType` and FMI 3.0's `EnumerationType`.
+pub(crate) fn write_items(x: &mut Xml, items: &[(&str, &str)]) -> io::Result<()> {
+    for (k, (item, desc)) in items.iter().enumerate() {
+        x.empty(
+            "Item",
+            &[
+                ("name", item.to_string()),
+                ("value", (k + 1).to_string()),
+                ("description", desc.to_string()),
+            ],
+        )?;
+    }
+    Ok(())
+}
+
 /// The `initial` attribute this port needs written (`None` when the default applies).
 pub(crate) fn initial_attr(p: &PortSpec) -> Option<&'static str> {
     let wanted = match (p.causality, p.variability, p.ty.has_start()) {
@@ -263,16 +279,7 @@ fn write_document(
         for (name, items) in enums {
             x.start("SimpleType", &[("name", s(name))])?;
             x.start("Enumeration", &[])?;
-            for (k, (item, desc)) in items.iter().enumerate() {
-                x.empty(
-                    "Item",
-                    &[
-                        ("name", s(item)),
-                        ("value", (k + 1).to_string()),
-                        ("description", s(desc)),
-                    ],
-                )?;
-            }
+            write_items(x, items)?;
             x.end("Enumeration")?;
             x.end("SimpleType")?;
         }

@@ -27,7 +27,7 @@ use quick_xml::events::{BytesDecl, Event};
 use super::arrays3::{self, Var3, View3};
 use super::logger::CATEGORIES;
 use super::model_description::{
-    Attrs, GENERATION_TOOL, Xml, default_initial, fmt_bool, fmt_real, initial_attr,
+    Attrs, GENERATION_TOOL, Xml, default_initial, fmt_bool, fmt_real, initial_attr, write_items,
 };
 use super::units::{self, BASE_NAMES};
 use super::variables3::{self, TIME_NAME, TIME_VR, Type3};
@@ -196,16 +196,7 @@ fn write_document(
     }
     for (name, items) in enums {
         x.start("EnumerationType", &[("name", s(name))])?;
-        for (k, (item, desc)) in items.iter().enumerate() {
-            x.empty(
-                "Item",
-                &[
-                    ("name", s(item)),
-                    ("value", (k + 1).to_string()),
-                    ("description", s(desc)),
-                ],
-            )?;
-        }
+        write_items(x, items)?;
         x.end("EnumerationType")?;
     }
     x.end("TypeDefinitions")?;

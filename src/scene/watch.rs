@@ -73,6 +73,11 @@ pub trait Watchable: Clone {
     fn marks(&mut self) -> Self::Marks;
     /// The events that happened between `before` and `after`, in words (`None`: none).
     fn happened(&self, before: &Self::Marks, after: &Self::Marks) -> Option<String>;
+    /// Checks a watched step once at its end (single-step advances leave out what a whole
+    /// advance checks at its end); the default checks nothing.
+    fn check_at_end(&mut self) -> Result<(), String> {
+        Ok(())
+    }
 }
 
 /// What [`advance_watched`] did.
@@ -150,6 +155,7 @@ pub fn advance_watched<S: Watchable>(
                     locate(prev, scene.clone(), m0)?
                 };
                 *scene = located;
+                scene.check_at_end()?;
                 return Ok(Stopped::Event(reason));
             }
             marks = Some(m1);
@@ -160,11 +166,13 @@ pub fn advance_watched<S: Watchable>(
         {
             let stop = stop - start;
             if stop <= scene.now() {
+                scene.check_at_end()?;
                 return Ok(Stopped::Requested);
             }
             target = target.min(stop);
         }
     }
+    scene.check_at_end()?;
     Ok(if target < end {
         Stopped::Requested
     } else {

@@ -363,6 +363,19 @@ def _deserialize_freed_target(x):
 # such message at all; "stderr:..." for messages that go to stderr without a logger; "warning:..."
 # for a message logged with status Warning; the recovery cases log the error they recover from),
 # case)
+# The FMI 3.0 type a `typed_*` case needs a variable of; such a case runs on the models that
+# have one (test_misuse3.py collects it only there).
+TYPED_NEEDS = {
+    "typed_wrong_type_getFloat64_of_a_boolean": "Boolean",
+    "typed_wrong_type_setInt32_of_an_enumeration": "Enumeration",
+    "typed_wrong_type_getInt64_of_an_int32": "Int32",
+    "typed_wrong_type_getBoolean_of_a_string": "String",
+    "typed_enumeration_beyond_int32": "Enumeration",
+    "typed_setInt32_above_max": "Int32",
+    "typed_setInt64_negative_enumeration_item": "Enumeration",
+    "typed_setString_invalid_utf8": "String",
+}
+
 CASES = [
     # wrong call order: every one an illegal call sequence named by its FMI 3.0 function
     ("order_doStep_before_init", R.ERROR, "fmi3DoStep: illegal call sequence", lambda x: _seq(x.new(), lambda i: i.do_step(0.0, x.h))),

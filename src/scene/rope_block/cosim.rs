@@ -25,7 +25,7 @@
 //! started at 0 s.
 
 use super::params::GroundParams;
-use super::persist::{clone_sim, read_sim, write_sim};
+use super::persist::{read_sim, write_sim};
 use super::ports::*;
 use super::rig::BlockGeometry;
 use super::rig_checks::check_rig;
@@ -95,7 +95,7 @@ impl Clone for RopeBlockModel {
     fn clone(&self) -> Self {
         RopeBlockModel {
             ports: self.ports.clone(),
-            scene: self.scene.as_ref().map(|s| s.with_sim(clone_sim(&s.sim))),
+            scene: self.scene.as_ref().map(|s| s.with_sim(s.sim.clone())),
             targets: self.targets.clone(),
             applied: self.applied,
             clock: self.clock,

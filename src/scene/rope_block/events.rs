@@ -2,7 +2,6 @@
 //! released, a sling going slack (its segment at the block's lug without tension: the sling no
 //! longer holds the block; the segments near the hook still carry the hanging rope's weight).
 
-use super::persist::clone_sim;
 use super::runner::RopeBlockSim;
 use crate::scene::watch::Watchable;
 
@@ -14,12 +13,6 @@ pub struct RopeMarks {
     removed: u64,
     /// Per sling: slack (no tension in its segment at the lug).
     slack: Vec<bool>,
-}
-
-impl Clone for RopeBlockSim {
-    fn clone(&self) -> Self {
-        clone_sim(self)
-    }
 }
 
 impl Watchable for RopeBlockSim {
@@ -58,5 +51,10 @@ impl Watchable for RopeBlockSim {
             }
         }
         (!what.is_empty()).then(|| what.join(", "))
+    }
+
+    /// The energy balance, which single-step advances do not check.
+    fn check_at_end(&mut self) -> Result<(), String> {
+        self.check_energy()
     }
 }

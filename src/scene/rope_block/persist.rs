@@ -24,23 +24,6 @@ use crate::state::State;
 use nalgebra::Quaternion;
 use std::sync::Arc;
 
-/// An exact, independent copy of a running simulation (the model's effects are shared
-/// read-only through their `Arc`s).
-pub fn clone_sim(s: &RopeBlockSim) -> RopeBlockSim {
-    RopeBlockSim {
-        structure: s.structure.clone(),
-        sim: s.sim.clone(),
-        map: s.map.clone(),
-        contact: s.contact,
-        counters: s.counters,
-        event_energy: s.event_energy,
-        slide_dissipation: s.slide_dissipation,
-        energy_reference: s.energy_reference,
-        max_rebuilds_per_call: s.max_rebuilds_per_call,
-        hook_ramp: s.hook_ramp,
-    }
-}
-
 fn bad(msg: impl Into<String>) -> ModelError {
     ModelError::BadState(msg.into())
 }
