@@ -162,8 +162,9 @@ pub struct Dopri5 {
 /// stability region on the negative real axis is near 3.3; Hairer and Wanner's test).
 const STIFF_H_LAMBDA: f64 = 3.25;
 
-/// Accepted steps in a row at the stability boundary after which a run is stiff.
-const STIFF_STEPS: u64 = 1000;
+/// Accepted steps in a row at the stability boundary after which a run is stiff (Hairer and
+/// Wanner's code decides after 15; 1,000 here let a stiff RopeBlock run 4-16 s CPU first).
+const STIFF_STEPS: u64 = 100;
 
 /// A stiff run stops when the call still needs more than this many steps of the current size:
 /// explicit steps on a stiff time scale would take minutes where an implicit integrator takes

@@ -23,7 +23,7 @@ import adversarial as A
 import fmi2raw as R
 
 SEED = 25
-SLICE = 6000  # ~22 s on 2 shared cores (one known hang of 5 s CPU among them)
+SLICE = 6000  # ~20 s on 2 shared cores
 CPU_LIMIT = 5.0
 
 
