@@ -256,3 +256,85 @@ fn a_four_hook_rig_is_driven_and_observed_through_its_variables() {
     );
     assert!((roll - hand).abs() < 0.05 * hand.abs(), "{roll}");
 }
+
+/// One sling from a lug on the side shell (0.3 m outboard of the plate, 1 m below the deck edge)
+/// straight up to its hook; the block rests on the ground, the sling hangs in water (drag damps
+/// its swing).
+const ONE_SIDE_SLING: &str = "
+[block]
+box = [18.0, 12.0, 7.0]
+mass = 200e3
+[[lug]]
+position = [6.5, 6.3, 6.0]
+[[sling]]
+lug = 0
+hook = 0
+route = \"straight\"
+[[hook]]
+position = [6.5, 6.3, 26.0]
+crane = 0
+";
+
+#[test]
+fn a_sling_swung_over_the_deck_edge_and_back_wraps_the_edge_and_leaves_it() {
+    let mut m = RopeBlockModel::new();
+    for (name, on) in [("ground_contact", true), ("drag", true)] {
+        let r = vr(&m, name);
+        m.set_boolean(r, on).unwrap();
+    }
+    m.set_integer(vr(&m, "segments"), 20).unwrap();
+    m.set_integer(vr(&m, "hook_command"), 2).unwrap();
+    set(&mut m, "fluid_density", 1025.0);
+    let origin = std::env::temp_dir().join("one_side_sling.toml");
+    let origin = origin.display().to_string();
+    apply(&mut m, &parse(ONE_SIDE_SLING, &origin).unwrap(), &origin).unwrap();
+    m.initialize(0.0).unwrap();
+    let count = |m: &RopeBlockModel| m.get_integer(vr(m, "contact_count")).unwrap();
+    let t0 = get(&m, "sling0_tension_lug");
+    assert_eq!(count(&m), 0);
+    let h = 0.05;
+    let mut t = 0.0;
+    let mut run_to = |m: &mut RopeBlockModel, end: f64| {
+        while t < end - 1e-9 {
+            m.do_step(t, h).unwrap();
+            t += h;
+        }
+    };
+    // the hook swings 10 m inboard over the deck at about the sling's length from the lug: the
+    // straight line from the lug to the hook then cuts the deck edge (y 6 m, z 7 m)
+    run_to(&mut m, 0.5);
+    set(&mut m, "hook0_dy", -10.0);
+    set(
+        &mut m,
+        "hook0_dz",
+        (20.0f64.powi(2) - 10.0f64.powi(2)).sqrt() - 20.0,
+    );
+    run_to(&mut m, 12.0);
+    let (n, y, z) = (
+        get(&m, "contact0_normal"),
+        get(&m, "contact0_y"),
+        get(&m, "contact0_z"),
+    );
+    let wrapped = get(&m, "sling0_tension_lug");
+    println!(
+        "hook inboard: {} node(s), at y {y} z {z} m, N {n:.1} N, lug tension {wrapped:.1} N",
+        count(&m)
+    );
+    assert_eq!(count(&m), 1);
+    assert!((y - 6.0).abs() < 1e-9 && (z - 7.0).abs() < 1e-9, "{y} {z}");
+    assert!(n > 0.0);
+    // back over the lug: the rope bends away from the edge, which could hold it only by pulling
+    set(&mut m, "hook0_dy", 0.0);
+    set(&mut m, "hook0_dz", 0.0);
+    run_to(&mut m, 20.0);
+    assert_eq!(
+        count(&m),
+        0,
+        "the node stays on the edge after the hook came back"
+    );
+    // at rest the sling hangs as at the start (one static state), not stretched over the edge
+    run_to(&mut m, 140.0);
+    let t1 = get(&m, "sling0_tension_lug");
+    println!("lug tension at rest: {t1:.1} N at 140 s, {t0:.1} N at the start");
+    assert!((t1 - t0).abs() < 0.02 * t0, "{t1} against {t0}");
+}

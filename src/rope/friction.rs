@@ -71,6 +71,21 @@ impl ContactFrame {
     }
 }
 
+impl ContactFrame {
+    /// The frame with its normal turned to the plate's side of the edge (`plate_normal`: the
+    /// edge's mean outward plate normal, world, unit). A rope that bends away from the edge (the
+    /// plates on the outside of its turn) has its turn's bisector pointing into the plates; there
+    /// the plates could only hold the node by pulling, so the normal force `N = R . n` must come
+    /// out negative (and the node leave the edge), not positive with the bisector's sign.
+    pub fn facing_plate(mut self, plate_normal: &Vec3) -> Self {
+        if self.normal.dot(plate_normal) < 0.0 {
+            self.normal = -self.normal;
+            self.across = -self.across;
+        }
+        self
+    }
+}
+
 /// The reaction of the block on a contact node, decomposed.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Reaction {
@@ -253,6 +268,28 @@ mod tests {
         let c = edge_capacity(mu, n, 0.8 * mu * n);
         assert!((c - 0.6 * mu * n).abs() < 1e-9);
         assert_eq!(return_map(mu, -1.0, 1.0, 0.0).along_edge, 0.0);
+    }
+
+    #[test]
+    fn a_rope_bent_away_from_the_plates_pulls_on_them() {
+        // a deck edge along x: deck normal +z, side normal +y, mean (0, 1, 1)/sqrt 2. Wrapped: the
+        // rope runs down the side and inboard over the deck, the plates push (N = T sqrt 2)
+        let edge = Vec3::x();
+        let plate = Vec3::new(0.0, 1.0, 1.0).normalize();
+        let (down, inboard) = (-Vec3::z(), -Vec3::y());
+        let frame = ContactFrame::new(&edge, &plate, &down, &inboard).facing_plate(&plate);
+        let p = rope_pull(&frame, &down, &inboard, 1e3, 1e3);
+        assert!((p.normal - 1e3 * 2f64.sqrt()).abs() < 1e-9);
+        // bent away: down the side, then out and up (the hook back above the lug); the turn's
+        // bisector points into the plates, which could hold the node only by pulling
+        let up_out = Vec3::new(0.0, 0.6, 0.8);
+        let bisector = ContactFrame::new(&edge, &plate, &down, &up_out);
+        let frame = bisector.facing_plate(&plate);
+        assert_eq!(frame.normal, -bisector.normal);
+        assert_eq!(frame.across, frame.edge.cross(&frame.normal));
+        let p = rope_pull(&frame, &down, &up_out, 1e3, 1e3);
+        assert!(p.normal < 0.0, "{p:?}");
+        assert_eq!(p.pseudo_friction(0.2), 0.0);
     }
 
     #[test]

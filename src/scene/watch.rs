@@ -144,15 +144,19 @@ pub fn advance_watched<S: Watchable>(
         }
         if let (Some(m0), Some((first, m_first))) = (marks.as_ref(), origin.as_ref()) {
             let m1 = scene.marks();
-            if scene.happened(m0, &m1).is_some() {
+            if let Some(seen) = scene.happened(m0, &m1) {
                 let mut prev = first.clone();
                 prev.advance(t0, false)?;
                 let m_prev = prev.marks();
-                let (located, reason) = if prev.happened(m0, &m_prev).is_some() {
-                    // integrated again, the event came before `t0`
-                    locate(first.clone(), prev, m_first)?
+                let (located, reason) = if let Some(early) = prev.happened(m0, &m_prev) {
+                    // integrated again, the event came before `t0` (a state that flips back,
+                    // such as a sling's slack, may not differ from the step's start: then the
+                    // words are those seen at `t0`)
+                    let (at, words) = locate(first.clone(), prev, m_first)?;
+                    (at, words.unwrap_or(early))
                 } else {
-                    locate(prev, scene.clone(), m0)?
+                    let (at, words) = locate(prev, scene.clone(), m0)?;
+                    (at, words.unwrap_or(seen))
                 };
                 *scene = located;
                 scene.check_at_end()?;
@@ -182,8 +186,8 @@ pub fn advance_watched<S: Watchable>(
 
 /// The scene at the first time in `(prev.now(), after.now()]` at which an event has happened
 /// (`after` has it, `prev` with marks `m0` has not), located by bisection on integrations from
-/// `prev`, with the event's words.
-fn locate<S: Watchable>(prev: S, after: S, m0: &S::Marks) -> Result<(S, String), String> {
+/// `prev`, with the event's words (`None` if `after` itself has none against `m0`).
+fn locate<S: Watchable>(prev: S, after: S, m0: &S::Marks) -> Result<(S, Option<String>), String> {
     let (mut lo, mut hi) = (prev.now(), after.now());
     let mut best = after;
     let tol = EVENT_RESOLUTION * 1f64.max(hi.abs());
@@ -203,9 +207,7 @@ fn locate<S: Watchable>(prev: S, after: S, m0: &S::Marks) -> Result<(S, String),
         }
     }
     let m = best.marks();
-    let reason = best
-        .happened(m0, &m)
-        .unwrap_or_else(|| "an event".to_string());
+    let reason = best.happened(m0, &m);
     Ok((best, reason))
 }
 

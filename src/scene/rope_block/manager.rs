@@ -185,12 +185,9 @@ pub fn node_reports(
         let edge = &mesh.edges[ct.edge];
         let (l_prev, l_next) = ((pp - x).norm().max(1e-300), (pn - x).norm().max(1e-300));
         let (e_prev, e_next) = ((pp - x) / l_prev, (pn - x) / l_next);
-        let frame = ContactFrame::new(
-            &(kin.rot * edge.dir),
-            &(kin.rot * edge.mean_normal()),
-            &e_prev,
-            &e_next,
-        );
+        let plate_normal = kin.rot * edge.mean_normal();
+        let frame = ContactFrame::new(&(kin.rot * edge.dir), &plate_normal, &e_prev, &e_next)
+            .facing_plate(&plate_normal);
         // reaction of the block on the node: the two line rows (-G^T lambda) plus the friction
         // element along the edge
         let rr = rows[c];
