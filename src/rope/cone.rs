@@ -11,6 +11,10 @@
 //!   ([`NodeCone::clipped_hold`]), at sliding nodes and wherever the edge load alone exceeds
 //!   `mu N`.
 //!
+//! - A node whose hold's force alone exceeds `mu N` slides along its edge, by the move that
+//!   brings the hold back to `mu N` against the rope's stiffness along the edge
+//!   ([`edge_slide`]).
+//!
 //! "Outside" means friction above `mu N (1 + 1e-12)` with `N > 0`.
 
 use super::friction::{self, ContactFrame, Reaction};
@@ -107,11 +111,83 @@ impl NodeCone<'_> {
     }
 }
 
+/// One of a contact node's two segments, as the edge slide sees it.
+#[derive(Debug, Clone, Copy)]
+pub struct SegmentAxial {
+    /// Tension [N] and rest length [m].
+    pub tension: f64,
+    pub rest: f64,
+    /// Length [m] and unit direction from the node (world).
+    pub length: f64,
+    pub dir: Vec3,
+}
+
+impl SegmentAxial {
+    /// Stiffness [N/m] of the segment against a move of the node along `edge` (unit, world):
+    /// axial `EA / L0` for the part along the segment, the tension's geometric `T / l` across.
+    fn stiffness_along(&self, ea: f64, edge: &Vec3) -> f64 {
+        let c2 = self.dir.dot(edge).powi(2);
+        ea / self.rest.max(1e-12) * c2 + self.tension / self.length * (1.0 - c2)
+    }
+}
+
+/// The edge slide of a node whose hold's force `hold_force` [N] exceeds the cone's edge limit
+/// `mu N` (`normal` > 0): the move [m] of the node and its anchor along `edge` (unit, world) by
+/// the unbalanced force over the rope's stiffness along the edge (segments `prev` and `next`,
+/// axial stiffness `ea` [N]), so that the next step starts at the friction limit; the spring
+/// pushes the node along `+F`, the rope pulls it the other way. `None` inside the limit.
+pub fn edge_slide(
+    mu: f64,
+    normal: f64,
+    hold_force: f64,
+    edge: &Vec3,
+    ea: f64,
+    prev: &SegmentAxial,
+    next: &SegmentAxial,
+) -> Option<f64> {
+    let cap = mu * normal.max(0.0);
+    if !(hold_force.abs() > cap && normal > 0.0) {
+        return None;
+    }
+    let k = prev.stiffness_along(ea, edge) + next.stiffness_along(ea, edge);
+    Some(-hold_force.signum() * (hold_force.abs() - cap) / k.max(1e-300))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     const MU: f64 = 0.2;
+
+    #[test]
+    fn an_edge_slide_takes_the_excess_over_the_rope_stiffness_along_the_edge() {
+        let edge = Vec3::x();
+        // a rope across the edge (both segments perpendicular to it): only the tensions' geometric
+        // stiffness T / l holds the node along the edge
+        let across = |dir: Vec3| SegmentAxial {
+            tension: 2e3,
+            rest: 0.5,
+            length: 0.5,
+            dir,
+        };
+        let (a, b) = (across(-Vec3::y()), across(-Vec3::z()));
+        let (n, ea) = (1e3, 7.5e7);
+        // hold force 260 N against mu N = 200 N: 60 N over 2 x 4000 N/m, against the force
+        let du = edge_slide(MU, n, 260.0, &edge, ea, &a, &b).unwrap();
+        assert!((du + 60.0 / 8e3).abs() < 1e-15, "{du}");
+        let du = edge_slide(MU, n, -260.0, &edge, ea, &a, &b).unwrap();
+        assert!((du - 60.0 / 8e3).abs() < 1e-15, "{du}");
+        // inside the limit, or the plate pulling: no slide
+        assert!(edge_slide(MU, n, 199.0, &edge, ea, &a, &b).is_none());
+        assert!(edge_slide(MU, -n, 260.0, &edge, ea, &a, &b).is_none());
+        // a segment along the edge holds with its axial stiffness EA / L0
+        let along = SegmentAxial {
+            dir: Vec3::x(),
+            ..a
+        };
+        let du = edge_slide(MU, n, 260.0, &edge, ea, &along, &b).unwrap();
+        assert!((du + 60.0 / (ea / 0.5 + 4e3)).abs() < 1e-18, "{du}");
+    }
 
     /// A rope over an edge along z (plate normal +y) turning by `theta` in the plane across it,
     /// with tensions `t_prev`, `t_next` [N]: the frame, the unit vectors and the pull.

@@ -12,7 +12,7 @@ use super::structure::Structure;
 use crate::dae::System;
 use crate::integrator::{SolverError, StepAction, StepHook};
 use crate::math::Vec3;
-use crate::rope::cone::NodeCone;
+use crate::rope::cone::{NodeCone, SegmentAxial, edge_slide};
 use crate::rope::friction::{self, ContactFrame, Reaction};
 use crate::rope::shell::detect::{clears_edge, segment_crossing};
 use crate::rope::{NodeSegments, RopeEffect};
@@ -293,25 +293,27 @@ impl Manager<'_> {
                 }
             }
             // friction along the edge: the node's Coulomb cone gives the edge's load way last
-            // (friction::return_map), so the edge slides once its hold's force exceeds mu N;
-            // then the node and its anchor move along the edge by the unbalanced share divided
-            // by the rope's stiffness along the edge, so that the next step starts at the
-            // friction limit (the hold's force itself is cut to the cone by `enforce_cone`)
+            // (friction::return_map), so the edge slides once its hold's force exceeds mu N,
+            // by the move of `cone::edge_slide` (the hold's force itself is cut to the cone by
+            // `enforce_cone`)
             let seg = rep.segments;
-            let cap = mu * n.max(0.0);
-            st.memory[o + 4] = cap;
-            let fe = rep.hold_force;
-            if fe.abs() > cap && n > 0.0 {
-                let p = &spec.props;
-                let e = &rep.frame.edge;
-                let stiff = |t: f64, rest: f64, l: f64, u: &Vec3| {
-                    let c2 = u.dot(e).powi(2);
-                    p.ea / rest.max(1e-12) * c2 + t / l * (1.0 - c2)
-                };
-                let k = stiff(seg.t_prev, seg.rest_prev, rep.l_prev, &rep.e_prev)
-                    + stiff(seg.t_next, seg.rest_next, rep.l_next, &rep.e_next);
-                // the spring pushes the node along +F: the rope pulls it the other way
-                let du = -fe.signum() * (fe.abs() - cap) / k.max(1e-300);
+            st.memory[o + 4] = mu * n.max(0.0);
+            let e = &rep.frame.edge;
+            let axial = |tension, rest, length, dir| SegmentAxial {
+                tension,
+                rest,
+                length,
+                dir,
+            };
+            if let Some(du) = edge_slide(
+                mu,
+                n,
+                rep.hold_force,
+                e,
+                spec.props.ea,
+                &axial(seg.t_prev, seg.rest_prev, rep.l_prev, rep.e_prev),
+                &axial(seg.t_next, seg.rest_next, rep.l_next, rep.e_next),
+            ) {
                 if self.energy_before_slides.is_none() {
                     // the system still holds the step's memory and these positions
                     self.energy_before_slides = Some(self.mechanical_energy(sys, st));
