@@ -1,5 +1,5 @@
 //! Speed figures of the multibody core and PanelLock (reported, never asserted):
-//! chain scaling, double-pendulum work-precision against a minimal-coordinate reference,
+//! chain scaling (planar, and 3D with spherical joints), double-pendulum work-precision against a minimal-coordinate reference,
 //! hard-impact rebound, and the PanelLock real-time factor at 1 % peak-force accuracy.
 //!
 //! Run: `cargo run --release --example bench_core` (prints markdown tables).
@@ -13,6 +13,9 @@ use mbcosim::scene::panel_lock::{PanelLock, PanelLockParams};
 use mbcosim::sim::Simulation;
 use std::sync::Arc;
 use std::time::Instant;
+
+#[path = "../tests/common/chain3d.rs"]
+mod chain3d;
 
 const G: f64 = 9.81;
 
@@ -71,19 +74,20 @@ fn chain(n: usize) -> Model {
     b.build().unwrap()
 }
 
-fn chain_scaling() {
-    println!(
-        "## Chain of n rods: time per step (generalized-alpha, fixed step 1 ms, sparse LU for n > 8)\n"
-    );
+/// Time per step of a chain built by `build(n)` for each `n` of `CHAIN_SIZES` (default
+/// `sizes`), generalized-alpha with a fixed step of 1 ms over `steps` steps, best of 3; prints a
+/// markdown table and the cost-per-step exponent (issue #18).
+fn chain_table(title: &str, sizes: &[usize], build: fn(usize) -> Model, steps: usize) {
+    println!("## {title}: time per step (generalized-alpha, fixed step 1 ms)\n");
     println!(
         "| n bodies | unknowns | time per step [us] | Newton iterations per step | factorizations |"
     );
     println!("|---|---|---|---|---|");
-    let mut pts = Vec::new();
     let sizes: Vec<usize> = std::env::var("CHAIN_SIZES")
         .ok()
         .and_then(|v| v.split(',').map(|x| x.trim().parse().ok()).collect())
-        .unwrap_or(vec![10, 100, 1000]);
+        .unwrap_or(sizes.to_vec());
+    let mut pts = Vec::new();
     for &n in &sizes {
         let s = Settings {
             fixed_step: 1e-3,
@@ -91,8 +95,7 @@ fn chain_scaling() {
             atol: 1e-8,
             ..Settings::default()
         };
-        let sim0 = Simulation::new(chain(n), IntegratorKind::GenAlpha, s, 0.0).unwrap();
-        let steps = 200;
+        let sim0 = Simulation::new(build(n), IntegratorKind::GenAlpha, s, 0.0).unwrap();
         let (t, stats) = best_of(3, || {
             let mut sim = sim0.clone();
             sim.advance_to(steps as f64 * 1e-3).unwrap();
@@ -109,11 +112,25 @@ fn chain_scaling() {
         pts.push(((n as f64).ln(), per.ln()));
     }
     let last = pts.len() - 1;
-    let slope = (pts[last].1 - pts[0].1) / (pts[last].0 - pts[0].0);
+    let ends = (pts[last].1 - pts[0].1) / (pts[last].0 - pts[0].0);
     println!(
-        "\nFitted exponent ({} -> {} bodies): {slope:.2}\n",
-        sizes[0], sizes[last]
+        "\nCost-per-step exponent ({} -> {} bodies): {ends:.2} first to last, {:.2} least squares\n",
+        sizes[0],
+        sizes[last],
+        fitted_slope(&pts)
     );
+}
+
+/// Least-squares slope of `(x, y)` points.
+fn fitted_slope(p: &[(f64, f64)]) -> f64 {
+    let n = p.len() as f64;
+    let (mx, my) = (
+        p.iter().map(|q| q.0).sum::<f64>() / n,
+        p.iter().map(|q| q.1).sum::<f64>() / n,
+    );
+    let sxy: f64 = p.iter().map(|q| (q.0 - mx) * (q.1 - my)).sum();
+    let sxx: f64 = p.iter().map(|q| (q.0 - mx).powi(2)).sum();
+    sxy / sxx
 }
 
 /// Minimal-coordinate reference of the double pendulum of two rods (1 m, 1 kg): the tip position
@@ -354,7 +371,20 @@ fn panel_lock_speed() {
 fn main() {
     let which = std::env::args().nth(1).unwrap_or_default();
     if which.is_empty() || which == "chain" {
-        chain_scaling();
+        chain_table(
+            "Planar chain of n rods, revolute joints",
+            &[10, 100, 1000],
+            chain,
+            200,
+        );
+    }
+    if which.is_empty() || which == "chain3d" {
+        chain_table(
+            "3D chain of n rods, spherical joints, spinning",
+            &[10, 30, 100, 300, 1000],
+            chain3d::spinning_chain,
+            100,
+        );
     }
     if which.is_empty() || which == "pendulum" {
         double_pendulum();

@@ -67,6 +67,9 @@ pub struct System {
     solver_notes: Vec<String>,
     kins: Vec<BodyKin>,
     rows_full: Vec<RowEval>,
+    /// Scratch: the multipliers of all full rows (0 for rows left out), for
+    /// [`System::add_constraint_stiffness`].
+    lambda_full: Vec<f64>,
     /// Active constraint rows of the last [`System::eval_constraints`].
     pub rows: Vec<RowEval>,
     /// Number of force/constraint evaluations (statistics).
@@ -158,6 +161,7 @@ impl System {
             solver_notes: Vec::new(),
             kins: Vec::with_capacity(model.bodies.len()),
             rows_full: Vec::with_capacity(n_full),
+            lambda_full: Vec::with_capacity(n_full),
             rows: Vec::with_capacity(n_full),
             n_evals: 0,
             modal,

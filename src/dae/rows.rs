@@ -5,6 +5,7 @@
 use super::System;
 use super::linear::LinearSolver;
 use crate::effect::constraint::{NodeKin, joint_rows};
+use crate::effect::constraint_stiffness::joint_stiffness;
 use crate::model::BodyId;
 use crate::model::kinematics::kin_of;
 
@@ -148,5 +149,64 @@ impl System {
                 }
             });
         }
+    }
+
+    /// Adds `scale * sum_r lambda_r d(g_r)/dx`, the joints' geometric stiffness
+    /// ([`crate::effect::constraint_stiffness`]), at `(row_off, col_off)` into `lin`, for the
+    /// multipliers `lambda` of the active rows at the kinematics of the last update (call after
+    /// [`System::add_dynamics_matrix_at`] at the same point). Which entries are pushed depends
+    /// on the joints' kinds only, so the matrix's pattern does not change with `lambda`.
+    pub fn add_constraint_stiffness(
+        &mut self,
+        lambda: &[f64],
+        scale: f64,
+        lin: &mut LinearSolver,
+        row_off: usize,
+        col_off: usize,
+    ) {
+        let mut full = std::mem::take(&mut self.lambda_full);
+        full.clear();
+        full.resize(self.row_joint.len(), 0.0);
+        for (r, &l) in self.active.iter().zip(lambda) {
+            full[*r] = l;
+        }
+        let mut first = 0;
+        for joint in &self.model.joints {
+            let n = joint.kind.n_rows();
+            let rows = &full[first..first + n];
+            first += n;
+            let Some(h) = joint_stiffness(joint, &self.kins, rows) else {
+                continue;
+            };
+            let sides = [joint.frame_i.body, joint.frame_j.body].map(|b| {
+                let k = kin_of(&self.kins, b);
+                (
+                    k.is_free().then_some(k.col),
+                    if k.rotational { 6 } else { 3 },
+                )
+            });
+            for (a, &(ca, na)) in sides.iter().enumerate() {
+                let Some(ca) = ca else { continue };
+                for (b, &(cb, nb)) in sides.iter().enumerate() {
+                    let Some(cb) = cb else { continue };
+                    for (part, &on) in h.parts[a][b].iter().enumerate() {
+                        let (r0, c0) = ([0, 0, 3, 3][part], [0, 3, 0, 3][part]);
+                        if !on || r0 >= na || c0 >= nb {
+                            continue;
+                        }
+                        for r in 0..3 {
+                            for c in 0..3 {
+                                lin.push(
+                                    row_off + ca + r0 + r,
+                                    col_off + cb + c0 + c,
+                                    scale * h.blocks[a][b][(r0 + r, c0 + c)],
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        self.lambda_full = full;
     }
 }

@@ -12,6 +12,7 @@ pub mod applied;
 pub mod body_load;
 pub mod cable_loop;
 pub mod constraint;
+pub mod constraint_stiffness;
 pub mod gravity;
 pub mod ground_contact;
 pub mod hinge_friction;

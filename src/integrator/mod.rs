@@ -543,9 +543,16 @@ impl JacobianPoint {
         if m.len() < 6 {
             return Err(bad());
         }
-        let n: Vec<usize> = m[..4].iter().map(|x| *x as usize).collect();
+        // lengths of what follows, each at most what is left (so their sum cannot overflow)
+        let mut n = [0usize; 4];
+        for (k, x) in m[..4].iter().enumerate() {
+            if !(x.is_finite() && *x >= 0.0 && x.fract() == 0.0 && *x <= m.len() as f64) {
+                return Err(bad());
+            }
+            n[k] = *x as usize;
+        }
         let total = 6 + n.iter().sum::<usize>();
-        if m.len() < total || m[..4].iter().any(|x| !(x.is_finite() && *x >= 0.0)) {
+        if m.len() < total {
             return Err(bad());
         }
         let mut at = 6;

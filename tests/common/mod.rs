@@ -1,6 +1,7 @@
 //! Shared builders for the integration tests.
 #![allow(dead_code)]
 
+pub mod chain3d;
 pub mod flex;
 pub mod jacobian;
 pub mod outputs;
