@@ -10,7 +10,7 @@
 
 use mbcosim::scene::CoSimModel;
 use mbcosim::scene::rope_block::RopeBlockModel;
-use mbcosim::scene::scene_file::{apply, parse};
+use mbcosim::scene::scene_file::{apply, apply_file, parse};
 
 fn vr(m: &dyn CoSimModel, name: &str) -> u32 {
     m.info()
@@ -257,37 +257,14 @@ fn a_four_hook_rig_is_driven_and_observed_through_its_variables() {
     assert!((roll - hand).abs() < 0.05 * hand.abs(), "{roll}");
 }
 
-/// One sling from a lug on the side shell (0.3 m outboard of the plate, 1 m below the deck edge)
-/// straight up to its hook; the block rests on the ground, the sling hangs in water (drag damps
-/// its swing).
-const ONE_SIDE_SLING: &str = "
-[block]
-box = [18.0, 12.0, 7.0]
-mass = 200e3
-[[lug]]
-position = [6.5, 6.3, 6.0]
-[[sling]]
-lug = 0
-hook = 0
-route = \"straight\"
-[[hook]]
-position = [6.5, 6.3, 26.0]
-crane = 0
-";
-
 #[test]
 fn a_sling_swung_over_the_deck_edge_and_back_wraps_the_edge_and_leaves_it() {
+    // one sling from a lug on the side shell straight up to its hook, block on the ground,
+    // sling in water; 20 segments, position commands (the scene's [parameters])
     let mut m = RopeBlockModel::new();
-    for (name, on) in [("ground_contact", true), ("drag", true)] {
-        let r = vr(&m, name);
-        m.set_boolean(r, on).unwrap();
-    }
-    m.set_integer(vr(&m, "segments"), 20).unwrap();
-    m.set_integer(vr(&m, "hook_command"), 2).unwrap();
-    set(&mut m, "fluid_density", 1025.0);
-    let origin = std::env::temp_dir().join("one_side_sling.toml");
-    let origin = origin.display().to_string();
-    apply(&mut m, &parse(ONE_SIDE_SLING, &origin).unwrap(), &origin).unwrap();
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/scenes/sling_over_deck_edge.toml");
+    apply_file(&mut m, &file).unwrap();
     m.initialize(0.0).unwrap();
     let count = |m: &RopeBlockModel| m.get_integer(vr(m, "contact_count")).unwrap();
     let t0 = get(&m, "sling0_tension_lug");

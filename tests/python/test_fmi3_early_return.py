@@ -257,35 +257,10 @@ def test_rope_block_returns_early_when_a_sling_goes_slack():
     assert lo - 3e-3 < event <= hi + 3e-3, (lo, event, hi)
 
 
-# One sling from a lug on the side shell (0.3 m outboard of the plate, 1 m below the deck edge)
-# straight up to its hook, the block resting on the ground, the sling in water (drag damps its
-# swing); the hook moves by position commands.
-SIDE_SLING = """
-model = "RopeBlock"
-
-[parameters]
-segments = 20
-hook_command = "position"
-ground_contact = true
-drag = true
-fluid_density = 1025.0
-
-[block]
-box = [18.0, 12.0, 7.0]
-mass = 200e3
-
-[[lug]]
-position = [6.5, 6.3, 6.0]
-
-[[sling]]
-lug = 0
-hook = 0
-route = "straight"
-
-[[hook]]
-position = [6.5, 6.3, 26.0]
-crane = 0
-"""
+# One sling from a lug on the side shell straight up to its hook, the block on the ground, the
+# sling in water; the hook moves by position commands (the scene's comments).
+SIDE_SLING = (pathlib.Path(__file__).resolve().parents[2] / "examples" / "scenes"
+              / "sling_over_deck_edge.toml").read_text()
 
 
 def swing(t):
