@@ -67,9 +67,8 @@ pub struct System {
     solver_notes: Vec<String>,
     kins: Vec<BodyKin>,
     rows_full: Vec<RowEval>,
-    /// Scratch: the multipliers of all full rows (0 for rows left out), for
-    /// [`System::add_constraint_stiffness`].
-    lambda_full: Vec<f64>,
+    /// For each full row, its index among the active rows (`None`: left out as redundant).
+    active_of_full: Vec<Option<usize>>,
     /// Active constraint rows of the last [`System::eval_constraints`].
     pub rows: Vec<RowEval>,
     /// Number of force/constraint evaluations (statistics).
@@ -161,7 +160,7 @@ impl System {
             solver_notes: Vec::new(),
             kins: Vec::with_capacity(model.bodies.len()),
             rows_full: Vec::with_capacity(n_full),
-            lambda_full: Vec::with_capacity(n_full),
+            active_of_full: (0..n_full).map(Some).collect(),
             rows: Vec::with_capacity(n_full),
             n_evals: 0,
             modal,
@@ -175,6 +174,10 @@ impl System {
         let modal_cols = |r: usize, dense: &mut [f64]| sys.for_row_modal(r, |c, g| dense[c] += g);
         let active =
             redundancy::independent_rows(&sys.model, &sys.row_bodies, &sys.rows_full, &modal_cols)?;
+        sys.active_of_full = vec![None; n_full];
+        for (a, &r) in active.iter().enumerate() {
+            sys.active_of_full[r] = Some(a);
+        }
         sys.active = active;
         sys.row_in_loop = redundancy::rows_in_loops(&sys.model, &sys.row_bodies);
         Ok(sys)

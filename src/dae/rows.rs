@@ -157,56 +157,37 @@ impl System {
     /// [`System::add_dynamics_matrix_at`] at the same point). Which entries are pushed depends
     /// on the joints' kinds only, so the matrix's pattern does not change with `lambda`.
     pub fn add_constraint_stiffness(
-        &mut self,
+        &self,
         lambda: &[f64],
         scale: f64,
         lin: &mut LinearSolver,
         row_off: usize,
         col_off: usize,
     ) {
-        let mut full = std::mem::take(&mut self.lambda_full);
-        full.clear();
-        full.resize(self.row_joint.len(), 0.0);
-        for (r, &l) in self.active.iter().zip(lambda) {
-            full[*r] = l;
-        }
         let mut first = 0;
         for joint in &self.model.joints {
             let n = joint.kind.n_rows();
-            let rows = &full[first..first + n];
+            // the joint's multipliers by row of its kind; 0 for a row left out as redundant
+            let mut rows = [0.0; 6];
+            for (k, row) in rows.iter_mut().enumerate().take(n) {
+                if let Some(a) = self.active_of_full[first + k] {
+                    *row = lambda[a];
+                }
+            }
             first += n;
-            let Some(h) = joint_stiffness(joint, &self.kins, rows) else {
+            let Some(h) = joint_stiffness(joint, &self.kins, &rows[..n]) else {
                 continue;
             };
             let sides = [joint.frame_i.body, joint.frame_j.body].map(|b| {
                 let k = kin_of(&self.kins, b);
-                (
-                    k.is_free().then_some(k.col),
-                    if k.rotational { 6 } else { 3 },
-                )
+                (k.col, if k.rotational { 6 } else { 3 }, k.is_free())
             });
-            for (a, &(ca, na)) in sides.iter().enumerate() {
-                let Some(ca) = ca else { continue };
-                for (b, &(cb, nb)) in sides.iter().enumerate() {
-                    let Some(cb) = cb else { continue };
-                    for (part, &on) in h.parts[a][b].iter().enumerate() {
-                        let (r0, c0) = ([0, 0, 3, 3][part], [0, 3, 0, 3][part]);
-                        if !on || r0 >= na || c0 >= nb {
-                            continue;
-                        }
-                        for r in 0..3 {
-                            for c in 0..3 {
-                                lin.push(
-                                    row_off + ca + r0 + r,
-                                    col_off + cb + c0 + c,
-                                    scale * h.blocks[a][b][(r0 + r, c0 + c)],
-                                );
-                            }
-                        }
-                    }
+            h.for_each_entry(|a, b, r, c, value| {
+                let ((ca, na, free_a), (cb, nb, free_b)) = (sides[a], sides[b]);
+                if free_a && free_b && r < na && c < nb {
+                    lin.push(row_off + ca + r, col_off + cb + c, scale * value);
                 }
-            }
+            });
         }
-        self.lambda_full = full;
     }
 }

@@ -40,7 +40,7 @@ impl JointStiffness {
     /// Adds `m` to the 3x3 part `part` (0 tt, 1 t-theta, 2 theta-t, 3 theta-theta) of block
     /// `(a, b)`.
     fn add(&mut self, a: usize, b: usize, part: usize, m: &Mat3) {
-        let (r0, c0) = ([0, 0, 3, 3][part], [0, 3, 0, 3][part]);
+        let (r0, c0) = PART_ORIGIN[part];
         let blk = &mut self.blocks[a][b];
         for r in 0..3 {
             for c in 0..3 {
@@ -49,7 +49,30 @@ impl JointStiffness {
         }
         self.parts[a][b][part] = true;
     }
+
+    /// Calls `f(a, b, row, column, value)` for every entry of the formed parts: side `a`'s
+    /// reaction entry `row` (0-2 translation, 3-5 rotation) against side `b`'s increment
+    /// `column`.
+    pub fn for_each_entry(&self, mut f: impl FnMut(usize, usize, usize, usize, f64)) {
+        for a in 0..2 {
+            for b in 0..2 {
+                for (part, &(r0, c0)) in PART_ORIGIN.iter().enumerate() {
+                    if !self.parts[a][b][part] {
+                        continue;
+                    }
+                    for r in r0..r0 + 3 {
+                        for c in c0..c0 + 3 {
+                            f(a, b, r, c, self.blocks[a][b][(r, c)]);
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
+
+/// Row and column where each 3x3 part of a 6x6 block starts.
+const PART_ORIGIN: [(usize, usize); 4] = [(0, 0), (0, 3), (3, 0), (3, 3)];
 
 /// One side of a joint: rotation and the frame's body vectors.
 struct Side<'a> {

@@ -128,6 +128,20 @@ pub fn advance_watched<S: Watchable>(
         scene.advance(end, false)?;
         return Ok(Stopped::AtEnd);
     }
+    let stopped = single_steps(scene, end, start, watch, events, listen)?;
+    scene.check_at_end()?;
+    Ok(stopped)
+}
+
+/// [`advance_watched`]'s loop of single accepted steps, without the check at its end.
+fn single_steps<S: Watchable>(
+    scene: &mut S,
+    end: f64,
+    start: f64,
+    watch: &mut dyn StepWatch,
+    events: bool,
+    listen: bool,
+) -> Result<Stopped, String> {
     let mut target = end;
     // the scene at the step's start and its marks: an event is located from a copy of it
     // integrated again to the last accepted step before the event (a copy per accepted step
@@ -142,24 +156,11 @@ pub fn advance_watched<S: Watchable>(
                 "the integrator made no progress from t = {t0} s (internal error)"
             ));
         }
-        if let (Some(m0), Some((first, m_first))) = (marks.as_ref(), origin.as_ref()) {
+        if let (Some(m0), Some(origin)) = (marks.as_ref(), origin.as_ref()) {
             let m1 = scene.marks();
             if let Some(seen) = scene.happened(m0, &m1) {
-                let mut prev = first.clone();
-                prev.advance(t0, false)?;
-                let m_prev = prev.marks();
-                let (located, reason) = if let Some(early) = prev.happened(m0, &m_prev) {
-                    // integrated again, the event came before `t0` (a state that flips back,
-                    // such as a sling's slack, may not differ from the step's start: then the
-                    // words are those seen at `t0`)
-                    let (at, words) = locate(first.clone(), prev, m_first)?;
-                    (at, words.unwrap_or(early))
-                } else {
-                    let (at, words) = locate(prev, scene.clone(), m0)?;
-                    (at, words.unwrap_or(seen))
-                };
+                let (located, reason) = locate_event(origin, m0, t0, scene, seen)?;
                 *scene = located;
-                scene.check_at_end()?;
                 return Ok(Stopped::Event(reason));
             }
             marks = Some(m1);
@@ -170,18 +171,41 @@ pub fn advance_watched<S: Watchable>(
         {
             let stop = stop - start;
             if stop <= scene.now() {
-                scene.check_at_end()?;
                 return Ok(Stopped::Requested);
             }
             target = target.min(stop);
         }
     }
-    scene.check_at_end()?;
     Ok(if target < end {
         Stopped::Requested
     } else {
         Stopped::AtEnd
     })
+}
+
+/// The scene at an event that `after` has against the marks `m0` of the last accepted step
+/// before it, at `t0` (`seen`: its words), with the event's words: located from the step's
+/// start `origin` (scene and marks), integrated again to `t0`.
+fn locate_event<S: Watchable>(
+    (first, m_first): &(S, S::Marks),
+    m0: &S::Marks,
+    t0: f64,
+    after: &S,
+    seen: String,
+) -> Result<(S, String), String> {
+    let mut prev = first.clone();
+    prev.advance(t0, false)?;
+    let m_prev = prev.marks();
+    if let Some(early) = prev.happened(m0, &m_prev) {
+        // integrated again, the event came before `t0` (a state that flips back, such as a
+        // sling's slack, may not differ from the step's start: then the words are those seen
+        // at `t0`)
+        let (at, words) = locate(first.clone(), prev, m_first)?;
+        Ok((at, words.unwrap_or(early)))
+    } else {
+        let (at, words) = locate(prev, after.clone(), m0)?;
+        Ok((at, words.unwrap_or(seen)))
+    }
 }
 
 /// The scene at the first time in `(prev.now(), after.now()]` at which an event has happened

@@ -249,9 +249,7 @@ impl RopeBlockSim {
         // the sliding nodes' material coordinates as the carried decisions give them on the new
         // build (a removed or merged node can join two runs): the memory then holds what acts,
         // as after every accepted step
-        let mut memory = std::mem::take(&mut state.memory);
-        sys.update_memory(state.t, &state.q, &state.v, &mut memory);
-        state.memory = memory;
+        sys.update_memory(state.t, &state.q, &state.v, &mut state.memory);
         self.map = map;
         self.sim.replace_system(sys, state).map_err(|e| e.0)?;
         self.counters.rebuilds += 1;
