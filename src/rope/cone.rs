@@ -5,8 +5,10 @@
 //!
 //! - A node sticking along the rope whose friction is outside its cone slides, towards the larger
 //!   tension, with the share the cone leaves ([`NodeCone::slide_out`]).
-//! - A node the rope slides through whose friction is outside its cone gets the share its edge
-//!   load and geometry leave ([`NodeCone::settled_share`]).
+//! - A node the rope slides through whose friction is outside its cone, or below its boundary
+//!   by more than [`SLIDE_BAND`], gets the share its edge load and geometry leave
+//!   ([`NodeCone::settled_share`]; a fixed point, since `N` moves with the share:
+//!   [`ShareSearch`]). So while the rope slides, friction is `mu N`: Coulomb's law both ways.
 //! - A hold whose force exceeds what the cone leaves along the edge is cut to that capacity
 //!   ([`NodeCone::clipped_hold`]), at sliding nodes and wherever the edge load alone exceeds
 //!   `mu N`.
@@ -23,6 +25,11 @@ use crate::math::Vec3;
 
 /// Relative tolerance of the cone's boundary.
 const CONE_TOL: f64 = 1e-12;
+
+/// How far below `mu N` a sliding node's friction may fall before its share is raised again
+/// (relative). Coulomb's law wants it on the cone while the rope slides; a share reset at every
+/// step is a force discontinuity at every step, so the share follows the cone inside this band.
+pub const SLIDE_BAND: f64 = 1e-9;
 
 /// A contact node at an accepted state, as the cone settlement sees it.
 #[derive(Debug, Clone, Copy)]
@@ -81,13 +88,25 @@ impl NodeCone<'_> {
         Some((mode, self.coefficient(share, forward)))
     }
 
-    /// A node the rope slides through with friction outside its cone: the coefficient of the
-    /// share its edge load and geometry leave; `None` otherwise (only where the cone is left: a
-    /// share changed at every step would be a force discontinuity at every step, BDF's steps
-    /// collapsed on the default lift).
+    /// A node the rope slides through whose friction is outside its cone, or more than
+    /// [`SLIDE_BAND`] below its boundary: the coefficient of the share its edge load and geometry
+    /// leave ([`Self::share_target`]); `None` otherwise (a share changed at every step would be a
+    /// force discontinuity at every step: BDF's steps collapsed on the default lift).
     pub fn settled_share(&self) -> Option<f64> {
+        let below = self.friction() < self.mu * self.pull.normal * (1.0 - SLIDE_BAND);
+        if self.beyond() || below {
+            self.share_target()
+        } else {
+            None
+        }
+    }
+
+    /// The coefficient of the share the cone leaves a node the rope slides through at this
+    /// state ([`friction::rope_share`] of its edge load, as the sharp-edge coefficient of
+    /// [`friction::plane_coefficients`]); `None` where it sticks or `N <= 0`.
+    pub fn share_target(&self) -> Option<f64> {
         let n = self.pull.normal;
-        if self.mode == SlipMode::Stick || n <= 0.0 || !self.beyond() {
+        if self.mode == SlipMode::Stick || n <= 0.0 {
             return None;
         }
         let want = friction::rope_share(self.mu, n, self.hold_force);
@@ -151,6 +170,50 @@ pub fn edge_slide(
     }
     let k = prev.stiffness_along(ea, edge) + next.stiffness_along(ea, edge);
     Some(-hold_force.signum() * (hold_force.abs() - cap) / k.max(1e-300))
+}
+
+/// The fixed point `c = G(c)` of one node's share coefficient, `G` the target the cone leaves
+/// at the state the share `c` gives ([`NodeCone::share_target`]; `N` moves with the share, so
+/// the target moves too). Plain iteration cycles near the cone's tip (edge load near `mu N`,
+/// where `G` falls to 0 at a slope well below -1). Here each step is a secant step on
+/// `h(c) = G(c)^2 - c^2`, which has the sign of `G(c) - c` without the square root's infinite
+/// slope at the tip (`G^2` is smooth in `N`), kept inside the bracket of the signs of `h` seen
+/// so far (bisection where it leaves it).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ShareSearch {
+    /// Latest iterate and its `h`.
+    last: Option<(f64, f64)>,
+    /// Iterates with `h > 0` (share too small) and `h < 0` (too large) nearest the root.
+    below: Option<f64>,
+    above: Option<f64>,
+}
+
+impl ShareSearch {
+    /// The next share coefficient, given the present one `c` and its target `g = G(c)`.
+    pub fn next(&mut self, c: f64, g: f64) -> f64 {
+        let h = g * g - c * c;
+        if h > 0.0 {
+            self.below = Some(self.below.map_or(c, |b| b.max(c)));
+        } else if h < 0.0 {
+            self.above = Some(self.above.map_or(c, |a| a.min(c)));
+        }
+        let secant = match self.last {
+            Some((cp, hp)) if hp != h && cp != c => c - h * (c - cp) / (h - hp),
+            _ => g,
+        };
+        self.last = Some((c, h));
+        let (lo, hi) = (
+            self.below.unwrap_or(0.0),
+            self.above.unwrap_or(f64::INFINITY),
+        );
+        if secant > lo && secant < hi {
+            secant
+        } else if hi.is_finite() && self.below.is_some() {
+            0.5 * (lo + hi)
+        } else {
+            g.max(0.0)
+        }
+    }
 }
 
 #[cfg(test)]
@@ -247,9 +310,23 @@ mod tests {
                     }
                     None => assert!(!outside),
                 }
-                // a sliding node at that state: a share only where the cone is left
-                let s = node(&g, mode, 0.0, theta, (tp, tn)).settled_share();
-                assert_eq!(s.is_some(), outside);
+            }
+        }
+    }
+
+    #[test]
+    fn sliding_node_gets_its_share_again_off_the_cone_either_way() {
+        let theta = 0.6;
+        let t1 = 1e4;
+        // beyond the cone, on it, and further below it than the slide band
+        for (q, off) in [(1.0 + 1e-6, true), (1.0, false), (1.0 - 1e-3, true)] {
+            let t2 = ratio(MU, theta) * q * t1;
+            let g = planar(theta, t1, t2);
+            let s = node(&g, SlipMode::SlipForward, 0.0, theta, (t1, t2)).settled_share();
+            match s {
+                // in the plane across the edge, with no load along the edge: mu itself
+                Some(k) => assert!(off && (k - MU).abs() < 1e-12, "q {q}: {k}"),
+                None => assert!(!off, "q {q}: no share"),
             }
         }
     }
@@ -280,5 +357,40 @@ mod tests {
         let stick = |fe: f64| node(&g, SlipMode::Stick, fe, theta, (tp, tn)).clipped_hold();
         assert!(stick(0.5 * (capacity + MU * n)).is_none());
         assert!((stick(1.01 * MU * n).unwrap() - capacity).abs() < 1e-9 * capacity);
+    }
+
+    /// A node near the cone's tip: edge load `F_e` just below `mu N(0)`, `N` falling with the
+    /// share as `N(c) = N0 (1 - a c)` (more friction along the rope, less pull on the plate).
+    /// Plain iteration `c <- G(c)` cycles between 0 and a positive share; the search lands on
+    /// the fixed point to 1e-12 within 10 passes, from below and from above.
+    #[test]
+    fn the_share_search_finds_the_fixed_point_where_plain_iteration_cycles() {
+        let (n0, a) = (2.33e6, 0.5);
+        let fe = 0.1985 * n0;
+        let g = |c: f64| friction::rope_share(MU, n0 * (1.0 - a * c), fe);
+        // plain iteration: 0 -> G(0) -> G(G(0)) = 0 again
+        let c1 = g(0.0);
+        assert!(c1 > 0.02 && g(c1) == 0.0, "no cycle: {c1} {}", g(c1));
+        // the root of G(c) = c by bisection (G falls, c rises)
+        let (mut lo, mut hi) = (0.0, MU);
+        for _ in 0..200 {
+            let m = 0.5 * (lo + hi);
+            if g(m) > m { lo = m } else { hi = m }
+        }
+        let root = 0.5 * (lo + hi);
+        for start in [0.0, 0.2] {
+            let mut search = ShareSearch::default();
+            let mut c = start;
+            let mut passes = 0;
+            while (g(c) - c).abs() > 1e-12 * root {
+                c = search.next(c, g(c));
+                passes += 1;
+                assert!(
+                    passes <= 10,
+                    "from {start}: {c} after {passes} passes, root {root}"
+                );
+            }
+            assert!((c - root).abs() < 1e-10 * root, "{c} against {root}");
+        }
     }
 }

@@ -31,12 +31,14 @@
 //!   the rope's own plane that gives `|F_r| / N = s` in the edge's frame, [`plane_coefficients`]);
 //!   the coefficient is part of the node's memory and of the decisions frozen for a Newton
 //!   iteration, and after every accepted step the contact manager sets it again for the load
-//!   along the edge and the geometry there (a few fixed-point passes, since `N` moves with it).
+//!   along the edge and the geometry there wherever friction is off the cone (above it, or more
+//!   than [`super::cone::SLIDE_BAND`] below it; a fixed point, since `N` moves with it).
 //! - Along the edge the mapping runs after every accepted step (the contact manager): a hold
 //!   whose force exceeds `mu N` moves the node along the edge (as before the cone); then every
 //!   hold whose force exceeds what the cone leaves once the rope's friction is carried,
 //!   [`edge_capacity`] `= sqrt((mu N)^2 - F_r^2)`, is clipped to it by moving its anchor. So at
-//!   every accepted state `|F| <= mu N` holds to round-off.
+//!   every accepted state `|F| <= mu N` holds to round-off, and `|F| = mu N` where the rope
+//!   slides.
 
 use crate::math::Vec3;
 

@@ -5,7 +5,10 @@
 //! friction the model applies at the node, the hold's force along the edge `F_e` and the rope's
 //! pull along the rope `F_r`, must stay inside `|(F_e, F_r)| <= mu N` (`N` the rope's pull on the
 //! plate along the contact normal) to 1e-9 relative (plus 1e-9 T1 for round-off where the rope
-//! goes slack). Untilted, the cone is the sharp-edge law: the tension ratio across the node must
+//! goes slack), and while the rope slides through the node the friction must be on the cone,
+//! `mu N (1 - 1e-9)` or more (Coulomb's other half: on e19f983 a sliding node kept the share it
+//! started with, and friction fell to 0.894 mu N at 15 degrees (9.81 kN) and 0.820 at 20
+//! (981 kN)). Untilted, the cone is the sharp-edge law: the tension ratio across the node must
 //! stay within `T2/T1 <= (1 + mu tan(theta/2)) / (1 - mu tan(theta/2))` and equal it while the
 //! rope slides through the node, to 1e-9. Tilted, that planar law is no bound (the rope's pull
 //! has a different split in the edge's frame; the cone is the law and is what is checked). On main
@@ -63,6 +66,7 @@ fn tilted_run(tilt_deg: f64, t1: f64) -> Tilted {
     };
     let mut sim = rig.sim(settings(1e-3));
     let (mut worst_cone, mut worst_law, mut slid) = (0.0f64, 0.0f64, 0);
+    let mut least_sliding = f64::INFINITY;
     let mut first_bad = None;
     // round-off of the hold's force (stiffness 1.5e9 N/m times 1e-16 of the coordinate) where
     // the rope goes slack (N = 0) in the violent 981 kN runs
@@ -87,6 +91,15 @@ fn tilted_run(tilt_deg: f64, t1: f64) -> Tilted {
             let limit = sharp_edge_ratio(MU, theta);
             let sliding = modes[rep.slot] == SlipMode::SlipForward;
             slid += usize::from(sliding);
+            if sliding && n > 0.0 {
+                least_sliding = least_sliding.min(excess);
+                if f < MU * n * (1.0 - 1e-9) - floor && first_bad.is_none() {
+                    first_bad = Some(format!(
+                        "tilt {tilt_deg} deg, t = {t} s: sliding with friction {f:.6e} N = {excess:.12} mu N (F_e {:.4e}, F_r {:.4e}, N {n:.4e})",
+                        rep.hold_force, rep.pull.along_rope
+                    ));
+                }
+            }
             if tilt_deg == 0.0 {
                 // in the plane across the edge the cone is the sharp-edge law: at most the
                 // ratio while sticking, exactly it while sliding
@@ -106,7 +119,8 @@ fn tilted_run(tilt_deg: f64, t1: f64) -> Tilted {
         }
     }
     println!(
-        "tilt {tilt_deg:4.1} deg, T1 {t1:.3e} N: max friction / (mu N) {worst_cone:.9}, T2/T1 over the sharp-edge ratio (untilted) {worst_law:+.2e}, sliding samples {slid}/60"
+        "tilt {tilt_deg:4.1} deg, T1 {t1:.3e} N: max friction / (mu N) {worst_cone:.9}, least while sliding 1 - {:.1e}, T2/T1 over the sharp-edge ratio (untilted) {worst_law:+.2e}, sliding samples {slid}/60",
+        1.0 - least_sliding
     );
     Tilted { slid, first_bad }
 }

@@ -12,7 +12,7 @@ use super::structure::Structure;
 use crate::dae::System;
 use crate::integrator::{SolverError, StepAction, StepHook};
 use crate::math::Vec3;
-use crate::rope::cone::{NodeCone, SegmentAxial, edge_slide};
+use crate::rope::cone::{NodeCone, SegmentAxial, ShareSearch, edge_slide};
 use crate::rope::friction::{self, ContactFrame, Reaction};
 use crate::rope::shell::detect::{clears_edge, segment_crossing};
 use crate::rope::{NodeSegments, RopeEffect};
@@ -252,6 +252,12 @@ fn node_cone<'a>(rope: &RopeEffect, rep: &'a NodeReport, mem: &[f64]) -> NodeCon
     }
 }
 
+/// Most passes of the share settlement ([`Manager::settle_shares`]) after one step.
+const SHARE_PASSES: usize = 12;
+
+/// Relative tolerance of a settled share coefficient against its target.
+const SHARE_TOL: f64 = 1e-11;
+
 impl Manager<'_> {
     /// Kinetic plus potential energy [J] of the system at the state `st`.
     fn mechanical_energy(&mut self, sys: &mut System, st: &State) -> f64 {
@@ -384,8 +390,8 @@ impl Manager<'_> {
     /// [`friction::plane_coefficients`] at this geometry; a few passes, since `N` moves with the
     /// share), then every hold whose force exceeds what the cone leaves along the edge
     /// ([`friction::edge_capacity`] of the rope's pull) gets the anchor that makes its force that
-    /// capacity. So `|(F_e, F_r)| <= mu N` holds at the accepted state. Returns whether the
-    /// memory changed.
+    /// capacity. So `|(F_e, F_r)| <= mu N` holds at the accepted state, with equality (within
+    /// the slide band) where the rope slides. Returns whether the memory changed.
     fn enforce_cone(&mut self, sys: &mut System, st: &mut State) -> bool {
         let mut changed = self.redecide_sticking(sys, st);
         // a share that changes, or a node set sliding, changes the tensions of the chains around
@@ -401,25 +407,39 @@ impl Manager<'_> {
         self.clip_holds(sys, st) || changed
     }
 
-    /// Gives every node the rope slides through with friction outside its cone the share its
-    /// edge load and geometry leave (a few fixed-point passes, `N` moves with the share).
-    /// Returns whether the memory changed.
+    /// Gives every node the rope slides through with friction outside its cone, or below it by
+    /// more than [`crate::rope::cone::SLIDE_BAND`], the share its edge load and geometry leave: `N` moves
+    /// with the share, so each such node searches its fixed point ([`ShareSearch`]) over a few
+    /// passes, until its share is its target to [`SHARE_TOL`]. Returns whether the memory changed.
     fn settle_shares(&mut self, sys: &mut System, st: &mut State) -> bool {
         let mut changed = false;
         let rope = &self.map.rope;
         let base = self.map.rope_memory;
-        for _ in 0..4 {
+        // the fixed-point searches of the nodes being settled, by contact slot
+        let mut searches: Vec<Option<ShareSearch>> = Vec::new();
+        for _ in 0..SHARE_PASSES {
             let reports = node_reports(sys, self.map, self.structure, st);
+            let slots = reports.iter().map(|r| r.slot + 1).max().unwrap_or(0);
+            searches.resize(searches.len().max(slots), None);
             let mut shares = Vec::new();
             for rep in &reports {
                 let o = base + rope.contact_memory_offset(rep.slot);
                 let share = st.memory[o + 2];
-                let Some(c) = node_cone(rope, rep, &st.memory[base..]).settled_share() else {
+                let node = node_cone(rope, rep, &st.memory[base..]);
+                let search = &mut searches[rep.slot];
+                let target = match search {
+                    Some(_) => node.share_target(),
+                    None => node.settled_share(),
+                };
+                let Some(g) = target else {
                     continue;
                 };
-                if (c - share).abs() > 1e-13 * share.max(1e-3) {
-                    shares.push((o + 2, c));
+                // the target's own round-off is about 2e-13 relative
+                if (g - share).abs() <= SHARE_TOL * share.max(1e-3) {
+                    continue;
                 }
+                let next = search.get_or_insert_default().next(share, g);
+                shares.push((o + 2, next));
             }
             if shares.is_empty() {
                 break;
