@@ -75,7 +75,9 @@ fn ramp_to_gross_slip(mut rig: Wrap, t1: f64, reverse: bool, duration: f64, dt: 
             let n = rep.pull.normal;
             let f = rep.hold_force.hypot(rep.pull.along_rope);
             out.worst_cone = out.worst_cone.max(f / (MU * n));
-            if !(n > 0.0 && f <= MU * n * (1.0 + 1e-9)) && out.first_bad.is_none() {
+            // Coulomb's other half: on the cone while the rope slides through the node
+            let under = modes[rep.slot] != SlipMode::Stick && f < MU * n * (1.0 - 1e-9);
+            if (!(n > 0.0 && f <= MU * n * (1.0 + 1e-9)) || under) && out.first_bad.is_none() {
                 out.first_bad = Some(format!(
                     "t = {t:.3} s, node {} ({:?}): friction {f:.9e} N = {:.12} mu N (F_e {:.3e} N, F_r {:.6e} N), T {:.6e} / {:.6e} N, turn {:.3e} rad",
                     rep.node,
@@ -151,19 +153,32 @@ fn drum_of_64_contact_nodes_follows_the_polygon_law_inside_the_cone() {
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
-#[test]
-fn drum_of_256_contact_nodes_follows_the_polygon_law_inside_the_cone() {
+/// The 256-edge drum's polygon law, checked against the capstan law it approaches.
+fn drum_256_law() {
     let capstan = (MU * PI).exp();
     let law = polygon_law(&drum(256, 1.0, 1.0));
     println!("k = 256: polygon law {law:.6}, capstan {capstan:.6}");
     assert!((law / capstan - 1.0).abs() < 0.005);
-    let mut failures = Vec::new();
-    // at 981 kN only (10 t end loads): at 9.81 kN the ramp passes as well (T2/T1 -7.8e-4 off
-    // the law, friction / (mu N) 1 + 1e-12) but takes over three minutes on this machine, the
-    // stick band of a 0.7 degree turn being 2e-9 m of stretch there, far below the position
-    // tolerance (see docs/rope_friction.md); the 9.81 kN level is checked at 64 nodes
+}
+
+#[test]
+fn drum_of_256_contact_nodes_follows_the_polygon_law_inside_the_cone() {
+    drum_256_law();
     let t1 = 9.81e5;
-    failures.extend(check("drum k = 256", drum(256, t1, 1e4), t1, false, 1e-3));
+    let failures = check("drum k = 256", drum(256, t1, 1e4), t1, false, 1e-3);
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// At 9.81 kN the stick band of a 0.7 degree turn (`2 mu tan(theta/2) T` = 24 N) is 2e-9 m of
+/// stretch of a 6.4 mm segment, 50 times below the position tolerance, so the slip front's
+/// stick/slip decisions take many steps: the slowest rope test (90 s on the idle machine,
+/// 2026-11-29; over three minutes on a loaded one), kept in the suite because the issue's
+/// targets name both load levels at 256 nodes.
+#[test]
+fn drum_of_256_contact_nodes_at_9_81_kn_follows_the_polygon_law_inside_the_cone() {
+    drum_256_law();
+    let t1 = 9.81e3;
+    let failures = check("drum k = 256", drum(256, t1, 1e4), t1, false, 1e-3);
     assert!(failures.is_empty(), "{failures:#?}");
 }
 

@@ -12,6 +12,7 @@
 
 use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::Vec3;
+use mbcosim::rope::SlipMode;
 use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 
 /// Largest friction / (mu N) over the lift and the first violations.
@@ -25,6 +26,7 @@ fn lift(integrator: IntegratorKind) -> (f64, usize, Vec<String>) {
     let mu = p.rope.friction;
     let mut scene = RopeBlockScene::new(p).unwrap();
     let (mut worst, mut samples, mut bad) = (0.0f64, 0usize, Vec::new());
+    let mut least = f64::INFINITY;
     let h = 0.05;
     for k in 0..60 {
         let t = k as f64 * h;
@@ -39,7 +41,13 @@ fn lift(integrator: IntegratorKind) -> (f64, usize, Vec<String>) {
             if n > 0.0 {
                 worst = worst.max(f / (mu * n));
             }
-            if f > mu * n.max(0.0) * (1.0 + 1e-9) && bad.len() < 8 {
+            // Coulomb's other half: on the cone while the rope slides through the node
+            let sliding = modes[rep.slot] != SlipMode::Stick;
+            if sliding && n > 0.0 {
+                least = least.min(f / (mu * n));
+            }
+            let under = sliding && n > 0.0 && f < mu * n * (1.0 - 1e-9);
+            if (f > mu * n.max(0.0) * (1.0 + 1e-9) || under) && bad.len() < 8 {
                 bad.push(format!(
                     "{integrator:?}, t = {:.2} s, slot {}: friction = {:.9} mu N (F_e {:.4e}, F_r {:.4e}, N {n:.4e}), turn {:.3e} rad, {:?}",
                     t + h,
@@ -54,7 +62,8 @@ fn lift(integrator: IntegratorKind) -> (f64, usize, Vec<String>) {
         }
     }
     println!(
-        "{integrator:?}: {samples} node samples, max friction / (mu N) {worst:.12}, steps {}",
+        "{integrator:?}: {samples} node samples, max friction / (mu N) {worst:.12}, least while sliding 1 - {:.1e}, steps {}",
+        1.0 - least,
         scene.sim.sim.stats().steps
     );
     (worst, samples, bad)
