@@ -408,9 +408,10 @@ impl Manager<'_> {
     }
 
     /// Gives every node the rope slides through with friction outside its cone, or below it by
-    /// more than [`crate::rope::cone::SLIDE_BAND`], the share its edge load and geometry leave: `N` moves
-    /// with the share, so each such node searches its fixed point ([`ShareSearch`]) over a few
-    /// passes, until its share is its target to [`SHARE_TOL`]. Returns whether the memory changed.
+    /// more than [`crate::rope::cone::SLIDE_BAND`], the share its edge load and geometry leave:
+    /// `N` moves with the share, so each such node searches its fixed point ([`ShareSearch`])
+    /// over a few passes, until its share is its target to [`SHARE_TOL`]. Returns whether the
+    /// memory changed.
     fn settle_shares(&mut self, sys: &mut System, st: &mut State) -> bool {
         let mut changed = false;
         let rope = &self.map.rope;
