@@ -29,7 +29,7 @@ const CONE_TOL: f64 = 1e-12;
 /// How far below `mu N` a sliding node's friction may fall before its share is settled again
 /// (relative): Coulomb's law wants it on the cone while the rope slides. Each settlement is a
 /// small jump of the friction force; bands of 1e-3, 1e-6 and 1e-9 gave the same step counts to
-/// 3 % on the rope tests (docs/rope_friction.md), so the band is the test's own tolerance.
+/// 4 % on the rope tests (docs/rope_friction.md), so the band is the test's own tolerance.
 pub const SLIDE_BAND: f64 = 1e-9;
 
 /// A contact node at an accepted state, as the cone settlement sees it.
