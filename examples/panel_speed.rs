@@ -2,7 +2,7 @@
 //! lock force and thread CPU time (best of N) of one setting. Reported, never asserted.
 //!
 //! `cargo run --release --example panel_speed -- KIND RTOL [step|unit|default] [REPEATS]`
-//! (KIND: gen-alpha, bdf, dopri5; atol = rtol / 100, h_max 0.02 s as in `bench_core`; the
+//! (KIND: gen-alpha, bdf, dopri5, dopri5-tree, verner65-tree; atol = rtol / 100, h_max 0.02 s as in `bench_core`; the
 //! environment variables `T_END` [s] and `H_MAX` [s] change the run's length and h_max).
 
 use mbcosim::integrator::{IntegratorKind, Settings};
@@ -30,6 +30,7 @@ fn main() {
     let name = args.get(1).map_or("gen-alpha", |s| s.as_str());
     let kind = IntegratorKind::ALL
         .into_iter()
+        .chain(IntegratorKind::LIBRARY_ONLY)
         .find(|k| k.name() == name)
         .expect("integrator name");
     let rtol: f64 = args.get(2).map_or(1e-4, |s| s.parse().expect("rtol"));

@@ -145,10 +145,13 @@ impl TreeRk {
     fn weights(&mut self) {
         let Some(tree) = &self.tree else { return };
         let n = tree.n();
-        for (m, j) in tree.joints.iter().enumerate() {
+        for j in &tree.joints {
+            let Some(m) = j.coord else {
+                continue;
+            };
             let scale = match j.kind {
-                TreeJointKind::Revolute => 1.0,
                 TreeJointKind::Prismatic => self.y[m].abs(),
+                _ => 1.0,
             };
             self.w[m] = self.s.atol + self.s.rtol * scale;
             self.w[n + m] = self.s.atol + self.s.rtol * self.y[n + m].abs();

@@ -1,7 +1,7 @@
 //! Finding a kinematic tree of revolute and prismatic joints in a system.
 //!
 //! Rules (each refusal names the body or joint): every body is rigid (not flexible, not a
-//! particle); every joint is revolute or prismatic; breadth-first from the ground, every joint
+//! particle); every joint is revolute, prismatic or fixed; breadth-first from the ground, every joint
 //! reaches a body not reached before (otherwise it closes a loop) and every body is reached
 //! (otherwise it floats free); no force effect has contact events (the tree integrator does not
 //! locate them); a revolute joint's z axes point the same way at the given state.
@@ -49,15 +49,14 @@ pub fn detect(sys: &System, q: &[f64]) -> Result<JointTree, String> {
     }
     for j in &model.joints {
         let what = match j.kind {
-            JointKind::Revolute | JointKind::Prismatic => continue,
+            JointKind::Revolute | JointKind::Prismatic | JointKind::Fixed => continue,
             JointKind::Spherical => "spherical",
             JointKind::PointOnLine => "point-on-line",
-            JointKind::Fixed => "fixed",
             JointKind::AngleDrive(_) => "an angle drive",
             JointKind::TranslationDrive(_) => "a translation drive",
         };
         return Err(format!(
-            "joint `{}` is {what}: the joint-coordinate path takes revolute and prismatic joints only",
+            "joint `{}` is {what}: the joint-coordinate path takes revolute, prismatic and fixed joints only",
             j.name
         ));
     }
@@ -73,6 +72,7 @@ pub fn detect(sys: &System, q: &[f64]) -> Result<JointTree, String> {
     // tree index of the joint carrying each reached body
     let mut carrier: Vec<Option<usize>> = vec![None; nb];
     let mut joints: Vec<TreeJoint> = Vec::with_capacity(nb);
+    let mut n_coords = 0;
     let mut queue: VecDeque<BodyId> = VecDeque::from([BodyId::GROUND]);
     while let Some(p) = queue.pop_front() {
         for (ji, j) in model.joints.iter().enumerate() {
@@ -112,6 +112,13 @@ pub fn detect(sys: &System, q: &[f64]) -> Result<JointTree, String> {
                     j.name
                 ));
             }
+            if j.kind == JointKind::Fixed && rel.angle() > 1e-6 {
+                return Err(format!(
+                    "joint `{}` is fixed but its frames' axes differ by {:.3e} rad at the start; the joint-coordinate path needs them to coincide",
+                    j.name,
+                    rel.angle()
+                ));
+            }
             let (kind, child_axes_inv) = match j.kind {
                 JointKind::Prismatic => {
                     // x axes aligned or opposite (the joint's rows allow both): keep which
@@ -122,14 +129,20 @@ pub fn detect(sys: &System, q: &[f64]) -> Result<JointTree, String> {
                     };
                     (TreeJointKind::Prismatic, flip * child_axes.inverse())
                 }
+                JointKind::Fixed => (TreeJointKind::Fixed, child_axes.inverse()),
                 _ => (TreeJointKind::Revolute, child_axes.inverse()),
             };
+            let coord = (kind != TreeJointKind::Fixed).then(|| {
+                n_coords += 1;
+                n_coords - 1
+            });
             carrier[k] = Some(joints.len());
             joints.push(TreeJoint {
                 joint: ji,
                 body: k,
                 parent: p.index().and_then(|pi| carrier[pi]),
                 kind,
+                coord,
                 parent_origin: pf.origin,
                 parent_axes,
                 child_origin: cf.origin,
@@ -148,5 +161,5 @@ pub fn detect(sys: &System, q: &[f64]) -> Result<JointTree, String> {
             model.bodies[k].name
         ));
     }
-    Ok(JointTree { joints })
+    Ok(JointTree { joints, n_coords })
 }

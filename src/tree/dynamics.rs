@@ -22,7 +22,7 @@ use crate::math::{Mat3, Vec3};
 /// Scratch of the joint-space evaluation (sized once; no allocation per evaluation).
 #[derive(Debug, Clone, Default)]
 pub struct TreeScratch {
-    /// Pose and motion of every tree body (one per joint).
+    /// Pose and motion of every tree body (one per joint, fixed ones included).
     pub links: Vec<Link>,
     /// Maximal positions and speeds of the last evaluation.
     pub q: Vec<f64>,
@@ -47,8 +47,8 @@ impl TreeScratch {
     /// Sizes the buffers for `tree` in `sys`; `q` starts as a copy of `q0` (the tree writes every
     /// body's coordinates, this only fills the vector).
     pub fn size_for(&mut self, tree: &JointTree, sys: &System, q0: &[f64]) {
-        let n = tree.n();
-        self.links.resize(n, Link::default());
+        let (nj, n) = (tree.joints.len(), tree.n());
+        self.links.resize(nj, Link::default());
         if self.q.len() != sys.n_q() {
             self.q.clear();
             self.q.extend_from_slice(q0);
@@ -62,10 +62,10 @@ impl TreeScratch {
             &mut self.force,
             &mut self.cmom,
         ] {
-            x.resize(n, Vec3::zeros());
+            x.resize(nj, Vec3::zeros());
         }
-        self.cmass.resize(n, 0.0);
-        self.cinertia.resize(n, Mat3::zeros());
+        self.cmass.resize(nj, 0.0);
+        self.cinertia.resize(nj, Mat3::zeros());
         self.mass.resize(n * n, 0.0);
     }
 
@@ -113,12 +113,14 @@ impl TreeScratch {
             };
             let l = &self.links[m];
             let mut acc_o = acc_p + a_p.cross(&l.rho_p) + om_p.cross(&om_p.cross(&l.rho_p));
+            let c = j.coord.unwrap_or(0);
             let alpha = match j.kind {
-                TreeJointKind::Revolute => a_p + om_p.cross(&(l.axis * dtheta[m])),
+                TreeJointKind::Revolute => a_p + om_p.cross(&(l.axis * dtheta[c])),
                 TreeJointKind::Prismatic => {
-                    acc_o += 2.0 * om_p.cross(&(l.axis * dtheta[m]));
+                    acc_o += 2.0 * om_p.cross(&(l.axis * dtheta[c]));
                     a_p
                 }
+                TreeJointKind::Fixed => a_p,
             };
             self.alpha[m] = alpha;
             self.acc[m] = acc_o - alpha.cross(&l.rho_c) - l.omega.cross(&l.omega.cross(&l.rho_c));
@@ -138,13 +140,14 @@ impl TreeScratch {
             self.force[m] = force;
             self.torque[m] = l.rot * tau_b - l.rho_c.cross(&force);
         }
-        for m in (0..tree.n()).rev() {
+        for m in (0..tree.joints.len()).rev() {
             let j = &tree.joints[m];
             let l = &self.links[m];
-            g[m] = match j.kind {
-                TreeJointKind::Revolute => l.axis.dot(&self.torque[m]),
-                TreeJointKind::Prismatic => l.axis.dot(&self.force[m]),
-            };
+            match (j.kind, j.coord) {
+                (TreeJointKind::Revolute, Some(c)) => g[c] = l.axis.dot(&self.torque[m]),
+                (TreeJointKind::Prismatic, Some(c)) => g[c] = l.axis.dot(&self.force[m]),
+                _ => {}
+            }
             if let Some(p) = j.parent {
                 let d = l.point - self.links[p].point;
                 let (tm, fm) = (self.torque[m], self.force[m]);
@@ -169,7 +172,7 @@ impl TreeScratch {
             add_point_mass(&mut inertia, j.mass, &x);
             self.cinertia[m] = inertia;
         }
-        for m in (0..tree.n()).rev() {
+        for m in (0..tree.joints.len()).rev() {
             if let Some(p) = tree.joints[m].parent {
                 let d = self.links[m].point - self.links[p].point;
                 let (h, mm) = (self.cmom[m], self.cmass[m]);
@@ -196,21 +199,31 @@ impl TreeScratch {
         let n = tree.n();
         self.mass.fill(0.0);
         for (m, j) in tree.joints.iter().enumerate() {
+            let Some(cm) = j.coord else {
+                continue;
+            };
             let l = &self.links[m];
             let (tau, f) = match j.kind {
                 TreeJointKind::Revolute => (self.cinertia[m] * l.axis, l.axis.cross(&self.cmom[m])),
                 TreeJointKind::Prismatic => (self.cmom[m].cross(&l.axis), self.cmass[m] * l.axis),
+                TreeJointKind::Fixed => continue,
             };
+            // the joints on the path from `m` to the root that carry a coordinate (a fixed
+            // joint passes the subtree's motion on unchanged)
             let mut k = Some(m);
             while let Some(a) = k {
+                let ja = &tree.joints[a];
                 let la = &self.links[a];
-                let value = match tree.joints[a].kind {
+                let value = match ja.kind {
                     TreeJointKind::Revolute => la.axis.dot(&(tau + (l.point - la.point).cross(&f))),
                     TreeJointKind::Prismatic => la.axis.dot(&f),
+                    TreeJointKind::Fixed => f64::NAN,
                 };
-                self.mass[m * n + a] = value;
-                self.mass[a * n + m] = value;
-                k = tree.joints[a].parent;
+                if let Some(ca) = ja.coord {
+                    self.mass[cm * n + ca] = value;
+                    self.mass[ca * n + cm] = value;
+                }
+                k = ja.parent;
             }
         }
     }

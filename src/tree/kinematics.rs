@@ -64,8 +64,8 @@ fn unit(q: Quat) -> Quat {
     Quat::new_normalize(q.into_inner())
 }
 
-/// Forward kinematics at joint coordinates `theta` and rates `dtheta`: fills `links` (one per
-/// tree joint) and writes the maximal positions `q` and speeds `v` of every tree body.
+/// Forward kinematics at joint coordinates `theta` and rates `dtheta` (one per coordinate):
+/// fills `links` (one per tree joint, fixed ones included) and writes the maximal positions `q` and speeds `v` of every tree body.
 pub fn forward(
     tree: &JointTree,
     theta: &[f64],
@@ -82,16 +82,18 @@ pub fn forward(
         let frame = pq * j.parent_axes;
         let axis = frame * Vec3::z();
         let mut rho_p = prot * j.parent_origin;
+        let c = j.coord.unwrap_or(0);
         let (quat, omega, mut v_o) = match j.kind {
             TreeJointKind::Revolute => (
-                unit(frame * rz(theta[m]) * j.child_axes_inv),
-                pom + axis * dtheta[m],
+                unit(frame * rz(theta[c]) * j.child_axes_inv),
+                pom + axis * dtheta[c],
                 Vec3::zeros(),
             ),
             TreeJointKind::Prismatic => {
-                rho_p += axis * theta[m];
-                (unit(frame * j.child_axes_inv), pom, axis * dtheta[m])
+                rho_p += axis * theta[c];
+                (unit(frame * j.child_axes_inv), pom, axis * dtheta[c])
             }
+            TreeJointKind::Fixed => (unit(frame * j.child_axes_inv), pom, Vec3::zeros()),
         };
         v_o += pvel + pom.cross(&rho_p);
         let rot = quat.to_rotation_matrix().into_inner();
@@ -131,7 +133,7 @@ pub fn extract(tree: &JointTree, q: &[f64], v: &[f64], theta: &mut [f64], dtheta
         let omega = quat * Vec3::new(v[vo + 3], v[vo + 4], v[vo + 5]);
         (quat, r, vel, omega)
     };
-    for (m, j) in tree.joints.iter().enumerate() {
+    for j in &tree.joints {
         let (pq, pr, pvel, pom) = match j.parent {
             Some(p) => {
                 let pj = &tree.joints[p];
@@ -144,6 +146,9 @@ pub fn extract(tree: &JointTree, q: &[f64], v: &[f64], theta: &mut [f64], dtheta
                 Vec3::zeros(),
             ),
         };
+        let Some(c) = j.coord else {
+            continue;
+        };
         let (cq, cr, cvel, com) = read(j.q_offset, j.v_offset);
         let frame = pq * j.parent_axes;
         let axis = frame * Vec3::z();
@@ -151,21 +156,22 @@ pub fn extract(tree: &JointTree, q: &[f64], v: &[f64], theta: &mut [f64], dtheta
             TreeJointKind::Revolute => {
                 // child-side frame in the parent-side frame: Rz(theta)
                 let rel = (frame.inverse() * cq * j.child_axes_inv.inverse()).into_inner();
-                theta[m] = 2.0 * rel.k.atan2(rel.w);
-                if theta[m] > std::f64::consts::PI {
-                    theta[m] -= 2.0 * std::f64::consts::PI;
-                } else if theta[m] <= -std::f64::consts::PI {
-                    theta[m] += 2.0 * std::f64::consts::PI;
+                theta[c] = 2.0 * rel.k.atan2(rel.w);
+                if theta[c] > std::f64::consts::PI {
+                    theta[c] -= 2.0 * std::f64::consts::PI;
+                } else if theta[c] <= -std::f64::consts::PI {
+                    theta[c] += 2.0 * std::f64::consts::PI;
                 }
-                dtheta[m] = axis.dot(&(com - pom));
+                dtheta[c] = axis.dot(&(com - pom));
             }
+            TreeJointKind::Fixed => {}
             TreeJointKind::Prismatic => {
                 let rho_p = pq * j.parent_origin;
                 let rho_c = cq * j.child_origin;
                 let gap = cr + rho_c - pr - rho_p;
-                theta[m] = axis.dot(&gap);
+                theta[c] = axis.dot(&gap);
                 let rate = cvel + com.cross(&rho_c) - pvel - pom.cross(&rho_p);
-                dtheta[m] = axis.dot(&rate);
+                dtheta[c] = axis.dot(&rate);
             }
         }
     }

@@ -1,8 +1,9 @@
 //! Joint-coordinate (minimal-coordinate) formulation of kinematic trees (issue #18).
 //!
-//! When every body is rigid and hangs from the ground through exactly one revolute or prismatic
-//! joint (no loops), the motion is described by one coordinate per joint: an angle [rad] about
-//! the joint's z axis or a displacement [m] along it. This module
+//! When every body is rigid and hangs from the ground through exactly one revolute, prismatic or
+//! fixed joint (no loops), the motion is described by one coordinate per revolute or prismatic
+//! joint: an angle [rad] about the joint's z axis or a displacement [m] along it (a fixed joint
+//! has none: its child moves with its parent). This module
 //!
 //! - finds such a tree in a [`System`] or says precisely why there is none ([`JointTree::detect`],
 //!   module `detect`);
@@ -40,6 +41,8 @@ pub enum TreeJointKind {
     Revolute,
     /// Translation along the parent-side frame's z axis; coordinate [m].
     Prismatic,
+    /// No relative motion (the frames coincide); no coordinate.
+    Fixed,
 }
 
 /// One joint of the tree with the body it carries (the child).
@@ -53,6 +56,8 @@ pub struct TreeJoint {
     /// this joint's own index (parents come first).
     pub parent: Option<usize>,
     pub kind: TreeJointKind,
+    /// Index of the joint's coordinate in the joint state (`None` for a fixed joint).
+    pub coord: Option<usize>,
     /// Origin [m] of the parent-side frame in the parent body frame (world frame for the ground).
     pub parent_origin: Vec3,
     /// Axes of the parent-side frame relative to the parent body frame (world for the ground).
@@ -76,12 +81,14 @@ pub struct TreeJoint {
 pub struct JointTree {
     /// Joints in topological order (parents before children).
     pub joints: Vec<TreeJoint>,
+    /// Number of joint coordinates (the revolute and prismatic joints, numbered in order).
+    pub n_coords: usize,
 }
 
 impl JointTree {
     /// Number of joint coordinates.
     pub fn n(&self) -> usize {
-        self.joints.len()
+        self.n_coords
     }
 
     /// Finds the tree at the (consistent) maximal state `q`; `Err` names the body or joint that
