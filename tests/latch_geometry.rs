@@ -2,7 +2,9 @@
 //! `r_s = R_c - d_g + r_p` at polar angle `phi = theta - theta_L`, its distance from the groove
 //! centreline is `r_s sin(phi)`, so the penetrations into the flat side walls are
 //! `delta_front = r_s sin(phi) + r_p - w_g/2` and `delta_rear = -r_s sin(phi) + r_p - w_g/2`,
-//! with `d delta / d theta = +-r_s cos(phi)`. The library computes them with parry3d-f64 instead.
+//! with `d delta / d theta = +-r_s cos(phi)`. The library computes them in closed form where a
+//! flat face is nearest (its unit test checks that against parry3d-f64) and with parry3d-f64
+//! elsewhere.
 
 use mbcosim::contact::{
     ContactError, ContactLaw, LatchContact, LatchGeometry, LatchParams, LawKind, Wall,

@@ -243,10 +243,46 @@ impl LatchGeometry {
             return Ok(None);
         }
         let c = self.pin_centre(theta);
-        Ok(Some(LatchContact {
-            front: self.wall_contact(c, &self.front_pose)?,
-            rear: self.wall_contact(c, &self.rear_pose)?,
-        }))
+        let front = match self.flat_face_contact(c, Wall::Front) {
+            Some(w) => w,
+            None => self.wall_contact(c, &self.front_pose)?,
+        };
+        let rear = match self.flat_face_contact(c, Wall::Rear) {
+            Some(w) => w,
+            None => self.wall_contact(c, &self.rear_pose)?,
+        };
+        Ok(Some(LatchContact { front, rear }))
+    }
+
+    /// The contact with a wall's flat face in closed form, where it is the answer: the pin
+    /// centre `c` (in L) between the axis and the rim (`0 <= x <= R_c`) and on the groove's side
+    /// of the face (`|y| < w_g/2` towards that wall), so the nearest point of the wall block is
+    /// the centre's projection on the face. Then the penetration is `c.y + r_p - w_g/2` (front)
+    /// or `-c.y + r_p - w_g/2` (rear), the normal into the wall `+y` or `-y`: what parry3d's
+    /// ball-cuboid query computes there, without its dispatch (the latch's hot path; the unit
+    /// test compares the two). `None` elsewhere (a corner or a centre inside the block: the
+    /// query decides).
+    fn flat_face_contact(&self, c: Vec3, wall: Wall) -> Option<WallContact> {
+        let (half_width, r_p) = (0.5 * self.params.groove_width, self.params.pin_radius);
+        let side = match wall {
+            Wall::Front => 1.0,
+            Wall::Rear => -1.0,
+        };
+        let towards = side * c.y;
+        if !(c.x >= 0.0 && c.x <= self.params.cam_radius && towards < half_width) {
+            return None;
+        }
+        let into_wall = Vec3::new(0.0, side, 0.0);
+        // d c / d theta = z x c, so d delta / d theta = into_wall . (-c.y, c.x, 0)
+        let d_delta = side * c.x;
+        Some(WallContact {
+            penetration: towards + r_p - half_width,
+            normal: -into_wall,
+            point: c + r_p * into_wall,
+            moment_arm: -d_delta,
+            d_penetration_d_theta: d_delta,
+            d2_penetration_d_theta2: -side * c.y,
+        })
     }
 
     /// Contact of the pin (centre `c` in L) with the wall block at `wall_pose`.
@@ -278,5 +314,63 @@ impl LatchGeometry {
             // d^2 c / d theta^2 = -c (in-plane), and the face normal is constant.
             d2_penetration_d_theta2: -into_wall.dot(&c),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed form of the flat faces against parry3d's ball-cuboid query over the whole
+    /// engaged range (the pin from behind the rear wall's edge to beyond the front wall by its
+    /// radius), and it steps aside where the query must decide.
+    #[test]
+    fn flat_face_contact_is_parrys_answer() {
+        let g = LatchGeometry::new(LatchParams {
+            cam_radius: 0.03,
+            groove_width: 0.012,
+            groove_depth: 0.008,
+            pin_radius: 0.005,
+            lock_angle: 1.3,
+        })
+        .unwrap();
+        let tol = 1e-16;
+        let mut compared = 0;
+        for k in 0..=2000 {
+            let theta = g.engagement_angle() - 0.05 + 0.2 * k as f64 / 2000.0;
+            let c = g.pin_centre(theta);
+            for (wall, pose) in [(Wall::Front, &g.front_pose), (Wall::Rear, &g.rear_pose)] {
+                let Some(fast) = g.flat_face_contact(c, wall) else {
+                    continue;
+                };
+                let slow = g.wall_contact(c, pose).unwrap();
+                compared += 1;
+                let close = |a: f64, b: f64| (a - b).abs() <= tol;
+                assert!(
+                    close(fast.penetration, slow.penetration),
+                    "{fast:?} {slow:?}"
+                );
+                assert!(
+                    (fast.normal - slow.normal).norm() <= 1e-15,
+                    "{fast:?} {slow:?}"
+                );
+                assert!((fast.point - slow.point).norm() <= tol, "{fast:?} {slow:?}");
+                assert!(close(fast.moment_arm, slow.moment_arm), "{fast:?} {slow:?}");
+                assert!(close(
+                    fast.d_penetration_d_theta,
+                    slow.d_penetration_d_theta
+                ));
+                assert!(close(
+                    fast.d2_penetration_d_theta2,
+                    slow.d2_penetration_d_theta2
+                ));
+            }
+        }
+        // both walls at every angle but where the pin centre has crossed a wall's face
+        assert!(compared > 3000, "{compared}");
+        // a centre past the front face (penetration beyond the pin radius) is left to the query
+        let past = Vec3::new(0.02, 0.0061, 0.0);
+        assert!(g.flat_face_contact(past, Wall::Front).is_none());
+        assert!(g.flat_face_contact(past, Wall::Rear).is_some());
     }
 }
