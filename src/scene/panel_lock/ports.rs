@@ -603,7 +603,9 @@ pub mod bvr {
     pub const FLEXIBLE_PANELS: ValueRef = LATCHED0 + super::MAX_HINGES as ValueRef;
 }
 
-/// Integrator enumeration items (1-based), in [`IntegratorKind::ALL`] order.
+/// Integrator enumeration items (1-based): [`IntegratorKind::ALL`] in order, then the
+/// joint-coordinate DOPRI5 ([`IntegratorKind::Dopri5Tree`], PanelLock only: the rigid array on a
+/// fixed satellite is a tree).
 pub static INTEGRATORS: &[(&str, &str)] = &[
     (
         "gen_alpha",
@@ -616,6 +618,10 @@ pub static INTEGRATORS: &[(&str, &str)] = &[
     (
         "dopri5",
         "Dormand-Prince 5(4), index 1 with projection (non-stiff scenes)",
+    ),
+    (
+        "dopri5_tree",
+        "Dormand-Prince 5(4) in joint coordinates (rigid panels on a fixed satellite; refused otherwise)",
     ),
 ];
 
@@ -660,12 +666,20 @@ pub fn load_frame_code(frame: LoadFrame) -> i32 {
 }
 
 /// Integrator from its enumeration item number.
+/// (4 is PanelLock's `dopri5_tree`; RopeBlock's enumeration ends at 3, so its port refuses 4.)
 pub fn integrator_of(code: i32) -> IntegratorKind {
-    IntegratorKind::ALL[(code.clamp(1, 3) - 1) as usize]
+    if code == 4 {
+        IntegratorKind::Dopri5Tree
+    } else {
+        IntegratorKind::ALL[(code.clamp(1, 3) - 1) as usize]
+    }
 }
 
-/// Enumeration item number (1-based) of an integrator.
+/// Enumeration item number (1-based) of an integrator (0: not in the enumeration).
 pub fn integrator_code(kind: IntegratorKind) -> i32 {
+    if kind == IntegratorKind::Dopri5Tree {
+        return 4;
+    }
     IntegratorKind::ALL
         .iter()
         .position(|k| *k == kind)
