@@ -3,7 +3,9 @@
 //!
 //! The array starts stowed and at rest, so at initialization:
 //! - rates, contact and peak forces, lock times, latch flags, the tip speed, kinetic energy,
-//!   dissipated energy, input work and the solver counters do not depend on any known;
+//!   dissipated energy, input work and the solver counters do not depend on any known, but for
+//!   the factorization counter: the joint-coordinate integrator (`integrator` item 4) evaluates
+//!   its first stage, one Cholesky factorization, when it starts;
 //! - a hinge angle is its stowed angle (hinge 0: measured from the root lock angle; hinges 1-6
 //!   exist only for enough panels);
 //! - the root-hinge reactions come from the initial accelerations: masses, geometry, springs,
@@ -58,7 +60,9 @@ const MOTOR_DRIVEN: [&str; 5] = [
 pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<String>> {
     let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
     let name = unknown.name.as_str();
-    let deps = if name == "hinge0_angle" {
+    let deps = if name == "solver_factorizations" {
+        names(&["integrator"])
+    } else if name == "hinge0_angle" {
         names(&["root_stowed_angle", "root_lock_angle"])
     } else if name.starts_with("hinge") && name.ends_with("_angle") {
         names(&["n_panels", "panel_stowed_angle", "panel_lock_angle"])
