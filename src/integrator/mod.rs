@@ -5,8 +5,8 @@
 //! - [`bdf::Bdf`]: variable-order (1-5), variable-step BDF on the stabilized index-2 (GGL) form.
 //! - [`dopri::Dopri5`]: explicit Dormand-Prince 5(4) on the index-1 form with projection.
 //! - [`tree_rk::TreeRk`]: explicit Dormand-Prince 5(4) or Verner 6(5) in joint coordinates, for
-//!   models whose joints form a tree of revolute and prismatic joints ([`crate::tree`]); library
-//!   options, not in the FMU enumeration.
+//!   models whose joints form a tree of revolute, prismatic and fixed joints ([`crate::tree`]);
+//!   the DOPRI5 one is PanelLock's fourth `integrator` item, the Verner one library-only.
 //!
 //! All of them take `rtol`, `atol`, `h_max`, `h_init`, stop exactly at the requested time, count
 //! their work in [`Stats`] and keep all memory that influences future steps in plain vectors, so
@@ -27,16 +27,16 @@ pub mod tree_tableau;
 use crate::dae::System;
 use crate::state::State;
 
-/// Which integrator; the first three ([`IntegratorKind::ALL`]) are also the FMU enumeration
-/// (1-based there).
+/// Which integrator; the first three ([`IntegratorKind::ALL`]) are the FMU enumeration of both
+/// models (1-based there), PanelLock's has [`IntegratorKind::Dopri5Tree`] as its fourth item.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum IntegratorKind {
     GenAlpha,
     Bdf,
     Dopri5,
     /// Dormand-Prince 5(4) in joint coordinates ([`tree_rk::TreeRk`]): only for kinematic
-    /// trees of revolute and prismatic joints; its start refuses other models, naming why.
-    /// Not in [`IntegratorKind::ALL`] (the FMU enumeration).
+    /// trees of revolute, prismatic and fixed joints; its start refuses other models, naming
+    /// why. Not in [`IntegratorKind::ALL`]; PanelLock's `integrator` item 4.
     Dopri5Tree,
     /// Verner's 6(5) pair in joint coordinates, as [`IntegratorKind::Dopri5Tree`]; for tight
     /// tolerances.
@@ -44,7 +44,8 @@ pub enum IntegratorKind {
 }
 
 impl IntegratorKind {
-    /// Kinds selectable only through the library (not in the FMU enumeration).
+    /// Kinds outside the shared enumeration [`IntegratorKind::ALL`] (the joint-coordinate ones;
+    /// PanelLock offers `Dopri5Tree` as its fourth item).
     pub const LIBRARY_ONLY: [IntegratorKind; 2] =
         [IntegratorKind::Dopri5Tree, IntegratorKind::Verner65Tree];
 

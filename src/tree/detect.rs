@@ -1,10 +1,11 @@
-//! Finding a kinematic tree of revolute and prismatic joints in a system.
+//! Finding a kinematic tree of revolute, prismatic and fixed joints in a system.
 //!
 //! Rules (each refusal names the body or joint): every body is rigid (not flexible, not a
-//! particle); every joint is revolute, prismatic or fixed; breadth-first from the ground, every joint
-//! reaches a body not reached before (otherwise it closes a loop) and every body is reached
+//! particle); every joint is revolute, prismatic or fixed; breadth-first from the ground, every
+//! joint reaches a body not reached before (otherwise it closes a loop) and every body is reached
 //! (otherwise it floats free); no force effect has contact events (the tree integrator does not
-//! locate them); a revolute joint's z axes point the same way at the given state.
+//! locate them); a revolute joint's z axes point the same way at the given state, a fixed joint's
+//! frames coincide there (to 1e-6 rad).
 
 use super::{JointTree, TreeJoint, TreeJointKind};
 use crate::dae::System;

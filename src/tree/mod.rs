@@ -76,7 +76,7 @@ pub struct TreeJoint {
     pub v_offset: usize,
 }
 
-/// A kinematic tree of revolute and prismatic joints found in a system.
+/// A kinematic tree of revolute, prismatic and fixed joints found in a system.
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointTree {
     /// Joints in topological order (parents before children).
