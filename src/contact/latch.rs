@@ -243,15 +243,19 @@ impl LatchGeometry {
             return Ok(None);
         }
         let c = self.pin_centre(theta);
-        let front = match self.flat_face_contact(c, Wall::Front) {
-            Some(w) => w,
-            None => self.wall_contact(c, &self.front_pose)?,
-        };
-        let rear = match self.flat_face_contact(c, Wall::Rear) {
-            Some(w) => w,
-            None => self.wall_contact(c, &self.rear_pose)?,
-        };
-        Ok(Some(LatchContact { front, rear }))
+        Ok(Some(LatchContact {
+            front: self.wall_contact(c, Wall::Front)?,
+            rear: self.wall_contact(c, Wall::Rear)?,
+        }))
+    }
+
+    /// Contact of the pin (centre `c` in L) with `wall`: the closed form where the flat face is
+    /// nearest, parry3d's query elsewhere.
+    fn wall_contact(&self, c: Vec3, wall: Wall) -> Result<WallContact, ContactError> {
+        match self.flat_face_contact(c, wall) {
+            Some(w) => Ok(w),
+            None => self.queried_contact(c, wall),
+        }
     }
 
     /// The contact with a wall's flat face in closed form, where it is the answer: the pin
@@ -285,8 +289,12 @@ impl LatchGeometry {
         })
     }
 
-    /// Contact of the pin (centre `c` in L) with the wall block at `wall_pose`.
-    fn wall_contact(&self, c: Vec3, wall_pose: &Pose) -> Result<WallContact, ContactError> {
+    /// Contact of the pin (centre `c` in L) with the block of `wall`, by parry3d's query.
+    fn queried_contact(&self, c: Vec3, wall: Wall) -> Result<WallContact, ContactError> {
+        let wall_pose = match wall {
+            Wall::Front => &self.front_pose,
+            Wall::Rear => &self.rear_pose,
+        };
         let pin_pose = Pose::translation(c.x, c.y, 0.0);
         // Report gaps too: any distance inside the cam is below this prediction distance.
         let prediction = 4.0 * self.params.cam_radius;
@@ -339,11 +347,11 @@ mod tests {
         for k in 0..=2000 {
             let theta = g.engagement_angle() - 0.05 + 0.2 * k as f64 / 2000.0;
             let c = g.pin_centre(theta);
-            for (wall, pose) in [(Wall::Front, &g.front_pose), (Wall::Rear, &g.rear_pose)] {
+            for wall in [Wall::Front, Wall::Rear] {
                 let Some(fast) = g.flat_face_contact(c, wall) else {
                     continue;
                 };
-                let slow = g.wall_contact(c, pose).unwrap();
+                let slow = g.queried_contact(c, wall).unwrap();
                 compared += 1;
                 let close = |a: f64, b: f64| (a - b).abs() <= tol;
                 assert!(

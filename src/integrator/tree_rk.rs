@@ -146,12 +146,10 @@ impl TreeRk {
         let Some(tree) = &self.tree else { return };
         let n = tree.n();
         for j in &tree.joints {
-            let Some(m) = j.coord else {
-                continue;
-            };
-            let scale = match j.kind {
-                TreeJointKind::Prismatic => self.y[m].abs(),
-                _ => 1.0,
+            let (m, scale) = match j.kind {
+                TreeJointKind::Revolute(m) => (m, 1.0),
+                TreeJointKind::Prismatic(m) => (m, self.y[m].abs()),
+                TreeJointKind::Fixed => continue,
             };
             self.w[m] = self.s.atol + self.s.rtol * scale;
             self.w[n + m] = self.s.atol + self.s.rtol * self.y[n + m].abs();

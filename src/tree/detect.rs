@@ -128,22 +128,24 @@ pub fn detect(sys: &System, q: &[f64]) -> Result<JointTree, String> {
                     } else {
                         Quat::identity()
                     };
-                    (TreeJointKind::Prismatic, flip * child_axes.inverse())
+                    n_coords += 1;
+                    (
+                        TreeJointKind::Prismatic(n_coords - 1),
+                        flip * child_axes.inverse(),
+                    )
                 }
                 JointKind::Fixed => (TreeJointKind::Fixed, child_axes.inverse()),
-                _ => (TreeJointKind::Revolute, child_axes.inverse()),
+                _ => {
+                    n_coords += 1;
+                    (TreeJointKind::Revolute(n_coords - 1), child_axes.inverse())
+                }
             };
-            let coord = (kind != TreeJointKind::Fixed).then(|| {
-                n_coords += 1;
-                n_coords - 1
-            });
             carrier[k] = Some(joints.len());
             joints.push(TreeJoint {
                 joint: ji,
                 body: k,
                 parent: p.index().and_then(|pi| carrier[pi]),
                 kind,
-                coord,
                 parent_origin: pf.origin,
                 parent_axes,
                 child_origin: cf.origin,

@@ -113,10 +113,9 @@ impl TreeScratch {
             };
             let l = &self.links[m];
             let mut acc_o = acc_p + a_p.cross(&l.rho_p) + om_p.cross(&om_p.cross(&l.rho_p));
-            let c = j.coord.unwrap_or(0);
             let alpha = match j.kind {
-                TreeJointKind::Revolute => a_p + om_p.cross(&(l.axis * dtheta[c])),
-                TreeJointKind::Prismatic => {
+                TreeJointKind::Revolute(c) => a_p + om_p.cross(&(l.axis * dtheta[c])),
+                TreeJointKind::Prismatic(c) => {
                     acc_o += 2.0 * om_p.cross(&(l.axis * dtheta[c]));
                     a_p
                 }
@@ -143,10 +142,10 @@ impl TreeScratch {
         for m in (0..tree.joints.len()).rev() {
             let j = &tree.joints[m];
             let l = &self.links[m];
-            match (j.kind, j.coord) {
-                (TreeJointKind::Revolute, Some(c)) => g[c] = l.axis.dot(&self.torque[m]),
-                (TreeJointKind::Prismatic, Some(c)) => g[c] = l.axis.dot(&self.force[m]),
-                _ => {}
+            match j.kind {
+                TreeJointKind::Revolute(c) => g[c] = l.axis.dot(&self.torque[m]),
+                TreeJointKind::Prismatic(c) => g[c] = l.axis.dot(&self.force[m]),
+                TreeJointKind::Fixed => {}
             }
             if let Some(p) = j.parent {
                 let d = l.point - self.links[p].point;
@@ -199,13 +198,14 @@ impl TreeScratch {
         let n = tree.n();
         self.mass.fill(0.0);
         for (m, j) in tree.joints.iter().enumerate() {
-            let Some(cm) = j.coord else {
-                continue;
-            };
             let l = &self.links[m];
-            let (tau, f) = match j.kind {
-                TreeJointKind::Revolute => (self.cinertia[m] * l.axis, l.axis.cross(&self.cmom[m])),
-                TreeJointKind::Prismatic => (self.cmom[m].cross(&l.axis), self.cmass[m] * l.axis),
+            let (cm, tau, f) = match j.kind {
+                TreeJointKind::Revolute(c) => {
+                    (c, self.cinertia[m] * l.axis, l.axis.cross(&self.cmom[m]))
+                }
+                TreeJointKind::Prismatic(c) => {
+                    (c, self.cmom[m].cross(&l.axis), self.cmass[m] * l.axis)
+                }
                 TreeJointKind::Fixed => continue,
             };
             // the joints on the path from `m` to the root that carry a coordinate (a fixed
@@ -214,12 +214,14 @@ impl TreeScratch {
             while let Some(a) = k {
                 let ja = &tree.joints[a];
                 let la = &self.links[a];
-                let value = match ja.kind {
-                    TreeJointKind::Revolute => la.axis.dot(&(tau + (l.point - la.point).cross(&f))),
-                    TreeJointKind::Prismatic => la.axis.dot(&f),
-                    TreeJointKind::Fixed => f64::NAN,
+                let entry = match ja.kind {
+                    TreeJointKind::Revolute(ca) => {
+                        Some((ca, la.axis.dot(&(tau + (l.point - la.point).cross(&f)))))
+                    }
+                    TreeJointKind::Prismatic(ca) => Some((ca, la.axis.dot(&f))),
+                    TreeJointKind::Fixed => None,
                 };
-                if let Some(ca) = ja.coord {
+                if let Some((ca, value)) = entry {
                     self.mass[cm * n + ca] = value;
                     self.mass[ca * n + cm] = value;
                 }

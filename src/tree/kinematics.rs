@@ -82,14 +82,13 @@ pub fn forward(
         let frame = pq * j.parent_axes;
         let axis = frame * Vec3::z();
         let mut rho_p = prot * j.parent_origin;
-        let c = j.coord.unwrap_or(0);
         let (quat, omega, mut v_o) = match j.kind {
-            TreeJointKind::Revolute => (
+            TreeJointKind::Revolute(c) => (
                 unit(frame * rz(theta[c]) * j.child_axes_inv),
                 pom + axis * dtheta[c],
                 Vec3::zeros(),
             ),
-            TreeJointKind::Prismatic => {
+            TreeJointKind::Prismatic(c) => {
                 rho_p += axis * theta[c];
                 (unit(frame * j.child_axes_inv), pom, axis * dtheta[c])
             }
@@ -146,14 +145,14 @@ pub fn extract(tree: &JointTree, q: &[f64], v: &[f64], theta: &mut [f64], dtheta
                 Vec3::zeros(),
             ),
         };
-        let Some(c) = j.coord else {
+        if j.kind == TreeJointKind::Fixed {
             continue;
-        };
+        }
         let (cq, cr, cvel, com) = read(j.q_offset, j.v_offset);
         let frame = pq * j.parent_axes;
         let axis = frame * Vec3::z();
         match j.kind {
-            TreeJointKind::Revolute => {
+            TreeJointKind::Revolute(c) => {
                 // child-side frame in the parent-side frame: Rz(theta)
                 let rel = (frame.inverse() * cq * j.child_axes_inv.inverse()).into_inner();
                 theta[c] = 2.0 * rel.k.atan2(rel.w);
@@ -165,7 +164,7 @@ pub fn extract(tree: &JointTree, q: &[f64], v: &[f64], theta: &mut [f64], dtheta
                 dtheta[c] = axis.dot(&(com - pom));
             }
             TreeJointKind::Fixed => {}
-            TreeJointKind::Prismatic => {
+            TreeJointKind::Prismatic(c) => {
                 let rho_p = pq * j.parent_origin;
                 let rho_c = cq * j.child_origin;
                 let gap = cr + rho_c - pr - rho_p;

@@ -34,13 +34,13 @@ pub use kinematics::{Link, extract};
 use crate::dae::System;
 use crate::math::{Mat3, Quat, Vec3};
 
-/// Kind of a tree joint.
+/// Kind of a tree joint, with the index of its coordinate in the joint state.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TreeJointKind {
     /// Rotation about the parent-side frame's z axis; coordinate [rad].
-    Revolute,
+    Revolute(usize),
     /// Translation along the parent-side frame's z axis; coordinate [m].
-    Prismatic,
+    Prismatic(usize),
     /// No relative motion (the frames coincide); no coordinate.
     Fixed,
 }
@@ -56,8 +56,6 @@ pub struct TreeJoint {
     /// this joint's own index (parents come first).
     pub parent: Option<usize>,
     pub kind: TreeJointKind,
-    /// Index of the joint's coordinate in the joint state (`None` for a fixed joint).
-    pub coord: Option<usize>,
     /// Origin [m] of the parent-side frame in the parent body frame (world frame for the ground).
     pub parent_origin: Vec3,
     /// Axes of the parent-side frame relative to the parent body frame (world for the ground).

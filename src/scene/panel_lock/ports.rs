@@ -666,25 +666,26 @@ pub fn load_frame_code(frame: LoadFrame) -> i32 {
 }
 
 /// Integrator from its enumeration item number.
-/// (4 is PanelLock's `dopri5_tree`; RopeBlock's enumeration ends at 3, so its port refuses 4.)
+/// (RopeBlock's enumeration ends at 3, so its port refuses 4, PanelLock's `dopri5_tree`.)
 pub fn integrator_of(code: i32) -> IntegratorKind {
-    if code == 4 {
-        IntegratorKind::Dopri5Tree
-    } else {
-        IntegratorKind::ALL[(code.clamp(1, 3) - 1) as usize]
-    }
+    ENUMERATED_INTEGRATORS[(code.clamp(1, INTEGRATORS.len() as i32) - 1) as usize]
 }
 
 /// Enumeration item number (1-based) of an integrator (0: not in the enumeration).
 pub fn integrator_code(kind: IntegratorKind) -> i32 {
-    if kind == IntegratorKind::Dopri5Tree {
-        return 4;
-    }
-    IntegratorKind::ALL
+    ENUMERATED_INTEGRATORS
         .iter()
         .position(|k| *k == kind)
         .map_or(0, |i| i as i32 + 1)
 }
+
+/// The kinds of [`INTEGRATORS`], item by item.
+const ENUMERATED_INTEGRATORS: [IntegratorKind; 4] = [
+    IntegratorKind::ALL[0],
+    IntegratorKind::ALL[1],
+    IntegratorKind::ALL[2],
+    IntegratorKind::Dopri5Tree,
+];
 
 /// Enumeration item number (1-based) of a contact law.
 pub fn law_code(law: LawKind) -> i32 {
