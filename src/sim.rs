@@ -92,9 +92,10 @@ impl Simulation {
         // before the first force evaluation of the consistent initialization.
         state.memory = system.init_memory(state.t, &state.q, &state.v);
         let tol = (1e-3 * settings.atol).max(1e-14);
-        integrator::init::make_consistent(&mut system, &mut state, tol).map_err(|e| e.0)?;
         let mut integrator = integrator::create(kind, settings);
-        integrator.start(&mut system, &state).map_err(|e| e.0)?;
+        integrator
+            .initialize(&mut system, &mut state, tol)
+            .map_err(|e| e.0)?;
         Ok(Simulation {
             system,
             state,

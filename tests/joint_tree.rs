@@ -427,3 +427,87 @@ fn refuses_loops_flexible_bodies_and_other_joints() {
         "{e}"
     );
 }
+
+/// The joint path starts from the state its joint coordinates map to when that reproduces the
+/// initial state, and from the maximal projection otherwise: either way the start must be the
+/// consistent state the maximal integrators start from.
+#[test]
+fn initial_state_equals_the_maximal_projection() {
+    let start = |model: Model, kind| Simulation::new(model, kind, settings(1e-8), 0.0).unwrap();
+    // consistent initial state: the mapped state, equal to round-off
+    let (tree, full) = (
+        start(chain(8), IntegratorKind::Dopri5Tree),
+        start(chain(8), IntegratorKind::Dopri5),
+    );
+    let diff = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+    };
+    let (s, f) = (&tree.state, &full.state);
+    println!(
+        "consistent: q {:.1e}, v {:.1e}, vdot {:.1e}, lambda {:.1e}",
+        diff(&s.q, &f.q),
+        diff(&s.v, &f.v),
+        diff(&s.vdot, &f.vdot),
+        diff(&s.lambda, &f.lambda)
+    );
+    assert!(diff(&s.q, &f.q) < 1e-15 && diff(&s.v, &f.v) < 1e-15);
+    // accelerations ~10 m/s^2, multipliers up to ~100 N
+    assert!(diff(&s.vdot, &f.vdot) < 1e-12 && diff(&s.lambda, &f.lambda) < 1e-11);
+    // a rod moved off its hinges by 0.1 mm and given a speed the hinges forbid: the maximal
+    // projection, bit for bit
+    let mut off = chain(3);
+    let b = off.bodies[1].clone();
+    off.q0[b.q_offset + 1] += 1e-4;
+    off.v0[b.v_offset] = 0.3;
+    let (mut tree, full) = (
+        start(off.clone(), IntegratorKind::Dopri5Tree),
+        start(off, IntegratorKind::Dopri5),
+    );
+    assert_eq!(tree.state.q, full.state.q);
+    assert_eq!(tree.state.v, full.state.v);
+    assert_eq!(tree.state.vdot, full.state.vdot);
+    assert_eq!(tree.state.lambda, full.state.lambda);
+    let (pos, vel) = joint_residuals(&mut tree);
+    assert!(pos < 1e-10 && vel < 1e-12, "|Phi| {pos:e}, |G v| {vel:e}");
+}
+
+/// The joint path hands the forward pass's poses and speeds to the force evaluation instead of
+/// evaluating them from `q`, `v`: the forces must equal those a fresh system evaluates at the
+/// mapped state (the 3D tree: spring-damper, torsion spring, gyroscopic terms, gravity).
+#[test]
+fn forces_on_the_forward_pass_kinematics_equal_the_evaluated_ones() {
+    use mbcosim::dae::System;
+    use mbcosim::tree::{JointTree, TreeScratch};
+    let model = Arc::new(tree_3d());
+    let mut sys = System::new(model.clone()).unwrap();
+    let tree = JointTree::detect(&sys, &model.q0).unwrap();
+    let mut scratch = TreeScratch::default();
+    scratch.size_for(&tree, &sys, &model.q0);
+    let n = tree.n();
+    let theta: Vec<f64> = (0..n).map(|i| 0.3 + 0.2 * i as f64).collect();
+    let dtheta: Vec<f64> = (0..n).map(|i| 1.0 - 0.4 * i as f64).collect();
+    let mut ddtheta = vec![0.0; n];
+    scratch
+        .accelerations(&tree, &mut sys, 0.1, &theta, &dtheta, &mut ddtheta)
+        .unwrap();
+    let mut fresh = System::new(model).unwrap();
+    let mut f = vec![0.0; fresh.n_v()];
+    fresh.forces(0.1, &scratch.q, &scratch.v, &mut f);
+    let scale = f.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+    let worst = f
+        .iter()
+        .zip(&scratch.f)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    println!("largest force {scale:.3e}, difference {worst:.1e}");
+    assert!(worst <= 1e-14 * scale, "difference {worst:e}");
+    // and the powers (the damper dissipates at these speeds)
+    let (pd, pi) = sys.powers(0.1, &scratch.q, &scratch.v);
+    let (fd, fi) = fresh.powers(0.1, &scratch.q, &scratch.v);
+    assert!(
+        pd > 0.0 && (pd - fd).abs() <= 1e-14 * pd && (pi - fi).abs() <= 1e-14 * fi.abs().max(1.0)
+    );
+}

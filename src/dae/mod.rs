@@ -89,6 +89,9 @@ pub struct System {
     frozen_accepted: bool,
     /// Whether any force effect takes such decisions (else freezing is skipped).
     decides: bool,
+    /// Whether any force effect or modal body can dissipate or feed power (else
+    /// [`System::powers`] is zero without an evaluation).
+    has_power: bool,
     /// Scratch for the next frozen decisions (the effects see the current ones when deciding).
     frozen_next: Vec<Vec<f64>>,
     /// Floating-frame terms of the modal bodies, at the last kinematics update.
@@ -147,6 +150,7 @@ impl System {
             frozen_on: false,
             frozen_accepted: false,
             decides: model.forces.iter().any(|e| e.has_decisions()),
+            has_power: !modal.is_empty() || model.forces.iter().any(|e| e.has_power()),
             frozen_next: vec![Vec::new(); model.forces.len()],
             inputs: vec![0.0; model.n_inputs()],
             row_bodies,
@@ -298,6 +302,29 @@ impl System {
         for nb in self.nodes.iter().rev() {
             self.kins.push(nb.kin);
         }
+    }
+
+    /// Takes the kinematics at `(q, v)` from a caller that has every body's pose and motion at
+    /// hand (the joint-coordinate path's forward pass) instead of evaluating them from `q`, `v`:
+    /// `fill` writes one [`BodyKin`] per body of `model.bodies`, in their order, consistent with
+    /// `q` and `v`. The next force, power or constraint evaluation at the same `(q, v)` uses
+    /// them. Models with modal bodies evaluate as usual (their floating-frame terms need it).
+    pub fn set_kinematics(&mut self, q: &[f64], v: &[f64], fill: impl FnOnce(&mut [BodyKin])) {
+        if !self.modal.is_empty() || !self.nodes.is_empty() {
+            self.update_kinematics(q, v);
+            return;
+        }
+        match &mut self.kin_at {
+            Some((kq, kv)) => {
+                kq.clear();
+                kq.extend_from_slice(q);
+                kv.clear();
+                kv.extend_from_slice(v);
+            }
+            None => self.kin_at = Some((q.to_vec(), v.to_vec())),
+        }
+        self.kins.resize(self.model.bodies.len(), BodyKin::GROUND);
+        fill(&mut self.kins);
     }
 
     /// Adds the force effects' generalized forces to `f` (length `n_v`), mapping node-body
@@ -669,6 +696,9 @@ impl System {
 
     /// Dissipated power and input power [W] at `(q, v, t)`.
     pub fn powers(&mut self, t: f64, q: &[f64], v: &[f64]) -> (f64, f64) {
+        if !self.has_power {
+            return (0.0, 0.0);
+        }
         self.update_kinematics(q, v);
         let forces = &self.model.forces;
         let diss = forces

@@ -27,6 +27,11 @@ impl ForceEffect for Gravity {
 
     fn add_jacobian(&self, _ctx: &EvalCtx, _sink: &mut dyn JacobianSink) {}
 
+    /// Gravity is conservative: it neither dissipates nor feeds power.
+    fn has_power(&self) -> bool {
+        false
+    }
+
     fn potential_energy(&self, ctx: &EvalCtx) -> f64 {
         ctx.kins
             .iter()

@@ -125,6 +125,13 @@ pub trait ForceEffect: Send + Sync + std::fmt::Debug {
         0.0
     }
 
+    /// Whether [`ForceEffect::dissipated_power`] or [`ForceEffect::input_power`] can be other
+    /// than zero (fixed for the effect's lifetime). `false` lets a model without such effects
+    /// skip the power evaluation at every stage.
+    fn has_power(&self) -> bool {
+        true
+    }
+
     /// Number of discrete memory values the effect keeps in the state (contact onset speeds,
     /// latch flags); they change only between steps, in [`ForceEffect::update_memory`].
     fn n_memory(&self) -> usize {

@@ -392,6 +392,19 @@ pub trait Integrator: Send + std::fmt::Debug {
     /// [`init::make_consistent`]); forgets any history.
     fn start(&mut self, sys: &mut System, state: &State) -> Result<(), SolverError>;
 
+    /// Makes the initial `state` consistent (positions within `position_tol` [m] of the joints,
+    /// speeds, accelerations, multipliers) and starts from it. The default projects in maximal
+    /// coordinates ([`init::make_consistent`]) and calls [`Integrator::start`].
+    fn initialize(
+        &mut self,
+        sys: &mut System,
+        state: &mut State,
+        position_tol: f64,
+    ) -> Result<(), SolverError> {
+        init::make_consistent(sys, state, position_tol)?;
+        self.start(sys, state)
+    }
+
     /// Advances `state` exactly to `t_end` [s], calling `hook` after every accepted step; returns
     /// early (with `state.t < t_end`) when the hook says [`StepAction::Stop`].
     fn advance_to(

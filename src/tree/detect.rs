@@ -12,7 +12,7 @@ use crate::dae::System;
 use crate::math::{Mat3, Quat, Vec3};
 use crate::model::kinematics::quat_at;
 use crate::model::{BodyId, BodyKind, Frame, JointKind};
-use nalgebra::Rotation3;
+use nalgebra::{Quaternion, Rotation3};
 use std::collections::VecDeque;
 
 /// Rotation of a frame's axes (columns) as a unit quaternion.
@@ -150,6 +150,11 @@ pub fn detect(sys: &System, q: &[f64]) -> Result<JointTree, String> {
                 parent_axes,
                 child_origin: cf.origin,
                 child_axes_inv,
+                rel0: (parent_axes * child_axes_inv).into_inner(),
+                rel1: parent_axes.into_inner()
+                    * Quaternion::new(0.0, 0.0, 0.0, 1.0)
+                    * child_axes_inv.into_inner(),
+                axis_in_parent: parent_axes * Vec3::z(),
                 mass,
                 inertia,
                 q_offset: b.q_offset,

@@ -18,6 +18,7 @@ use super::kinematics::{self, Link};
 use super::{JointTree, TreeJointKind};
 use crate::dae::System;
 use crate::math::{Mat3, Vec3};
+use crate::model::kinematics::BodyKin;
 
 /// Scratch of the joint-space evaluation (sized once; no allocation per evaluation).
 #[derive(Debug, Clone, Default)]
@@ -93,6 +94,19 @@ impl TreeScratch {
         ddtheta: &mut [f64],
     ) -> Result<(), String> {
         self.map(tree, theta, dtheta);
+        let links = &self.links;
+        sys.set_kinematics(&self.q, &self.v, |kins| {
+            for (j, l) in tree.joints.iter().zip(links) {
+                kins[j.body] = BodyKin {
+                    r: l.r,
+                    rot: l.rot,
+                    v: l.vel,
+                    omega: l.omega_body,
+                    col: j.v_offset,
+                    rotational: true,
+                };
+            }
+        });
         sys.forces(t, &self.q, &self.v, &mut self.f);
         self.bias(tree, dtheta);
         self.wrenches(tree, ddtheta);

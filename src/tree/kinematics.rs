@@ -10,7 +10,7 @@
 use super::{JointTree, TreeJointKind};
 use crate::math::{Mat3, Quat, Vec3};
 use crate::model::kinematics::{put_quat, quat_at};
-use nalgebra::{Quaternion, UnitQuaternion};
+use nalgebra::Quaternion;
 
 /// World-frame pose and motion of one tree body (the child of a joint) and its joint.
 #[derive(Debug, Clone, Copy)]
@@ -21,8 +21,9 @@ pub struct Link {
     /// Centre of mass [m] and its velocity [m/s], world.
     pub r: Vec3,
     pub vel: Vec3,
-    /// Angular velocity [rad/s], world.
+    /// Angular velocity [rad/s], world and body frame.
     pub omega: Vec3,
+    pub omega_body: Vec3,
     /// Joint axis (z of the parent-side frame), world.
     pub axis: Vec3,
     /// Joint point (origin of the parent-side frame, moved by `d` along `axis` for a prismatic
@@ -43,6 +44,7 @@ impl Default for Link {
             r: Vec3::zeros(),
             vel: Vec3::zeros(),
             omega: Vec3::zeros(),
+            omega_body: Vec3::zeros(),
             axis: Vec3::z(),
             point: Vec3::zeros(),
             rho_p: Vec3::zeros(),
@@ -51,21 +53,15 @@ impl Default for Link {
     }
 }
 
-/// Rotation about z by `angle` [rad].
-#[inline]
-fn rz(angle: f64) -> Quat {
-    let (s, c) = (0.5 * angle).sin_cos();
-    UnitQuaternion::new_unchecked(Quaternion::new(c, 0.0, 0.0, s))
-}
-
 /// Renormalized product (unit to round-off at every depth of the tree).
 #[inline]
-fn unit(q: Quat) -> Quat {
-    Quat::new_normalize(q.into_inner())
+fn unit(q: Quaternion<f64>) -> Quat {
+    Quat::new_normalize(q)
 }
 
 /// Forward kinematics at joint coordinates `theta` and rates `dtheta` (one per coordinate):
-/// fills `links` (one per tree joint, fixed ones included) and writes the maximal positions `q` and speeds `v` of every tree body.
+/// fills `links` (one per tree joint, fixed ones included) and writes the maximal positions `q`
+/// and speeds `v` of every tree body.
 pub fn forward(
     tree: &JointTree,
     theta: &[f64],
@@ -75,37 +71,52 @@ pub fn forward(
     v: &mut [f64],
 ) {
     for (m, j) in tree.joints.iter().enumerate() {
-        // the ground: at the origin, at rest, unrotated (the default link)
-        let parent = j.parent.map_or_else(Link::default, |p| links[p]);
-        let (pq, prot, pr, pvel, pom) =
-            (parent.quat, parent.rot, parent.r, parent.vel, parent.omega);
-        let frame = pq * j.parent_axes;
-        let axis = frame * Vec3::z();
-        let mut rho_p = prot * j.parent_origin;
-        let (quat, omega, mut v_o) = match j.kind {
-            TreeJointKind::Revolute(c) => (
-                unit(frame * rz(theta[c]) * j.child_axes_inv),
-                pom + axis * dtheta[c],
+        // the ground: at the origin, at rest, unrotated
+        let (pq, prot, pr, pvel, pom) = match j.parent {
+            Some(p) => {
+                let l = &links[p];
+                (l.quat.into_inner(), l.rot, l.r, l.vel, l.omega)
+            }
+            None => (
+                Quaternion::identity(),
+                Mat3::identity(),
+                Vec3::zeros(),
+                Vec3::zeros(),
                 Vec3::zeros(),
             ),
+        };
+        let axis = prot * j.axis_in_parent;
+        let mut rho_p = prot * j.parent_origin;
+        let (rel, omega, mut v_o) = match j.kind {
+            TreeJointKind::Revolute(c) => {
+                let (s, co) = (0.5 * theta[c]).sin_cos();
+                (
+                    j.rel0 * co + j.rel1 * s,
+                    pom + axis * dtheta[c],
+                    Vec3::zeros(),
+                )
+            }
             TreeJointKind::Prismatic(c) => {
                 rho_p += axis * theta[c];
-                (unit(frame * j.child_axes_inv), pom, axis * dtheta[c])
+                (j.rel0, pom, axis * dtheta[c])
             }
-            TreeJointKind::Fixed => (unit(frame * j.child_axes_inv), pom, Vec3::zeros()),
+            TreeJointKind::Fixed => (j.rel0, pom, Vec3::zeros()),
         };
+        let quat = unit(pq * rel);
         v_o += pvel + pom.cross(&rho_p);
         let rot = quat.to_rotation_matrix().into_inner();
         let rho_c = rot * j.child_origin;
         let point = pr + rho_p;
         let r = point - rho_c;
         let vel = v_o - omega.cross(&rho_c);
+        let omega_body = rot.transpose() * omega;
         links[m] = Link {
             quat,
             rot,
             r,
             vel,
             omega,
+            omega_body,
             axis,
             point,
             rho_p,
@@ -114,9 +125,8 @@ pub fn forward(
         let (qo, vo) = (j.q_offset, j.v_offset);
         q[qo..qo + 3].copy_from_slice(r.as_slice());
         put_quat(q, qo + 3, &quat);
-        let om_b = rot.transpose() * omega;
         v[vo..vo + 3].copy_from_slice(vel.as_slice());
-        v[vo + 3..vo + 6].copy_from_slice(om_b.as_slice());
+        v[vo + 3..vo + 6].copy_from_slice(omega_body.as_slice());
     }
 }
 

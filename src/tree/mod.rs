@@ -33,6 +33,7 @@ pub use kinematics::{Link, extract};
 
 use crate::dae::System;
 use crate::math::{Mat3, Quat, Vec3};
+use nalgebra::Quaternion;
 
 /// Kind of a tree joint, with the index of its coordinate in the joint state.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -66,6 +67,15 @@ pub struct TreeJoint {
     /// (`R_child = R_parent_frame Rz(theta) child_axes_inv`); for a prismatic joint it includes
     /// the constant half turn about z when its x axes are opposite.
     pub child_axes_inv: Quat,
+    /// The rotation child body frame -> parent body frame, `parent_axes Rz(theta)
+    /// child_axes_inv`, expanded in the half angle: `rel0 cos(theta / 2) + rel1 sin(theta / 2)`
+    /// (`Rz` is `cos + k sin` of the half angle). Revolute joints use both; the other kinds'
+    /// constant rotation is `rel0`.
+    pub rel0: Quaternion<f64>,
+    pub rel1: Quaternion<f64>,
+    /// The joint axis (z of the parent-side frame) in the parent body frame (world for the
+    /// ground).
+    pub axis_in_parent: Vec3,
     /// Mass [kg] and inertia about the centre of mass [kg m^2] (body frame) of the child.
     pub mass: f64,
     pub inertia: Mat3,
