@@ -75,9 +75,15 @@ fn chain(n: usize) -> Model {
 }
 
 /// Time per step of a chain built by `build(n)` for each `n` of `CHAIN_SIZES` (default
-/// `sizes`), generalized-alpha with a fixed step of 1 ms over `steps` steps, best of 3; prints a
-/// markdown table and the cost-per-step exponent (issue #18).
+/// `sizes`), generalized-alpha with a fixed step of 1 ms over `steps` steps (`CHAIN_STEPS`
+/// overrides), best of 3; prints a markdown table and the cost-per-step exponent (issue #18).
+/// With `CHAIN_TIP=1` it also prints `tip x y z`: the far end [m] of the last rod (0.1 m, along
+/// its body x axis) after the run, for `benches/exudyn_chain3d.py`'s cross-check.
 fn chain_table(title: &str, sizes: &[usize], build: fn(usize) -> Model, steps: usize) {
+    let steps = std::env::var("CHAIN_STEPS")
+        .ok()
+        .and_then(|v| v.trim().parse().ok())
+        .unwrap_or(steps);
     println!("## {title}: time per step (generalized-alpha, fixed step 1 ms)\n");
     println!(
         "| n bodies | unknowns | time per step [us] | Newton iterations per step | factorizations |"
@@ -96,11 +102,18 @@ fn chain_table(title: &str, sizes: &[usize], build: fn(usize) -> Model, steps: u
             ..Settings::default()
         };
         let sim0 = Simulation::new(build(n), IntegratorKind::GenAlpha, s, 0.0).unwrap();
-        let (t, stats) = best_of(3, || {
+        let (t, (stats, tip)) = best_of(3, || {
             let mut sim = sim0.clone();
             sim.advance_to(steps as f64 * 1e-3).unwrap();
-            sim.stats()
+            let last = sim.system.model.bodies.last().expect("a rod");
+            let (q, o) = (&sim.state.q, last.q_offset);
+            let tip = Vec3::new(q[o], q[o + 1], q[o + 2])
+                + mbcosim::model::kinematics::quat_at(q, o + 3) * Vec3::new(0.05, 0.0, 0.0);
+            (sim.stats(), tip)
         });
+        if std::env::var("CHAIN_TIP").is_ok_and(|v| v == "1") {
+            println!("tip {:.15e} {:.15e} {:.15e}", tip.x, tip.y, tip.z);
+        }
         let per = t / steps as f64;
         let its = stats.newton_iterations as f64 / stats.steps as f64;
         println!(

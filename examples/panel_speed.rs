@@ -2,7 +2,7 @@
 //! lock force and thread CPU time (best of N) of one setting. Reported, never asserted.
 //!
 //! `cargo run --release --example panel_speed -- KIND RTOL [step|unit|default] [REPEATS]`
-//! (KIND: gen-alpha, bdf, dopri5, dopri5-tree, verner65-tree; atol = rtol / 100, h_max 0.02 s as in `bench_core`; the
+//! (KIND: gen-alpha, bdf, dopri5, dopri5-tree, verner65-tree, verner87-tree; atol = rtol / 100, h_max 0.02 s as in `bench_core`; the
 //! environment variables `T_END` [s] and `H_MAX` [s] change the run's length and h_max).
 
 use mbcosim::integrator::{IntegratorKind, Settings};

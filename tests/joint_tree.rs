@@ -50,7 +50,14 @@ fn chain_tips_match_the_extrapolated_reference() {
         (8, 1.0, [5.183553317252, -4.878764572808]),
     ] {
         for kind in IntegratorKind::LIBRARY_ONLY {
-            let mut sim = Simulation::new(chain(n), kind, settings(1e-12), 0.0).unwrap();
+            // the 8(7) pair's large coefficients amplify round-off: its estimate of chain8 is
+            // noise below rtol 1e-10 (docs/chain_solve.md), where the 1e-9 m check is met
+            let rtol = if kind == IntegratorKind::Verner87Tree {
+                1e-10
+            } else {
+                1e-12
+            };
+            let mut sim = Simulation::new(chain(n), kind, settings(rtol), 0.0).unwrap();
             sim.advance_to(t_end).unwrap();
             let p = tip(&sim);
             let err = (p[0] - reference[0]).hypot(p[1] - reference[1]);

@@ -11,7 +11,7 @@
 //! fourbar (closed loop),
 //! impact_hertz, impact_ln (ball on a half-space), panel_smooth (the PanelLock default scene
 //! before its first lock). Integrators: gen_alpha, bdf, dopri5, dopri5_tree and
-//! verner65_tree (joint coordinates, chains only)
+//! verner65_tree, verner87_tree (joint coordinates, chains only)
 //! (adaptive, swept over rtol 1e-2 .. 1e-10, atol = rtol) and gen_alpha_fixed (fixed steps
 //! 1e-2 .. 1e-5 s with the default Newton tolerances). `--quick`: chain2, chain8, fourbar,
 //! impact_hertz at rtol 1e-2, 1e-4, 1e-6, 1e-8, steps 1e-2 and 1e-3, one run each. `--csv`
@@ -126,7 +126,7 @@ fn parse_args() -> Result<Options, String> {
                 o.reference_out = Some(it.next().ok_or("--reference-out needs a file")?.clone())
             }
             "-h" | "--help" => {
-                return Err("usage: accuracy_suite [--problem NAME[,NAME]] [--integrator gen_alpha|bdf|dopri5|gen_alpha_fixed|dopri5_tree|verner65_tree] [--rtol X ...] [--step H ...] [--repeats N] [--budget S] [--atol-ratio R] [--quick] [--csv] [--reference-out FILE] [--samples K] [--h-max H]".into());
+                return Err("usage: accuracy_suite [--problem NAME[,NAME]] [--integrator gen_alpha|bdf|dopri5|gen_alpha_fixed|dopri5_tree|verner65_tree|verner87_tree] [--rtol X ...] [--step H ...] [--repeats N] [--budget S] [--atol-ratio R] [--quick] [--csv] [--reference-out FILE] [--samples K] [--h-max H]".into());
             }
             other => return Err(format!("unknown argument '{other}' (try --help)")),
         }

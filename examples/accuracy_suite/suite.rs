@@ -136,13 +136,14 @@ pub enum Series {
 }
 
 impl Series {
-    pub const ALL: [Series; 6] = [
+    pub const ALL: [Series; 7] = [
         Series::Adaptive(IntegratorKind::GenAlpha),
         Series::Adaptive(IntegratorKind::Bdf),
         Series::Adaptive(IntegratorKind::Dopri5),
         Series::GenAlphaFixed,
         Series::Adaptive(IntegratorKind::Dopri5Tree),
         Series::Adaptive(IntegratorKind::Verner65Tree),
+        Series::Adaptive(IntegratorKind::Verner87Tree),
     ];
 
     /// Whether the series runs on problem `name`: the joint-coordinate integrator only on the
@@ -150,7 +151,11 @@ impl Series {
     pub fn applies_to(self, name: &str) -> bool {
         let tree = matches!(
             self,
-            Series::Adaptive(IntegratorKind::Dopri5Tree | IntegratorKind::Verner65Tree)
+            Series::Adaptive(
+                IntegratorKind::Dopri5Tree
+                    | IntegratorKind::Verner65Tree
+                    | IntegratorKind::Verner87Tree
+            )
         );
         !tree || name.starts_with("chain")
     }
@@ -163,6 +168,7 @@ impl Series {
             Series::Adaptive(IntegratorKind::Dopri5) => "dopri5",
             Series::Adaptive(IntegratorKind::Dopri5Tree) => "dopri5_tree",
             Series::Adaptive(IntegratorKind::Verner65Tree) => "verner65_tree",
+            Series::Adaptive(IntegratorKind::Verner87Tree) => "verner87_tree",
             Series::GenAlphaFixed => "gen_alpha_fixed",
         }
     }

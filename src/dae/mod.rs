@@ -176,8 +176,12 @@ impl System {
         let (q0, v0) = (sys.model.q0.clone(), sys.model.v0.clone());
         sys.eval_constraints(0.0, &q0, &v0);
         let modal_cols = |r: usize, dense: &mut [f64]| sys.for_row_modal(r, |c, g| dense[c] += g);
-        let active =
-            redundancy::independent_rows(&sys.model, &sys.row_bodies, &sys.rows_full, &modal_cols)?;
+        let active = redundancy::independent_rows(
+            &sys.model,
+            &sys.row_bodies,
+            sys.full_rows(),
+            &modal_cols,
+        )?;
         sys.active_of_full = vec![None; n_full];
         for (a, &r) in active.iter().enumerate() {
             sys.active_of_full[r] = Some(a);

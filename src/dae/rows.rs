@@ -63,9 +63,29 @@ impl System {
             }
             self.row_modal_at.push(at);
         }
-        self.rows.clear();
-        for &r in &self.active {
-            self.rows.push(self.rows_full[r]);
+        if self.all_rows_active() {
+            // every row active: the evaluated rows become `rows` without a copy (the previous
+            // ones are overwritten by the next evaluation)
+            std::mem::swap(&mut self.rows, &mut self.rows_full);
+        } else {
+            self.rows.clear();
+            for &r in &self.active {
+                self.rows.push(self.rows_full[r]);
+            }
+        }
+    }
+
+    /// Whether every row is active (none left out as redundant).
+    pub(super) fn all_rows_active(&self) -> bool {
+        self.active.len() == self.row_bodies.len()
+    }
+
+    /// Every row of the last [`System::eval_constraints`], active or not (in full-row order).
+    pub(super) fn full_rows(&self) -> &[crate::effect::constraint::RowEval] {
+        if self.all_rows_active() {
+            &self.rows
+        } else {
+            &self.rows_full
         }
     }
 

@@ -41,13 +41,19 @@ pub enum IntegratorKind {
     /// Verner's 6(5) pair in joint coordinates, as [`IntegratorKind::Dopri5Tree`]; for tight
     /// tolerances.
     Verner65Tree,
+    /// Verner's 8(7) pair in joint coordinates, as [`IntegratorKind::Dopri5Tree`]; for
+    /// tolerances of about 1e-6 and tighter.
+    Verner87Tree,
 }
 
 impl IntegratorKind {
     /// Kinds outside the shared enumeration [`IntegratorKind::ALL`] (the joint-coordinate ones;
     /// PanelLock offers `Dopri5Tree` as its fourth item).
-    pub const LIBRARY_ONLY: [IntegratorKind; 2] =
-        [IntegratorKind::Dopri5Tree, IntegratorKind::Verner65Tree];
+    pub const LIBRARY_ONLY: [IntegratorKind; 3] = [
+        IntegratorKind::Dopri5Tree,
+        IntegratorKind::Verner65Tree,
+        IntegratorKind::Verner87Tree,
+    ];
 
     /// All kinds of the FMU enumeration, in enumeration order.
     pub const ALL: [IntegratorKind; 3] = [
@@ -64,6 +70,7 @@ impl IntegratorKind {
             IntegratorKind::Dopri5 => "dopri5",
             IntegratorKind::Dopri5Tree => "dopri5-tree",
             IntegratorKind::Verner65Tree => "verner65-tree",
+            IntegratorKind::Verner87Tree => "verner87-tree",
         }
     }
 }
@@ -442,6 +449,7 @@ pub fn create(kind: IntegratorKind, settings: Settings) -> Box<dyn Integrator> {
         IntegratorKind::Dopri5 => Box::new(dopri::Dopri5::new(settings)),
         IntegratorKind::Dopri5Tree => Box::new(tree_rk::TreeRk::dopri5(settings)),
         IntegratorKind::Verner65Tree => Box::new(tree_rk::TreeRk::verner65(settings)),
+        IntegratorKind::Verner87Tree => Box::new(tree_rk::TreeRk::verner87(settings)),
     }
 }
 

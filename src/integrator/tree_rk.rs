@@ -1,6 +1,6 @@
 //! Explicit embedded Runge-Kutta pairs in joint coordinates ([`crate::tree`]): Dormand-Prince
-//! 5(4) ([`IntegratorKind::Dopri5Tree`]) and Verner's 6(5) ([`IntegratorKind::Verner65Tree`], for
-//! tight tolerances). They integrate the `n` joint coordinates and rates of a kinematic tree
+//! 5(4) ([`IntegratorKind::Dopri5Tree`]), Verner's 6(5) ([`IntegratorKind::Verner65Tree`]) and
+//! 8(7) ([`IntegratorKind::Verner87Tree`], for tight tolerances). They integrate the `n` joint coordinates and rates of a kinematic tree
 //! instead of the `6 N` speeds and `5 N` multipliers of the maximal form, without projections
 //! (the joints hold by construction).
 //!
@@ -18,7 +18,7 @@
 use super::dopri::{MIN_ERROR_SHARE, STEP_POLICY};
 use super::kkt::Kkt;
 use super::step_control;
-use super::tree_tableau::{DOPRI5, Tableau, VERNER65};
+use super::tree_tableau::{DOPRI5, Tableau, VERNER65, VERNER87};
 use super::{
     Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
 };
@@ -62,6 +62,11 @@ impl TreeRk {
     /// Verner's 6(5) with the given settings.
     pub fn verner65(s: Settings) -> Self {
         Self::with(IntegratorKind::Verner65Tree, &VERNER65, s)
+    }
+
+    /// Verner's 8(7) with the given settings.
+    pub fn verner87(s: Settings) -> Self {
+        Self::with(IntegratorKind::Verner87Tree, &VERNER87, s)
     }
 
     fn with(kind: IntegratorKind, method: &'static Tableau, s: Settings) -> Self {

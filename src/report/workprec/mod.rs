@@ -80,6 +80,7 @@ impl Setting {
             IntegratorKind::Dopri5 => ("dopri5".to_string(), 5.0),
             IntegratorKind::Dopri5Tree => ("dopri5-tree".to_string(), 5.0),
             IntegratorKind::Verner65Tree => ("verner65-tree".to_string(), 6.0),
+            IntegratorKind::Verner87Tree => ("verner87-tree".to_string(), 8.0),
         };
         Setting {
             series,
