@@ -55,7 +55,7 @@ def exudyn_chain(exu, n, steps, repeats):
                 initialVelocity=np.cross(spin, c).tolist(),
                 initialAngularVelocity=spin.tolist(), inertia=inertia,
                 gravity=[0.0, -G, 0.0], show=False)
-            mbs.CreateSphericalJoint(bodyNumbers=[prev, body],
+            mbs.CreateSphericalJoint(itemNumbers=[prev, body],
                                      position=(direction * L * k).tolist(), show=False)
             prev = body
         mbs.Assemble()

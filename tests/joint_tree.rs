@@ -518,3 +518,19 @@ fn forces_on_the_forward_pass_kinematics_equal_the_evaluated_ones() {
         pd > 0.0 && (pd - fd).abs() <= 1e-14 * pd && (pi - fi).abs() <= 1e-14 * fi.abs().max(1.0)
     );
 }
+
+/// Verner's 8(7) pair warns below the tolerance where its estimate can sink into round-off
+/// (measured on the chains, docs/chain_solve.md), and not above it.
+#[test]
+fn verner87_warns_below_its_rtol_floor() {
+    let warns = |rtol: f64| {
+        Simulation::new(chain(2), IntegratorKind::Verner87Tree, settings(rtol), 0.0)
+            .unwrap()
+            .warnings
+            .iter()
+            .any(|w| w.contains("verner87-tree") && w.contains("round-off"))
+    };
+    assert!(warns(1e-9));
+    assert!(!warns(1e-8));
+    assert!(!warns(1e-4));
+}

@@ -27,7 +27,10 @@ pub fn spinning_chain(n: usize) -> Model {
     let mut prev = (BodyId::GROUND, Vec3::zeros());
     for k in 0..n {
         let c = dir * (l * k as f64 + 0.5 * l);
-        let init = BodyInit::at(c).oriented(rot).moving(spin.cross(&c), spin);
+        // `moving` takes the angular velocity in the body frame
+        let init = BodyInit::at(c)
+            .oriented(rot)
+            .moving(spin.cross(&c), rot.inverse() * spin);
         let id = b
             .add_rigid_body(&format!("rod{k}"), m, inertia, init)
             .unwrap();
