@@ -16,15 +16,9 @@ NUMPY_VERSION=2.4.6
 REPEATS="${REPEATS:-3}"
 CASES="${CASES:-1e-5:0 1e-5:200 1e-5:1000 5e-6:50 5e-6:200 2.5e-6:200}"
 TIMED_DAMP="${TIMED_DAMP:-200}"
-VENV=benches/.venv-mujoco
 OUT=out/mujoco_capstan
-if ! "$VENV/bin/python" -c "import mujoco, sys; sys.exit(mujoco.__version__ != '$MUJOCO_VERSION')" 2>/dev/null; then
-    echo "creating $VENV with mujoco==$MUJOCO_VERSION" >&2
-    rm -rf "$VENV"
-    python3 -m venv "$VENV"
-    "$VENV/bin/pip" install --quiet --disable-pip-version-check \
-        "mujoco==$MUJOCO_VERSION" "numpy==$NUMPY_VERSION"
-fi
+source benches/peer_venv.sh
+peer_venv benches/.venv-mujoco mujoco mujoco "$MUJOCO_VERSION" "$NUMPY_VERSION"
 PY="$VENV/bin/python"
 
 cargo build --release --example capstan_bench

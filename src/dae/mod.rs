@@ -283,17 +283,29 @@ impl System {
         &self.kins
     }
 
-    /// Evaluates body kinematics at `(q, v)`.
-    pub fn update_kinematics(&mut self, q: &[f64], v: &[f64]) {
+    /// Records `(q, v)` as the point of the kept kinematics; `false` when it already is (bit for
+    /// bit).
+    fn move_kinematics_point(&mut self, q: &[f64], v: &[f64]) -> bool {
         match &mut self.kin_at {
-            Some((kq, kv)) if same_bits(kq, q) && same_bits(kv, v) => return,
+            Some((kq, kv)) if same_bits(kq, q) && same_bits(kv, v) => false,
             Some((kq, kv)) => {
                 kq.clear();
                 kq.extend_from_slice(q);
                 kv.clear();
                 kv.extend_from_slice(v);
+                true
             }
-            None => self.kin_at = Some((q.to_vec(), v.to_vec())),
+            None => {
+                self.kin_at = Some((q.to_vec(), v.to_vec()));
+                true
+            }
+        }
+    }
+
+    /// Evaluates body kinematics at `(q, v)`.
+    pub fn update_kinematics(&mut self, q: &[f64], v: &[f64]) {
+        if !self.move_kinematics_point(q, v) {
+            return;
         }
         kinematics::evaluate(&self.model, q, v, &mut self.kins);
         for m in &mut self.modal {
@@ -318,15 +330,7 @@ impl System {
             self.update_kinematics(q, v);
             return;
         }
-        match &mut self.kin_at {
-            Some((kq, kv)) => {
-                kq.clear();
-                kq.extend_from_slice(q);
-                kv.clear();
-                kv.extend_from_slice(v);
-            }
-            None => self.kin_at = Some((q.to_vec(), v.to_vec())),
-        }
+        self.move_kinematics_point(q, v);
         self.kins.resize(self.model.bodies.len(), BodyKin::GROUND);
         fill(&mut self.kins);
     }
