@@ -42,6 +42,13 @@ pub struct Simulation {
     kkt: crate::integrator::kkt::Kkt,
     /// Scratch of the range-space solve of [`Simulation::consistent_multipliers`].
     range_space: crate::dae::RangeSpace,
+    /// The point `(t, q, v, memory, inputs)` at which the state's multipliers are the index-1
+    /// ones (left by an integrator that solves them there, [`Integrator::index1_multipliers`]);
+    /// [`Simulation::consistent_multipliers`] returns them while the point is unchanged, bit for
+    /// bit, instead of solving again. The buffer is kept (no allocation per call); the flag says
+    /// whether it holds such a point.
+    multipliers_at: Vec<f64>,
+    multipliers_valid: bool,
 }
 
 impl Clone for Simulation {
@@ -54,6 +61,8 @@ impl Clone for Simulation {
             warnings: self.warnings.clone(),
             kkt: self.kkt.clone(),
             range_space: self.range_space.clone(),
+            multipliers_at: self.multipliers_at.clone(),
+            multipliers_valid: self.multipliers_valid,
         }
     }
 }
@@ -115,6 +124,8 @@ impl Simulation {
             warnings,
             kkt: crate::integrator::kkt::Kkt::new(),
             range_space: crate::dae::RangeSpace::default(),
+            multipliers_at: Vec::new(),
+            multipliers_valid: false,
         })
     }
 
@@ -141,8 +152,49 @@ impl Simulation {
                 self.state.t
             )));
         }
+        self.multipliers_valid = false;
         self.integrator
-            .advance_to(&mut self.system, &mut self.state, t_end, &mut MemoryHook)
+            .advance_to(&mut self.system, &mut self.state, t_end, &mut MemoryHook)?;
+        self.note_index1_multipliers();
+        Ok(())
+    }
+
+    /// The pieces of the point of the multipliers' validity: time, positions, speeds, memory,
+    /// inputs.
+    fn multiplier_point(&self) -> [&[f64]; 5] {
+        let s = &self.state;
+        [
+            std::slice::from_ref(&s.t),
+            &s.q,
+            &s.v,
+            &s.memory,
+            &self.system.inputs,
+        ]
+    }
+
+    /// Records the current point when the integrator left index-1 multipliers in the state.
+    fn note_index1_multipliers(&mut self) {
+        self.multipliers_valid = self.integrator.index1_multipliers();
+        if self.multipliers_valid {
+            let mut at = std::mem::take(&mut self.multipliers_at);
+            at.clear();
+            for piece in self.multiplier_point() {
+                at.extend_from_slice(piece);
+            }
+            self.multipliers_at = at;
+        }
+    }
+
+    /// Whether the state's multipliers are the index-1 ones of the current point.
+    fn at_multiplier_point(&self) -> bool {
+        let pieces = self.multiplier_point();
+        self.multipliers_valid
+            && pieces.iter().map(|p| p.len()).sum::<usize>() == self.multipliers_at.len()
+            && pieces
+                .iter()
+                .flat_map(|p| p.iter())
+                .zip(&self.multipliers_at)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
     }
 
     /// Advances towards `t_end` [s] calling `hook` after each accepted step (after the effects'
@@ -174,8 +226,11 @@ impl Simulation {
                 self.state.t
             )));
         }
+        self.multipliers_valid = false;
         self.integrator
-            .advance_to(&mut self.system, &mut self.state, t_end, &mut Both(hook))
+            .advance_to(&mut self.system, &mut self.state, t_end, &mut Both(hook))?;
+        self.note_index1_multipliers();
+        Ok(())
     }
 
     /// Advances towards `t_end` [s] by one accepted step (exactly to `t_end` when that step
@@ -251,8 +306,13 @@ impl Simulation {
     /// position-level (index-3) equations and carry round-off amplified by `1 / h^2`, which
     /// spoils them when communication points force steps below about 1e-4 s. The integrator's
     /// own history is not touched. Solved by the range-space method (module
-    /// `dae::range_space`), by the LU of the full matrix if a mass block is singular.
+    /// `dae::range_space`), by the LU of the full matrix if a mass block is singular; not solved
+    /// again when the integrator left these very multipliers in the state at the unchanged
+    /// point (the joint-coordinate integrators solve them at the end of every call).
     pub fn consistent_multipliers(&mut self) -> Result<Vec<f64>, SolverError> {
+        if self.at_multiplier_point() {
+            return Ok(self.state.lambda.clone());
+        }
         let s = &self.state;
         let mut vdot = vec![0.0; self.system.n_v()];
         let mut lambda = vec![0.0; self.system.n_c()];
@@ -322,6 +382,7 @@ impl Simulation {
         }
         self.system.memory.copy_from_slice(&state.memory);
         self.state = state;
+        self.multipliers_valid = false;
         self.system.memory.copy_from_slice(&self.state.memory);
         self.integrator.restore_memory(memory)
     }

@@ -534,3 +534,32 @@ fn verner87_warns_below_its_rtol_floor() {
     assert!(!warns(1e-6));
     assert!(!warns(1e-4));
 }
+
+/// The joint path leaves the index-1 multipliers in the state at the end of every call, so the
+/// reaction outputs take them instead of solving again; only at that very point: a fresh solve
+/// (the point forgotten by a restore) gives the same multipliers, and a changed state is solved
+/// anew.
+#[test]
+fn reaction_multipliers_are_reused_only_where_they_were_solved() {
+    let mut sim =
+        Simulation::new(chain(8), IntegratorKind::Dopri5Tree, settings(1e-8), 0.0).unwrap();
+    sim.advance_to(0.3).unwrap();
+    let reused = sim.consistent_multipliers().unwrap();
+    assert_eq!(reused, sim.state.lambda, "taken from the state");
+    let mut fresh = sim.clone();
+    let (state, memory) = (fresh.state.clone(), fresh.integrator_memory());
+    fresh.restore(state, &memory).unwrap();
+    let solved = fresh.consistent_multipliers().unwrap();
+    let scale = solved.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+    let worst = reused
+        .iter()
+        .zip(&solved)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    println!("largest multiplier {scale:.3e}, reused - solved {worst:.1e}");
+    assert!(worst <= 1e-12 * scale, "{worst:e}");
+    // another speed: solved there, not the state's
+    sim.state.v[5] += 1e-3;
+    let moved = sim.consistent_multipliers().unwrap();
+    assert_ne!(moved, sim.state.lambda);
+}

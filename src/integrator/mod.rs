@@ -399,6 +399,13 @@ pub trait Integrator: Send + std::fmt::Debug {
     /// [`init::make_consistent`]); forgets any history.
     fn start(&mut self, sys: &mut System, state: &State) -> Result<(), SolverError>;
 
+    /// Whether [`Integrator::advance_to`] leaves in the state the index-1 multipliers of the
+    /// state it ends at (the solution of `[M G^T; G 0] [v_dot; lambda] = [f; gamma]` there);
+    /// `false` by default.
+    fn index1_multipliers(&self) -> bool {
+        false
+    }
+
     /// Makes the initial `state` consistent (positions within `position_tol` [m] of the joints,
     /// speeds, accelerations, multipliers) and starts from it. The default projects in maximal
     /// coordinates ([`init::make_consistent`]) and calls [`Integrator::start`].

@@ -291,6 +291,11 @@ impl Integrator for TreeRk {
     /// and only the accelerations and multipliers are solved (one factorization instead of the
     /// maximal projections' two or more); otherwise the state is projected in maximal
     /// coordinates as by the other integrators.
+    /// [`TreeRk`]'s `finish` solves them at the end of every call.
+    fn index1_multipliers(&self) -> bool {
+        true
+    }
+
     fn initialize(
         &mut self,
         sys: &mut System,
