@@ -446,12 +446,7 @@ fn initial_state_equals_the_maximal_projection() {
         start(chain(8), IntegratorKind::Dopri5Tree),
         start(chain(8), IntegratorKind::Dopri5),
     );
-    let diff = |a: &[f64], b: &[f64]| {
-        a.iter()
-            .zip(b)
-            .map(|(x, y)| (x - y).abs())
-            .fold(0.0, f64::max)
-    };
+    let diff = common::max_abs_diff;
     let (s, f) = (&tree.state, &full.state);
     println!(
         "consistent: q {:.1e}, v {:.1e}, vdot {:.1e}, lambda {:.1e}",
@@ -504,11 +499,7 @@ fn forces_on_the_forward_pass_kinematics_equal_the_evaluated_ones() {
     let mut f = vec![0.0; fresh.n_v()];
     fresh.forces(0.1, &scratch.q, &scratch.v, &mut f);
     let scale = f.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
-    let worst = f
-        .iter()
-        .zip(&scratch.f)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
+    let worst = common::max_abs_diff(&f, &scratch.f);
     println!("largest force {scale:.3e}, difference {worst:.1e}");
     assert!(worst <= 1e-14 * scale, "difference {worst:e}");
     // and the powers (the damper dissipates at these speeds)
@@ -551,11 +542,7 @@ fn reaction_multipliers_are_reused_only_where_they_were_solved() {
     fresh.restore(state, &memory).unwrap();
     let solved = fresh.consistent_multipliers().unwrap();
     let scale = solved.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
-    let worst = reused
-        .iter()
-        .zip(&solved)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
+    let worst = common::max_abs_diff(&reused, &solved);
     println!("largest multiplier {scale:.3e}, reused - solved {worst:.1e}");
     assert!(worst <= 1e-12 * scale, "{worst:e}");
     // another speed: solved there, not the state's

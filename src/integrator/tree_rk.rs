@@ -119,6 +119,26 @@ impl TreeRk {
         Ok(())
     }
 
+    /// Starts on the found tree: the joint state read from `st`, the first stage, the initial
+    /// step.
+    fn begin(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
+        self.extract(st);
+        self.ys.copy_from_slice(&self.y);
+        self.stage(sys, st.t, 0)?;
+        self.k1_valid = false;
+        let n = self.y.len() / 2;
+        self.weights();
+        let acc = wrms(&self.k[0][n..], &self.w[n..])
+            .max(wrms(&self.y[n..], &self.w[..n]))
+            .max(1e-12);
+        self.h = if self.s.h_init > 0.0 {
+            self.s.h_init
+        } else {
+            (0.01 / acc).clamp(super::MIN_H_MAX.min(self.s.h_max), self.s.h_max)
+        };
+        Ok(())
+    }
+
     /// Reads the joint state from the maximal state.
     fn extract(&mut self, st: &State) {
         if let Some(tree) = &self.tree {
@@ -268,21 +288,12 @@ impl Integrator for TreeRk {
     fn start(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
         self.tree = None;
         self.prepare(sys, st)?;
-        self.extract(st);
-        self.ys.copy_from_slice(&self.y);
-        self.stage(sys, st.t, 0)?;
-        self.k1_valid = false;
-        let n = self.y.len() / 2;
-        self.weights();
-        let acc = wrms(&self.k[0][n..], &self.w[n..])
-            .max(wrms(&self.y[n..], &self.w[..n]))
-            .max(1e-12);
-        self.h = if self.s.h_init > 0.0 {
-            self.s.h_init
-        } else {
-            (0.01 / acc).clamp(super::MIN_H_MAX.min(self.s.h_max), self.s.h_max)
-        };
-        Ok(())
+        self.begin(sys, st)
+    }
+
+    /// [`TreeRk`]'s `finish` solves them at the end of every call.
+    fn index1_multipliers(&self) -> bool {
+        true
     }
 
     /// The joint coordinates read from the initial state, mapped back to maximal coordinates,
@@ -290,12 +301,7 @@ impl Integrator for TreeRk {
     /// `position_tol`, speeds within `position_tol` per unit speed), the mapped state is taken
     /// and only the accelerations and multipliers are solved (one factorization instead of the
     /// maximal projections' two or more); otherwise the state is projected in maximal
-    /// coordinates as by the other integrators.
-    /// [`TreeRk`]'s `finish` solves them at the end of every call.
-    fn index1_multipliers(&self) -> bool {
-        true
-    }
-
+    /// coordinates as by the other integrators. The tree is found once.
     fn initialize(
         &mut self,
         sys: &mut System,
@@ -316,7 +322,7 @@ impl Integrator for TreeRk {
         } else {
             super::init::make_consistent(sys, st, position_tol)?;
         }
-        self.start(sys, st)
+        self.begin(sys, st)
     }
 
     fn advance_to(

@@ -184,3 +184,11 @@ pub fn planar_rod_chain(n: usize) -> Model {
     }
     b.build().unwrap()
 }
+
+/// Largest absolute difference of two equally long slices.
+pub fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}

@@ -26,10 +26,9 @@
 use super::ports::SATELLITE_LOAD_INPUTS;
 use crate::scene::port::{ModelInfo, PortSpec};
 
-/// Knowns that do not act on the initial (stowed, resting) state (the first, `integrator`, acts
-/// on the root-hinge reactions at round-off).
-const MOTION_ONLY: [&str; 19] = [
-    "integrator",
+/// Knowns that do not act on the initial (stowed, resting) state but for `integrator`
+/// ([`ROUND_OFF_ONLY`]).
+const MOTION_ONLY: [&str; 18] = [
     "load_frame",
     "contact_law",
     "latches",
@@ -49,6 +48,10 @@ const MOTION_ONLY: [&str; 19] = [
     "cable_damping",
     "modal_damping_ratio",
 ];
+
+/// Acts on the root-hinge reactions at initialization at round-off only (the starts of the
+/// joint-coordinate and maximal integrators differ in the last bits), on nothing else there.
+const ROUND_OFF_ONLY: &str = "integrator";
 
 /// The root-hinge reactions that the root motor torque reaches at initialization (all but the
 /// torque about the hinge axis, which the hinge does not carry).
@@ -71,11 +74,12 @@ pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<
     } else if name.starts_with("hinge") && name.ends_with("_angle") {
         names(&["n_panels", "panel_stowed_angle", "panel_lock_angle"])
     } else if MOTOR_DRIVEN.contains(&name) {
-        info.knowns_except(&MOTION_ONLY[1..])
+        info.knowns_except(&MOTION_ONLY)
     } else if name.starts_with("root_torque_") || name == "potential_energy" {
-        // the reactions depend on the integrator at round-off, the potential energy does not
-        let skip = if name == "potential_energy" { 0 } else { 1 };
-        let mut excluded = MOTION_ONLY[skip..].to_vec();
+        let mut excluded = MOTION_ONLY.to_vec();
+        if name == "potential_energy" {
+            excluded.push(ROUND_OFF_ONLY);
+        }
         excluded.push("root_motor_torque");
         excluded.extend(SATELLITE_LOAD_INPUTS.iter().map(|(n, _, _)| *n));
         info.knowns_except(&excluded)
