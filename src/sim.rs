@@ -333,6 +333,25 @@ impl Simulation {
         Ok(probe.lambda)
     }
 
+    /// Accelerations `vdot` and multipliers `lambda` of the index-1 system
+    /// `[M G^T; G 0] [v_dot; lambda] = [f; gamma]` at the current state, solved afresh (by the
+    /// LU of the full matrix or the range-space method, as the structure suits); the state and
+    /// the integrator's history are not touched.
+    pub fn index1_solution(&mut self) -> Result<(Vec<f64>, Vec<f64>), SolverError> {
+        let s = &self.state;
+        let mut out = Vec::new();
+        integrator::init::index1_solution(
+            &mut self.system,
+            &mut self.kkt,
+            s.t,
+            &s.q,
+            &s.v,
+            &mut out,
+        )?;
+        let lambda = out.split_off(self.system.n_v());
+        Ok((out, lambda))
+    }
+
     /// Largest absolute constraint residual at the current state.
     pub fn constraint_residual(&mut self) -> f64 {
         let s = &self.state;

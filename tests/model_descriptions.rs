@@ -129,8 +129,8 @@ fn the_guid_changes_with_the_interface() {
     let recorded: [(&str, &str, u64); 3] = [
         (
             "PanelLock",
-            "{efa16639-02fb-4a25-af14-b17f9ee31a7a}",
-            0x0e4c_f24f_0067_5f4f,
+            "{d24f3916-8448-4cb1-912f-3b1f8dc642a0}",
+            0xa3ed_be03_e3d3_22df,
         ),
         (
             "RopeBlock",

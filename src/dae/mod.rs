@@ -27,7 +27,7 @@ mod sparse_lu;
 mod split_lu;
 
 use crate::effect::constraint::RowEval;
-use crate::effect::{EvalCtx, MemoryChange};
+use crate::effect::{EvalCtx, ForceEffect, MemoryChange};
 use crate::math::{Mat3, Vec3, skew};
 use crate::model::kinematics::{self, BodyKin, kin_of};
 use crate::model::{BodyId, BodyKind, Model};
@@ -338,16 +338,48 @@ impl System {
     /// Adds the force effects' generalized forces to `f` (length `n_v`), mapping node-body
     /// forces to their modal bodies; leaves the node-body forces in `f_ext[n_v..]`.
     fn add_effect_forces(&mut self, t: f64, f: &mut [f64]) {
+        self.add_selected_effect_forces(t, f, &|_| true);
+    }
+
+    /// Generalized forces `f` (length `n_v`) at `(t, q, v)` of the force effects whose name
+    /// `keep` accepts, with the current memory: a rigid body's block is the force [N] at its
+    /// centre of mass (world) and the moment [N m] about it (body frame), a modal body's the
+    /// force at its frame origin and the moment about that origin plus its modal forces. No
+    /// gyroscopic, floating-frame inertia or modal gravity terms (see [`System::forces`]).
+    pub fn effect_forces(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        keep: &dyn Fn(&str) -> bool,
+        f: &mut [f64],
+    ) {
+        self.update_kinematics(q, v);
+        f.fill(0.0);
+        self.add_selected_effect_forces(t, f, &|e: &dyn ForceEffect| keep(e.name()));
+    }
+
+    /// [`System::add_effect_forces`] of the effects `keep` accepts.
+    fn add_selected_effect_forces(
+        &mut self,
+        t: f64,
+        f: &mut [f64],
+        keep: &dyn Fn(&dyn ForceEffect) -> bool,
+    ) {
         if self.nodes.is_empty() {
             for (i, e) in self.model.forces.iter().enumerate() {
-                e.add_forces(&self.ctx(t, i), f);
+                if keep(e.as_ref()) {
+                    e.add_forces(&self.ctx(t, i), f);
+                }
             }
             return;
         }
         let mut fe = std::mem::take(&mut self.f_ext);
         fe.fill(0.0);
         for (i, e) in self.model.forces.iter().enumerate() {
-            e.add_forces(&self.ctx(t, i), &mut fe);
+            if keep(e.as_ref()) {
+                e.add_forces(&self.ctx(t, i), &mut fe);
+            }
         }
         let nv = self.model.n_v;
         for (x, y) in f.iter_mut().zip(&fe[..nv]) {

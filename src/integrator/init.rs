@@ -157,20 +157,35 @@ pub fn accelerations(
     lin: &mut Kkt,
     state: &mut State,
 ) -> Result<(), SolverError> {
-    let (nv, nc) = (sys.n_v(), sys.n_c());
-    let mut rhs = vec![0.0; nv + nc];
-    sys.forces(state.t, &state.q, &state.v, &mut rhs[..nv]);
-    sys.eval_constraints(state.t, &state.q, &state.v);
-    for (r, row) in sys.rows.iter().enumerate() {
-        rhs[nv + r] = row.gamma;
-    }
-    lin.factor(sys, state.t, &state.q, &state.v, 0.0)
-        .map_err(|e| SolverError(format!("initial accelerations: {e}")))?;
-    lin.solve(&mut rhs).map_err(SolverError)?;
+    let nv = sys.n_v();
+    let mut rhs = Vec::new();
+    index1_solution(sys, lin, state.t, &state.q, &state.v, &mut rhs)?;
     state.vdot.copy_from_slice(&rhs[..nv]);
-    state.lambda.resize(nc, 0.0);
+    state.lambda.resize(rhs.len() - nv, 0.0);
     state.lambda.copy_from_slice(&rhs[nv..]);
     Ok(())
+}
+
+/// `[v_dot; lambda]` of `[M G^T; G 0] [v_dot; lambda] = [f; gamma]` at `(t, q, v)` into
+/// `out` (resized to `n_v + n_c`; no allocation once it has that length), factorized by `lin`.
+pub fn index1_solution(
+    sys: &mut System,
+    lin: &mut Kkt,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    out: &mut Vec<f64>,
+) -> Result<(), SolverError> {
+    let (nv, nc) = (sys.n_v(), sys.n_c());
+    out.resize(nv + nc, 0.0);
+    sys.forces(t, q, v, &mut out[..nv]);
+    sys.eval_constraints(t, q, v);
+    for (r, row) in sys.rows.iter().enumerate() {
+        out[nv + r] = row.gamma;
+    }
+    lin.factor(sys, t, q, v, 0.0)
+        .map_err(|e| SolverError(format!("initial accelerations: {e}")))?;
+    lin.solve(out).map_err(SolverError)
 }
 
 /// Makes `state` consistent: positions, speeds, accelerations and multipliers.

@@ -17,8 +17,9 @@ use crate::state::State;
 
 /// Version of the serialized FMU state (2: the clock, start time and elapsed time, in
 /// place of the time, and the solver counters; version 1 states start at 0 s and count from 0;
-/// 3: the digest of the array's per-hinge and per-panel values, checked on restore).
-const STATE_FORMAT: u32 = 3;
+/// 3: the digest of the array's per-hinge and per-panel values, checked on restore; 4: the
+/// root interface peaks, after the counters).
+const STATE_FORMAT: u32 = 4;
 
 /// A new PanelLock instance at default parameters.
 pub fn create() -> Box<dyn CoSimModel> {
@@ -135,6 +136,8 @@ impl PanelLockModel {
             o.potential,
             o.dissipated,
             o.input_work,
+            o.root_peak_force,
+            o.root_peak_torque,
         ];
         for (j, v) in g.iter().enumerate() {
             self.ports.put_real(vr_global(j), *v)?;
@@ -313,6 +316,8 @@ impl CoSimModel for PanelLockModel {
                 w.f64s(&s.sim.system.inputs);
                 w.f64s(&s.sim.integrator_memory());
                 w.f64s(&s.sim.stats().to_numbers());
+                w.f64(s.interface_peaks.force);
+                w.f64(s.interface_peaks.torque);
             }
         }
         w.into_bytes()
@@ -388,6 +393,24 @@ impl CoSimModel for PanelLockModel {
                 .map_err(ModelError::BadState)?;
             if let Some(stats) = stats {
                 scene.sim.set_stats(stats);
+            }
+            if version >= 4 {
+                for (what, peak) in [
+                    ("root peak force", &mut scene.interface_peaks.force),
+                    ("root peak torque", &mut scene.interface_peaks.torque),
+                ] {
+                    *peak = r.finite_f64(what)?;
+                    if *peak < 0.0 {
+                        return Err(ModelError::BadState(format!(
+                            "corrupt state: the {what} is negative ({peak})"
+                        )));
+                    }
+                }
+            } else {
+                // older states: the peaks from the restored point on
+                let now = scene.root_wrench().map_err(|e| ModelError::BadState(e.0))?;
+                scene.interface_peaks = Default::default();
+                scene.interface_peaks.note(&now);
             }
             restored.scene = Some(scene);
         }

@@ -2,15 +2,16 @@
 //! `InitialUnknowns`).
 //!
 //! The array starts stowed and at rest, so at initialization:
-//! - rates, contact and peak forces, lock times, latch flags, the tip speed, kinetic energy,
+//! - rates, contact and hinge peak forces, lock times, latch flags, the tip speed, kinetic energy,
 //!   dissipated energy, input work and the solver counters do not depend on any known, but for
 //!   the factorization counter: the joint-coordinate integrator (`integrator` item 4) evaluates
 //!   its first stage, one Cholesky factorization, when it starts;
 //! - a hinge angle is its stowed angle (hinge 0: measured from the root lock angle; hinges 1-6
 //!   exist only for enough panels);
-//! - the root-hinge reactions come from the initial accelerations: masses, geometry, springs,
-//!   gravity, cables, the satellite and, for all but the torque about the hinge axis, the root
-//!   motor torque and the satellite loads (the inputs); and from the integrator at round-off
+//! - the root interface loads and their peaks (the start's magnitudes) come from the initial
+//!   accelerations and the elements across the root hinge: masses, geometry, springs, gravity,
+//!   cables, the satellite, the root motor torque and, for all but the torque about the hinge
+//!   axes, the satellite loads (the inputs); and from the integrator at round-off
 //!   (the joint-coordinate integrator starts from the state its joint angles map to, the
 //!   others from the maximal projections, and the multipliers solved there differ in the last
 //!   bits);
@@ -53,15 +54,23 @@ const MOTION_ONLY: [&str; 18] = [
 /// joint-coordinate and maximal integrators differ in the last bits), on nothing else there.
 const ROUND_OFF_ONLY: &str = "integrator";
 
-/// The root-hinge reactions that the root motor torque reaches at initialization (all but the
-/// torque about the hinge axis, which the hinge does not carry).
-const MOTOR_DRIVEN: [&str; 5] = [
+/// The root interface loads, which the root motor torque reaches at initialization (the motor
+/// acts across the root hinge, so it is part of the interface torque; through the array's
+/// accelerations it reaches the forces too).
+const MOTOR_DRIVEN: [&str; 7] = [
     "root_force_x",
     "root_force_y",
     "root_force_z",
     "root_torque_x",
     "root_torque_y",
+    "root_peak_force",
+    "root_peak_torque",
 ];
+
+/// The interface torque about the hinge axes: the elements across the root hinge (spring and
+/// motor at rest), which the satellite loads do not reach (the shaft turns freely about its
+/// axis, and the elements act on the relative motion only).
+const AXIAL_TORQUE: &str = "root_torque_z";
 
 /// The knowns `unknown` depends on in initialization mode (see the module documentation).
 pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<String>> {
@@ -75,12 +84,12 @@ pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<
         names(&["n_panels", "panel_stowed_angle", "panel_lock_angle"])
     } else if MOTOR_DRIVEN.contains(&name) {
         info.knowns_except(&MOTION_ONLY)
-    } else if name.starts_with("root_torque_") || name == "potential_energy" {
+    } else if name == "potential_energy" || name == AXIAL_TORQUE {
         let mut excluded = MOTION_ONLY.to_vec();
         if name == "potential_energy" {
             excluded.push(ROUND_OFF_ONLY);
+            excluded.push("root_motor_torque");
         }
-        excluded.push("root_motor_torque");
         excluded.extend(SATELLITE_LOAD_INPUTS.iter().map(|(n, _, _)| *n));
         info.knowns_except(&excluded)
     } else if let Some(axis) = name.strip_prefix("satellite_").filter(|a| a.len() == 1) {

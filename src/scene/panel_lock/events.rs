@@ -12,12 +12,7 @@ impl Watchable for PanelLock {
     }
 
     fn advance(&mut self, end: f64, one_step: bool) -> Result<(), String> {
-        let r = if one_step {
-            self.sim.advance_one_step(end)
-        } else {
-            self.sim.advance_to(end)
-        };
-        r.map_err(|e| e.to_string())
+        PanelLock::advance(self, end, one_step).map_err(|e| e.to_string())
     }
 
     fn marks(&mut self) -> Vec<bool> {

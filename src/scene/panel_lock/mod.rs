@@ -63,6 +63,7 @@ mod dependencies;
 mod events;
 pub mod flex_outputs;
 pub mod flex_panel;
+pub mod interface;
 mod params;
 pub mod ports;
 mod run;

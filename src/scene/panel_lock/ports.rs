@@ -475,36 +475,36 @@ pub const HINGE_OUTPUTS: [(&str, Option<&str>, &str); 5] = [
 ];
 
 /// Global real outputs after the hinge outputs.
-pub const GLOBAL_OUTPUTS: [(&str, Option<&str>, &str); 11] = [
+pub const GLOBAL_OUTPUTS: [(&str, Option<&str>, &str); 13] = [
     (
         "root_force_x",
         Some("N"),
-        "Root hinge shaft constraint force on the root hinge body, world x.",
+        "Force of the array on the satellite at the root interface, world x: the root shaft's reaction plus every force element across the root hinge (spring, damper, friction, latch, stop, cable loop, motor); with gravity off, minus the rate of change of the array's linear momentum.",
     ),
     (
         "root_force_y",
         Some("N"),
-        "Root hinge shaft constraint force, world y.",
+        "Force of the array on the satellite at the root interface, world y.",
     ),
     (
         "root_force_z",
         Some("N"),
-        "Root hinge shaft constraint force, world z.",
+        "Force of the array on the satellite at the root interface, world z.",
     ),
     (
         "root_torque_x",
         Some("N.m"),
-        "Root hinge shaft constraint torque about the hinge point, world x.",
+        "Torque of the array on the satellite about the root hinge's attachment point, world x: the root shaft's reaction torque plus the moments of every force element across the root hinge (spring, damper, friction, latch, stop, cable loop, motor).",
     ),
     (
         "root_torque_y",
         Some("N.m"),
-        "Root hinge shaft constraint torque, world y.",
+        "Torque of the array on the satellite about the root hinge's attachment point, world y.",
     ),
     (
         "root_torque_z",
         Some("N.m"),
-        "Root hinge shaft constraint torque, world z (axial part: 0, carried by spring/latch/motor).",
+        "Torque of the array on the satellite about the root hinge's attachment point, world z (about the hinge axes).",
     ),
     (
         "tip_normal_velocity",
@@ -526,6 +526,16 @@ pub const GLOBAL_OUTPUTS: [(&str, Option<&str>, &str); 11] = [
         "input_work",
         Some("J"),
         "Work done by the root motor since the start.",
+    ),
+    (
+        "root_peak_force",
+        Some("N"),
+        "Largest magnitude of the root interface force (root_force_x/y/z) since the start, over every accepted integrator step.",
+    ),
+    (
+        "root_peak_torque",
+        Some("N.m"),
+        "Largest magnitude of the root interface torque (root_torque_x/y/z) since the start, over every accepted integrator step.",
     ),
 ];
 
@@ -791,7 +801,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{efa16639-02fb-4a25-af14-b17f9ee31a7a}",
+            guid: "{d24f3916-8448-4cb1-912f-3b1f8dc642a0}",
             description: "Deployment and lock-up of a solar array: yoke and panels joined by hinge bodies with preloaded torsion springs, pin/groove latches with a selectable contact law, stow stops, optional cable loops; rigid panels or flexible (Craig-Bampton modal) panels.",
             ports,
             default_stop_time: 60.0,

@@ -2,6 +2,7 @@
 
 use super::build::{Layout, build};
 use super::flex_outputs::PanelFlexOutput;
+use super::interface::{InterfacePeaks, PeakHook, interface_wrench};
 use super::params::PanelLockParams;
 use crate::effect::EvalCtx;
 use crate::effect::angle::relative_angle;
@@ -31,11 +32,15 @@ pub struct HingeOutput {
 pub struct PanelLockOutputs {
     pub t: f64,
     pub hinges: Vec<HingeOutput>,
-    /// Constraint force [N] and torque [N m] of the root hinge shaft on the root hinge body,
-    /// world frame (the torque is about the hinge point; its axial part is carried by spring,
-    /// latch and motor, not the shaft).
+    /// Force [N] and torque [N m] the array applies to the satellite at the root interface,
+    /// world frame, the torque about the root hinge's attachment point: the root shaft's
+    /// reaction and every force element across the root hinge ([`super::interface`]).
     pub root_force: Vec3,
     pub root_torque: Vec3,
+    /// Largest `|root_force|` [N] and `|root_torque|` [N m] since the start, over every
+    /// accepted integrator step of [`PanelLock::advance_to`] (and the start).
+    pub root_peak_force: f64,
+    pub root_peak_torque: f64,
     /// Velocity [m/s] of the outer panel's tip midpoint along the panel normal.
     pub tip_normal_velocity: f64,
     /// Kinetic, potential (springs, contact, gravity) energy, energy dissipated and input work [J].
@@ -51,6 +56,8 @@ pub struct PanelLock {
     pub params: PanelLockParams,
     pub layout: Layout,
     pub sim: Simulation,
+    /// Peaks of the root interface wrench so far (kept by [`PanelLock::advance_to`]).
+    pub interface_peaks: InterfacePeaks,
 }
 
 impl PanelLock {
@@ -58,21 +65,60 @@ impl PanelLock {
     pub fn new(params: PanelLockParams) -> Result<Self, String> {
         let (model, layout) = build(&params)?;
         let sim = Simulation::new(model, params.integrator, params.solver_settings(), 0.0)?;
-        Ok(PanelLock {
+        let mut scene = PanelLock {
             params,
             layout,
             sim,
-        })
+            interface_peaks: InterfacePeaks::default(),
+        };
+        let start = scene.root_wrench().map_err(|e| e.0)?;
+        scene.interface_peaks.note(&start);
+        Ok(scene)
     }
 
-    /// Sets the root-hinge motor torque [N m] (positive deploys).
+    /// The root interface wrench at the current state ([`super::interface`]), with the
+    /// index-1 multipliers.
+    pub fn root_wrench(&mut self) -> Result<super::interface::Wrench, SolverError> {
+        let lambda = self.sim.consistent_multipliers()?;
+        let mut scratch = Vec::new();
+        Ok(interface_wrench(
+            &mut self.sim.system,
+            &self.layout,
+            &self.sim.state,
+            &lambda,
+            &mut scratch,
+        ))
+    }
+
+    /// Sets the root-hinge motor torque [N m] (positive deploys). The interface peaks take the
+    /// wrench with a changed torque (the load from this instant on).
     pub fn set_motor_torque(&mut self, tau: f64) -> Result<(), String> {
-        self.sim.set_input(self.layout.motor_input, tau)
+        let before = self.sim.system.inputs[self.layout.motor_input];
+        self.sim.set_input(self.layout.motor_input, tau)?;
+        if before.to_bits() == tau.to_bits() {
+            return Ok(());
+        }
+        self.note_root_wrench()
     }
 
-    /// Advances to `t` [s].
+    /// Takes the root interface wrench at the current state into the peaks (after an input
+    /// changed it).
+    pub fn note_root_wrench(&mut self) -> Result<(), String> {
+        let now = self.root_wrench().map_err(|e| e.0)?;
+        self.interface_peaks.note(&now);
+        Ok(())
+    }
+
+    /// Advances to `t` [s], keeping the interface peaks over every accepted step.
     pub fn advance_to(&mut self, t: f64) -> Result<(), SolverError> {
-        self.sim.advance_to(t)
+        self.advance(t, false)
+    }
+
+    /// Advances towards `t` [s]; with `one_step`, by one accepted step (exactly to `t` when
+    /// that step reaches it). The interface peaks take every accepted step.
+    pub fn advance(&mut self, t: f64, one_step: bool) -> Result<(), SolverError> {
+        let mut hook = PeakHook::new(&self.layout, &mut self.interface_peaks, one_step);
+        self.sim.advance_with(t, &mut hook)
     }
 
     /// Deployment angle [rad] and rate [rad/s] of hinge `k`.
@@ -148,20 +194,20 @@ impl PanelLock {
                 hinges[k].peak_force = m[6];
             }
         }
-        // root shaft reaction on the root hinge body: -G_j^T lambda over the shaft's rows
-        // (index-1 multipliers: accurate whatever the last step size)
+        // index-1 multipliers: accurate whatever the last step size; a failed solve leaves
+        // the integrator's
         let lambda = sim
             .consistent_multipliers()
             .unwrap_or_else(|_| sim.state.lambda.clone());
+        let mut scratch = Vec::new();
+        let root = interface_wrench(
+            &mut sim.system,
+            &self.layout,
+            &sim.state,
+            &lambda,
+            &mut scratch,
+        );
         let st = &sim.state;
-        sim.system.eval_constraints(st.t, &st.q, &st.v);
-        let (mut force, mut torque_body) = (Vec3::zeros(), Vec3::zeros());
-        for r in sim.system.joint_multiplier_rows(self.layout.root_joint) {
-            let (g, lam) = (sim.system.rows[r].g[1], lambda[r]);
-            force -= Vec3::new(g[0], g[1], g[2]) * lam;
-            torque_body -= Vec3::new(g[3], g[4], g[5]) * lam;
-        }
-        let hinge0 = *sim.system.kin(self.layout.hinges[0]);
         let outer = *sim
             .system
             .kin(*self.layout.plates.last().expect("at least the yoke"));
@@ -197,8 +243,10 @@ impl PanelLock {
         PanelLockOutputs {
             t: sim.state.t,
             hinges,
-            root_force: force,
-            root_torque: hinge0.rot * torque_body,
+            root_force: root.force,
+            root_torque: root.torque,
+            root_peak_force: self.interface_peaks.force,
+            root_peak_torque: self.interface_peaks.torque,
             tip_normal_velocity: tip_v.dot(&normal),
             kinetic: e.kinetic,
             potential: e.potential,

@@ -75,7 +75,8 @@ pub struct SatelliteOutput {
 impl PanelLock {
     /// Sets satellite load component `j` (force x, y, z [N], torque x, y, z [N m], in
     /// `load_frame`, [`SATELLITE_INPUTS`] order). A fixed satellite has no loads: any value but
-    /// 0 is refused with a message naming `free_satellite`.
+    /// 0 is refused with a message naming `free_satellite`. The interface peaks take the
+    /// wrench with the new load.
     pub fn set_satellite_load(&mut self, j: usize, value: f64) -> Result<(), String> {
         let name = SATELLITE_INPUTS
             .get(j)
@@ -84,7 +85,14 @@ impl PanelLock {
             return Err(format!("{name} must be finite, got {value}"));
         }
         match self.layout.satellite_inputs {
-            Some(idx) => self.sim.set_input(idx[j], value),
+            Some(idx) => {
+                let before = self.sim.system.inputs[idx[j]];
+                self.sim.set_input(idx[j], value)?;
+                if before.to_bits() == value.to_bits() {
+                    return Ok(());
+                }
+                self.note_root_wrench()
+            }
             None if value == 0.0 => Ok(()),
             None => Err(format!(
                 "{name} = {value} acts on the satellite, but free_satellite is off (the satellite is fixed to the inertial frame and takes no loads): switch free_satellite on, or leave the satellite loads at 0"
