@@ -7,7 +7,8 @@
 //! after changing either: `MBCOSIM_WRITE_OUTPUT_CHECKS=1 cargo test --release --test output_contract`.
 //!
 //! The tests here fail when an output has no entry, when an entry names no output, when a named
-//! check does not exist, and when the generated document differs from the checked-in one.
+//! check does not exist or is not a test, and when the generated document differs from the
+//! checked-in one. How to add an output and why: `docs/output_contract.md`.
 
 mod checks;
 mod document;
@@ -80,20 +81,41 @@ fn every_entry_names_outputs_that_exist() {
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
 
-/// A check named `path::function` exists: the file is in the repository and defines the
-/// function (`fn name(` in Rust, `def name(` in Python).
+/// A check named `path::function` exists and is a test: the file is in the repository and
+/// defines the function as a test (`fn name(` under `#[test]` in Rust, `def test_...(` in
+/// Python), so that a helper cannot stand in for a check.
 fn check_exists(root: &Path, reference: &str) -> Result<(), String> {
     let (path, function) = reference
         .rsplit_once("::")
         .ok_or_else(|| format!("`{reference}` is not `path::function`"))?;
     let text = std::fs::read_to_string(root.join(path))
         .map_err(|e| format!("`{reference}`: cannot read {path}: {e}"))?;
-    let keyword = if path.ends_with(".py") { "def" } else { "fn" };
-    let wanted = format!("{keyword} {function}(");
-    if text.contains(&wanted) {
+    if path.ends_with(".py") {
+        let wanted = format!("def {function}(");
+        return if !function.starts_with("test_") {
+            Err(format!("`{reference}`: not a pytest test (test_...)"))
+        } else if text.lines().any(|l| l.trim_start().starts_with(&wanted)) {
+            Ok(())
+        } else {
+            Err(format!("`{reference}`: {path} defines no `{wanted}`"))
+        };
+    }
+    let wanted = format!("fn {function}(");
+    let lines: Vec<&str> = text.lines().map(str::trim).collect();
+    let Some(at) = lines.iter().position(|l| l.starts_with(&wanted)) else {
+        return Err(format!("`{reference}`: {path} defines no `{wanted}`"));
+    };
+    // the attributes and comments right above the function
+    let above = lines[..at]
+        .iter()
+        .rev()
+        .take_while(|l| l.starts_with("#[") || l.starts_with("//"));
+    if above.clone().any(|l| *l == "#[test]") {
         Ok(())
     } else {
-        Err(format!("`{reference}`: {path} defines no `{wanted}`"))
+        Err(format!(
+            "`{reference}`: `{function}` in {path} is not a #[test]"
+        ))
     }
 }
 
@@ -106,7 +128,10 @@ fn every_named_check_exists() {
             problems.push(format!("{}: {:?} names no check", c.model, c.outputs));
         }
         if c.against.trim().is_empty() {
-            problems.push(format!("{}: {:?} says not what it is checked against", c.model, c.outputs));
+            problems.push(format!(
+                "{}: {:?} says not what it is checked against",
+                c.model, c.outputs
+            ));
         }
         for t in c.tests {
             if let Err(e) = check_exists(&root, t) {
@@ -131,6 +156,24 @@ fn the_output_checks_document_is_current() {
         "docs/output_checks.md is not what the tables and tests/output_contract/checks.rs give; \
          regenerate: MBCOSIM_WRITE_OUTPUT_CHECKS=1 cargo test --release --test output_contract"
     );
+}
+
+#[test]
+fn only_tests_count_as_checks() {
+    let root = root();
+    let own = "tests/output_checks/panel_lock.rs::";
+    assert!(
+        check_exists(
+            &root,
+            &format!("{own}input_work_is_the_motor_torque_times_the_root_travel")
+        )
+        .is_ok()
+    );
+    // a helper of the same file, a missing function, a pytest helper
+    assert!(check_exists(&root, &format!("{own}tight")).is_err());
+    assert!(check_exists(&root, &format!("{own}no_such_test")).is_err());
+    assert!(check_exists(&root, "tests/python/conftest.py::native_table").is_err());
+    assert!(check_exists(&root, "tests/python/test_rope_block.py::_sim").is_err());
 }
 
 #[test]
