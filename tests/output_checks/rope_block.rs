@@ -215,3 +215,58 @@ fn each_contact_slot_names_the_sling_whose_edge_node_it_reports() {
     seen.sort();
     assert_eq!(seen, [0, 1, 2, 3]);
 }
+
+#[test]
+fn contact_rebuilds_count_the_changes_of_the_contact_nodes() {
+    // one sling swung over the deck edge and back (examples/scenes/sling_over_deck_edge.toml):
+    // a node is created at the edge and released again. The rebuild count starts at 0, stays
+    // while the sling hangs clear, never falls, and grows in every step in which the number of
+    // contact nodes changes (each such change is a rebuild; nodes moved along the edge may add
+    // more), so that it ends at least at the number of those changes
+    let mut m = RopeBlockModel::new();
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/scenes/sling_over_deck_edge.toml");
+    mbcosim::scene::scene_file::apply_file(&mut m, &file).unwrap();
+    m.initialize(0.0).unwrap();
+    let int = |m: &RopeBlockModel, n: &str| m.get_integer(vr(m, n)).unwrap();
+    let (mut count, mut rebuilds) = (int(&m, "contact_count"), int(&m, "contact_rebuilds"));
+    assert_eq!((count, rebuilds), (0, 0));
+    let (dy, dz) = (vr(&m, "hook0_dy"), vr(&m, "hook0_dz"));
+    let (h, mut changes, mut counts) = (0.05, 0, vec![count]);
+    for i in 0..400 {
+        let t = i as f64 * h;
+        if i == 10 {
+            // 10 m inboard at about the sling's 20 m from the lug: over the deck edge
+            m.set_real(dy, -10.0).unwrap();
+            m.set_real(dz, (20.0f64.powi(2) - 10.0f64.powi(2)).sqrt() - 20.0)
+                .unwrap();
+        }
+        if i == 240 {
+            m.set_real(dy, 0.0).unwrap();
+            m.set_real(dz, 0.0).unwrap();
+        }
+        m.do_step(t, h).unwrap();
+        let (c, r) = (int(&m, "contact_count"), int(&m, "contact_rebuilds"));
+        assert!(
+            r >= rebuilds,
+            "t {}: rebuilds fell from {rebuilds} to {r}",
+            t + h
+        );
+        if i < 10 {
+            assert_eq!(r, 0, "nothing changes while the sling hangs clear");
+        }
+        if c != count {
+            changes += 1;
+            counts.push(c);
+            assert!(
+                r > rebuilds,
+                "t {}: nodes {count} -> {c} without a rebuild",
+                t + h
+            );
+        }
+        (count, rebuilds) = (c, r);
+    }
+    println!("contact nodes {counts:?}; {changes} changes, {rebuilds} rebuilds");
+    assert_eq!(counts, [0, 1, 0], "the node is created and released");
+    assert!(rebuilds >= changes);
+}
