@@ -361,10 +361,10 @@ pub const CHECKS: &[Check] = &[
         outputs: &["contact#_x", "contact#_y", "contact#_z", "contact#_sling"],
         sampling: Instant,
         tests: &[
-            "tests/output_checks/rope_block.rs::each_contact_slot_names_the_sling_whose_edge_node_it_reports",
+            "tests/output_checks/rope_block.rs::each_contact_slot_reports_its_sling_s_node_on_the_shortest_path_over_the_edge",
             "tests/rope_hook_position.rs::a_sling_swung_over_the_deck_edge_and_back_wraps_the_edge_and_leaves_it",
         ],
-        against: "the default lift at rest: each slot's node on the deck edge (y +-6 m, z 7 m, 1e-6 m) on its sling's lug side, between hook and lug, the four slings once each, empty slots -1; a sling swung over the edge: node at the edge, 1e-9 m",
+        against: "the default lift at rest: each slot's node where its sling's straight legs hook -> deck edge -> lug are shortest, by hand from the rig (golden section), 1e-6 m, the four slings once each, empty slots -1; a sling swung over the edge: node at the edge, 1e-9 m",
     },
     Check {
         model: ROPE_BLOCK,
@@ -373,7 +373,7 @@ pub const CHECKS: &[Check] = &[
         tests: &[
             "tests/python/test_rope_block.py::test_hook_load_at_rest_equals_the_total_weight",
             "tests/rope_hook_position.rs::a_sling_swung_over_the_deck_edge_and_back_wraps_the_edge_and_leaves_it",
-            "tests/output_checks/rope_block.rs::each_contact_slot_names_the_sling_whose_edge_node_it_reports",
+            "tests/output_checks/rope_block.rs::each_contact_slot_reports_its_sling_s_node_on_the_shortest_path_over_the_edge",
         ],
         against: "one node per sling over a deck edge (4) by the rig geometry; a sling swung over the edge and back: 0, 1, 0",
     },
