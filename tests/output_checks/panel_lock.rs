@@ -381,3 +381,74 @@ fn solver_counters_are_the_integrator_statistics() {
         "{last:?}"
     );
 }
+
+#[test]
+fn panel_deflections_scale_with_the_inverse_of_the_stiffness() {
+    // flexible panels (4 fixed-interface modes each, damped at 50 % of critical) deploying
+    // before any lock-up bend under their own inertia and the hinge loads. With the panels 100
+    // and 1000 times stiffer than the default (first modes near 75 and 240 Hz against a
+    // deployment of about 0.2 Hz) they follow those loads quasi-statically, so linear elasticity
+    // sets every deflection and modal amplitude to the compliance 1/E times the load: the ratio
+    // of the two runs is 10 (the deviation, measured 0.7 % on the outer panel and up to 5 % on
+    // the inner panels' second mode, falls as 1/E: the dynamic part, (f / f_mode)^2; at the
+    // default stiffness it reaches 80 %). Outputs the deployment does not excite (the inner
+    // panels' modes 1 and 3, the outer panel's mode 2) stay at round-off in both.
+    let run = |e: f64| {
+        let mut s = PanelLock::new(PanelLockParams {
+            panel_youngs_modulus: e,
+            modal_damping_ratio: 0.5,
+            integrator: IntegratorKind::Bdf,
+            error_control: ErrorControl::PerStep,
+            settings: Settings {
+                rtol: 1e-8,
+                atol: 1e-10,
+                h_max: 0.02,
+                ..PanelLockParams::default().settings
+            },
+            ..PanelLockParams::flexible(4)
+        })
+        .unwrap();
+        let mut rows = Vec::new();
+        for i in 1..=25 {
+            s.advance_to(0.5 + 0.1 * i as f64).unwrap();
+            let f = s.panel_flex_outputs();
+            rows.push(
+                f.iter()
+                    .flat_map(|p| [p.tip_deflection, p.modes[0], p.modes[1], p.modes[2]])
+                    .collect::<Vec<_>>(),
+            );
+        }
+        rows
+    };
+    let e = 100.0 * PanelLockParams::default().panel_youngs_modulus;
+    let (soft, stiff) = (run(e), run(10.0 * e));
+    let what = ["tip deflection", "mode 1", "mode 2", "mode 3"];
+    let mut excited = 0;
+    for j in 0..soft[0].len() {
+        let name = format!("panel {} {}", j / 4 + 1, what[j % 4]);
+        let (big, big_stiff) = (
+            largest(soft.iter().map(|r| r[j])),
+            largest(stiff.iter().map(|r| r[j])),
+        );
+        if big < 1e-10 {
+            println!("{name}: not excited ({big:.1e} m, {big_stiff:.1e} m)");
+            assert!(big_stiff < 1e-10, "{name}: {big_stiff} m");
+            continue;
+        }
+        excited += 1;
+        let ratios: Vec<f64> = soft
+            .iter()
+            .zip(&stiff)
+            .filter(|(a, _)| a[j].abs() > 0.2 * big)
+            .map(|(a, b)| a[j] / b[j])
+            .collect();
+        let worst = largest(ratios.iter().map(|r| r / 10.0 - 1.0));
+        println!(
+            "{name}: largest {big:.3e} m, {} samples, ratio within {worst:.1e} of 10",
+            ratios.len()
+        );
+        assert!(ratios.len() >= 10 && worst < 0.08, "{name}: {ratios:?}");
+    }
+    // every panel's tip deflection, the outer panel's mode 1 and the inner panels' mode 2
+    assert!(excited >= 7, "{excited}");
+}

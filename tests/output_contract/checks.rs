@@ -256,10 +256,10 @@ pub const CHECKS: &[Check] = &[
         outputs: &["panel#_tip_deflection", "panel#_mode#"],
         sampling: Instant,
         tests: &[
+            "tests/output_checks/panel_lock.rs::panel_deflections_scale_with_the_inverse_of_the_stiffness",
             "tests/panel_lock_satellite.rs::flexible_panels_conserve_momentum_and_report_their_deflection",
-            "tests/panel_lock_flex.rs::very_stiff_flexible_panels_reproduce_the_rigid_lock_times",
         ],
-        against: "weak: the outer panel's tip deflection and mode-1 amplitude within physical bounds (1e-7 ... 0.05 m), modes 1 and 3 of the inner panels at round-off, zero for rigid panels; no value against an independent deflection",
+        against: "partly weak: deflections and modal amplitudes are compliance x load, so at 100x and 1000x the default modulus (quasi-static) each excited one's ratio is 10 within 8 % (measured 0.08 % outer panel, up to 5 % on the inner panels' mode 2), the unexcited ones at round-off; ranges (1e-7 ... 0.05 m) and 0 for rigid panels; no absolute value against an independent deflection",
     },
     Check {
         model: PANEL_LOCK,
