@@ -382,7 +382,7 @@ pub const CHECKS: &[Check] = &[
         outputs: &["contact_rebuilds"],
         sampling: Count,
         tests: &[
-            "tests/output_checks/rope_block.rs::contact_rebuilds_count_the_changes_of_the_contact_nodes",
+            "tests/output_checks/rope_block.rs::contact_rebuilds_and_event_energy_follow_the_contact_node_changes",
             "tests/rope_block_cosim.rs::clones_and_bytes_continue_bit_for_bit_across_contact_changes",
         ],
         against: "a sling swung over the deck edge and back: 0 at the start and while it hangs clear, never falls, grows in every step in which contact_count changes (0, 1, 0); a lower bound only: rebuilds for nodes moved along an edge are not counted by hand",
@@ -430,14 +430,23 @@ pub const CHECKS: &[Check] = &[
     },
     Check {
         model: ROPE_BLOCK,
-        outputs: &["energy_dissipated", "energy_events"],
+        outputs: &["energy_dissipated"],
         sampling: Cumulative,
         tests: &[
             "tests/rope_ground.rs::block_dragged_along_the_ground_slides_at_the_friction_limit",
             "tests/python/test_rope_block.py::test_block_set_down_until_the_slings_hang_slack",
             "tests/output_checks/rope_block.rs::hook_work_lifted_weight_and_kinetic_energy_by_hand",
         ],
-        against: "as the closing terms of kinetic + potential + dissipated - input - events = constant (2e-4 of the weight x 1 m and tighter); no check of either term alone",
+        against: "weak: only as the closing term of kinetic + potential + dissipated - input - events = constant (ground friction while dragged: 1e-2 of the dissipated; a damped hoist: 1e-4 of the weight x 1 m); not checked alone",
+    },
+    Check {
+        model: ROPE_BLOCK,
+        outputs: &["energy_events"],
+        sampling: Cumulative,
+        tests: &[
+            "tests/output_checks/rope_block.rs::contact_rebuilds_and_event_energy_follow_the_contact_node_changes",
+        ],
+        against: "a sling swung over the deck edge and back: changes only in steps with a rebuild, and there by what kinetic + potential + dissipated - input jump (-1.15 J, 44.6 J, 243 J; within 0.5 J + 2e-3)",
     },
     Check {
         model: ROPE_BLOCK,
