@@ -119,7 +119,7 @@ pub const CHECKS: &[Check] = &[
             "tests/panel_lock.rs::every_integrator_gives_the_same_lock_up",
             "tests/panel_lock_default_accuracy.rs::rigid_default_scene_within_one_percent_of_a_tight_bdf_run",
         ],
-        against: "(being reworked with the root wrench outputs; today) root hinge's first lock-up against BDF rtol 1e-10 (error shrinks, < 1e-4 at rtol 1e-8) and every integrator against BDF (1e-3); the default solver within 1 % of a tight run",
+        against: "root hinge's first lock-up against BDF rtol 1e-10 (error shrinks, < 1e-4 at rtol 1e-8) and every integrator against BDF (1e-3); the default solver within 1 % of a tight run on the largest peak. Weak for hinge 1, whose peak comes from rattling 6 s after its lock-up: it moves 10 % with the communication step at the default solver (issue #42 item 4 open, docs/panel_lock_interface.md)",
     },
     Check {
         model: PANEL_LOCK,
@@ -145,15 +145,33 @@ pub const CHECKS: &[Check] = &[
         model: PANEL_LOCK,
         outputs: &["root_force_x", "root_force_y", "root_force_z"],
         sampling: Instant,
-        tests: &["tests/panel_lock.rs::gravity_along_the_hinge_axes_is_carried_by_the_root_shaft"],
-        against: "(being redefined as the total interface wrench; today) root_force_z at t = 0 with gravity along the hinge axes = the array's weight by hand, 1e-9; x and y not checked by value",
+        tests: &[
+            "tests/panel_lock_interface.rs::interface_wrench_equals_the_arrays_momentum_balance",
+            "tests/panel_lock_interface.rs::interface_wrench_accelerates_a_free_satellite",
+            "tests/panel_lock.rs::gravity_along_the_hinge_axes_is_carried_by_the_root_shaft",
+        ],
+        against: "minus the array's momentum rate sum m (a - g) from the index-1 accelerations over a 16 s deployment with gravity, motor and every lock-up, 1e-6 of the terms' scale (measured 1.5e-13 DOPRI5, 9.7e-12 gen-alpha); a free satellite's m a, 1e-6 (2.1e-15); the array's weight by hand at t = 0, 1e-9",
     },
     Check {
         model: PANEL_LOCK,
         outputs: &["root_torque_x", "root_torque_y", "root_torque_z"],
         sampling: Instant,
-        tests: &["tests/panel_lock.rs::gravity_along_the_hinge_axes_is_carried_by_the_root_shaft"],
-        against: "(being redefined as the total interface wrench; today) no value check: the named test covers the shaft reaction's force only",
+        tests: &[
+            "tests/panel_lock_interface.rs::interface_wrench_equals_the_arrays_momentum_balance",
+            "tests/panel_lock_interface.rs::interface_wrench_accelerates_a_free_satellite",
+            "tests/panel_lock_interface.rs::interface_torque_about_the_axes_carries_the_spring_and_motor_at_rest",
+        ],
+        against: "minus the array's angular momentum rate about the attachment point, sum (r - O) x m (a - g) + A (J w_dot + w x J w), 1e-6 of the terms' scale; a free satellite's own; at rest the root spring preload plus the motor torque (1e-9)",
+    },
+    Check {
+        model: PANEL_LOCK,
+        outputs: &["root_peak_force", "root_peak_torque"],
+        sampling: Peak,
+        tests: &[
+            "tests/panel_lock_interface.rs::tracked_peaks_bound_the_samples_and_do_not_miss_the_impacts",
+            "tests/python/test_panel_lock.py::test_root_interface_outputs_carry_the_deployment_and_bound_their_samples",
+        ],
+        against: "tracked at a 0.1 s communication step against the largest of the magnitudes sampled every 1 ms (a finer sampling of the momentum-checked wrench), 1 % (measured 0.3 % force, 0.4 % torque); never below a sampled magnitude, never falling",
     },
     Check {
         model: PANEL_LOCK,
