@@ -4,6 +4,8 @@
 //! another output, a conservation or work balance, or the solver's own counters read another way.
 //! One test binary for build speed: `cargo test --release --test output_checks`.
 
+#[path = "../common/mod.rs"]
+mod common;
 mod panel_lock;
 mod pid;
 mod rope_block;

@@ -16,17 +16,7 @@ use super::largest;
 
 /// The default array on BDF at `rtol` per step (`atol = rtol / 100`, h_max 0.02 s).
 fn tight(rtol: f64) -> PanelLockParams {
-    PanelLockParams {
-        integrator: IntegratorKind::Bdf,
-        error_control: ErrorControl::PerStep,
-        settings: Settings {
-            rtol,
-            atol: rtol * 1e-2,
-            h_max: 0.02,
-            ..PanelLockParams::default().settings
-        },
-        ..PanelLockParams::default()
-    }
+    crate::common::panel_lock::per_step(IntegratorKind::Bdf, rtol)
 }
 
 /// World position of the outer panel's tip midpoint (where `tip_normal_velocity` is taken) and
