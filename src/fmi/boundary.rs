@@ -10,6 +10,7 @@ use std::os::raw::c_char;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 
+use super::handle;
 use super::instance::{Instance, Outcome};
 use super::machine::Mask;
 use super::types::*;
@@ -25,40 +26,30 @@ pub fn panic_message(payload: &(dyn Any + Send)) -> String {
     }
 }
 
-/// Runs `body` on the instance behind `c` under the state machine and a panic guard.
+/// Runs `body` on the instance behind `c` under the handle check ([`handle::enter`]: freed and
+/// foreign pointers, calls from inside the instance's own callbacks), the state machine and a
+/// panic guard.
 ///
 /// # Safety
-/// `c` must be NULL or a handle returned by `fmi2Instantiate` and not yet freed, used by one
-/// thread at a time.
+/// `c` must be NULL, a handle returned by `fmi2Instantiate` (live or freed), or a pointer to at
+/// least 8 readable bytes (see [`handle`] for the limits of the check).
 pub unsafe fn guard(
     c: fmi2Component,
     func: &'static str,
     mask: Mask,
     body: impl FnOnce(&mut Instance) -> Outcome,
 ) -> fmi2Status {
-    if c.is_null() {
-        eprintln!("mbcosim: {func} called with a NULL instance (fmi2Component)");
+    let Some(mut entered) = (unsafe { handle::enter(c, func) }) else {
         return fmi2Error;
-    }
-    if super::intermediate::reentered(c as usize) {
-        eprintln!(
-            "mbcosim: {func} called from inside the instance's own intermediate-update callback (intermediateVariableGetAllowed and intermediateVariableSetRequested are false): refused"
-        );
-        return fmi2Error;
-    }
-    let inst = c.cast::<Instance>();
-    // SAFETY: per the contract above, `inst` points to a live Instance not used elsewhere.
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        unsafe { &mut *inst }.call(func, mask, body)
-    }));
+    };
+    let inst = entered.instance();
+    let result = catch_unwind(AssertUnwindSafe(|| inst.call(func, mask, body)));
     match result {
         Ok(status) => status,
         Err(payload) => {
             let reason = panic_message(payload.as_ref());
             // The instance may be half-updated; marking it fatal only writes plain fields.
-            let logged = catch_unwind(AssertUnwindSafe(|| {
-                unsafe { &mut *inst }.set_fatal(func, &reason)
-            }));
+            let logged = catch_unwind(AssertUnwindSafe(|| inst.set_fatal(func, &reason)));
             if logged.is_err() {
                 eprintln!("mbcosim: {func}: internal error: {reason}");
             }

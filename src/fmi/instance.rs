@@ -492,7 +492,6 @@ impl Instance {
     pub fn do_step3(&mut self, t: f64, h: f64) -> Outcome<bool> {
         let mut watch = ImporterWatch {
             options: self.importer,
-            instance: self as *const Instance as usize,
         };
         let end = self.do_step_watched(t, h, &mut watch)?;
         Ok(matches!(end, StepEnd::Early { .. }))

@@ -94,7 +94,7 @@ struct Env(fmi2ComponentEnvironment);
 unsafe impl Send for Env {}
 
 /// Where messages go.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 enum Sink {
     /// The importer's callback.
     Importer(
@@ -131,7 +131,7 @@ enum Sink {
 pub type Captured = (fmi2Status, Category, String);
 
 /// The importer's logger plus the filters set by `loggingOn` and `fmi2SetDebugLogging`.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Logger {
     sink: Sink,
     name: CString,

@@ -11,7 +11,8 @@
 //!
 //! - [`types`]: hand-written `#[repr(C)]` FMI 2.0 types.
 //! - [`exports`](self#functions): the 34 `fmi2*` functions (re-exported here).
-//! - [`boundary`]: panic guard and pointer conversions; [`instance`]: the state machine and the
+//! - [`boundary`]: panic guard and pointer conversions; [`handle`]: instance handles (magic
+//!   number, freed handles, calls from inside the instance's callbacks); [`instance`]: the state machine and the
 //!   function bodies in safe Rust; [`machine`]: states and per-function masks; [`logger`]: log
 //!   categories and filters; [`snapshot`]: FMU states and their byte format.
 //! - [`model_description`] and [`units`]: `modelDescription.xml` from a variable table;
@@ -23,6 +24,7 @@ pub mod boundary;
 pub mod documentation;
 mod exports;
 mod exports3;
+pub mod handle;
 pub mod instance;
 pub mod intermediate;
 pub mod logger;
