@@ -332,6 +332,36 @@ CASES = {
     "fmi3_free_twice": free_twice3,
     "fmi3_call_after_free": call_after_free3,
     "fmi3_garbage_handle": garbage_handle3,
+    # C, FMI 2.0
+    "fmi2_uri_control": lambda u: location2(u, lambda r: r.as_uri(), "edited"),
+    "fmi2_uri_upper_case_scheme": lambda u: location2(u, lambda r: up(r.as_uri()), "edited"),
+    "fmi2_uri_localhost_trailing_slash": lambda u: location2(
+        u, lambda r: r.as_uri().replace("file://", "file://localhost", 1) + "/", "edited"),
+    "fmi2_uri_http": lambda u: location2(
+        u, lambda r: "http://example.com" + r.as_uri()[7:], "null", ["http://example.com", "scheme"]),
+    "fmi2_uri_other_host": lambda u: location2(
+        u, lambda r: "file://server" + r.as_uri()[7:], "null", ["file://server", "host `server`"]),
+    "fmi2_uri_query": lambda u: location2(u, lambda r: r.as_uri() + "?x=1", "null", ["?x=1", "query"]),
+    "fmi2_uri_fragment": lambda u: location2(u, lambda r: r.as_uri() + "#top", "null", ["#top", "fragment"]),
+    "fmi2_uri_missing_folder": lambda u: location2(
+        u, lambda r: (r / "missing").as_uri(), "null", ["missing", "not an existing folder"]),
+    "fmi2_bare_absolute_path": lambda u: location2(u, lambda r: str(r), "edited"),
+    "fmi2_bare_relative_path": lambda u: location2(u, lambda r: "not a uri", "null", ["not a uri"]),
+    "fmi2_null_location": lambda u: location2(u, lambda r: None, "default"),
+    "fmi2_empty_location": lambda u: location2(u, lambda r: "", "default"),
+    "fmi2_scene_symlink_loop": lambda u: broken_scene2(u, loop, ["scene.toml", "cannot read", "symbolic links"]),
+    "fmi2_scene_directory": lambda u: broken_scene2(u, directory, ["scene.toml", "not a regular file"]),
+    "fmi2_scene_not_utf8": lambda u: broken_scene2(u, not_utf8, ["scene.toml", "UTF-8"]),
+    "fmi2_scene_dangling_symlink": lambda u: broken_scene2(u, dangling, ["scene.toml", "nowhere.toml"]),
+    "fmi2_scene_unreadable": lambda u: broken_scene2(u, unreadable, ["scene.toml", "ermission"]),
+    # C, FMI 3.0
+    "fmi3_path_control": lambda u: location3(u, lambda r: str(r) + os.sep, "edited"),
+    "fmi3_uri_upper_case_scheme": lambda u: location3(u, lambda r: up(r.as_uri()), "edited"),
+    "fmi3_relative_path": lambda u: location3(u, lambda r: "resources/", "null", ["resources/", "absolute"]),
+    "fmi3_missing_folder": lambda u: location3(
+        u, lambda r: str(r / "missing") + os.sep, "null", ["missing", "not an existing folder"]),
+    "fmi3_null_path": lambda u: location3(u, lambda r: None, "default"),
+    "fmi3_scene_symlink_loop": lambda u: broken_scene3(u, loop, ["scene.toml", "cannot read", "symbolic links"]),
 }
 
 

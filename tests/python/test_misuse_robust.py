@@ -5,9 +5,14 @@
   re-entered does not free.
 - A freed instance handle or a pointer that is not an instance gets Error (free: ignored)
   instead of a crash (docs/fmu_conformance.md says where this guard stops).
+- fmuResourceLocation / resourcePath: the URI scheme is case-insensitive; another scheme, another
+  host, a query or fragment, a missing folder, or a scene.toml that cannot be read refuses the
+  instance with the location and the cause named; NULL or empty stays a Warning with the built-in
+  defaults (docs/resource_location.md).
 
 Each case runs in its own interpreter (robust_worker.py) on PidController, so a crash fails the
-case, not pytest. The cases fail on the code before issue #48.
+case, not pytest. Every case but the controls (`*_control`, `*localhost*`, NULL and empty
+locations, `fmi2_scene_not_utf8`) fails on the code before issue #48.
 """
 
 import pytest

@@ -4,12 +4,13 @@ use std::os::raw::c_char;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::ptr::null_mut;
 
-use crate::fmi::boundary::{c_str, guard, in_slice, panic_message, resource_folder};
+use crate::fmi::boundary::{c_str, guard, in_slice, panic_message};
 use crate::fmi::handle;
 use crate::fmi::instance::Instance;
 use crate::fmi::intermediate::ImporterOptions;
 use crate::fmi::logger::{CATEGORIES, Category, Logger};
 use crate::fmi::machine::{ALIVE, INIT_MODE, INSTANTIATED, TERMINATE};
+use crate::fmi::resource_location::{Location, resource_folder};
 use crate::fmi::types::*;
 use crate::scene;
 
@@ -113,7 +114,10 @@ unsafe fn instantiate(
         Ok(g) => g,
         Err(e) => return fail(e),
     };
-    let folder = resource_folder(unsafe { c_str(resource_location, "fmuResourceLocation") });
+    let folder = resource_folder(
+        (!resource_location.is_null())
+            .then(|| unsafe { c_str(resource_location, "fmuResourceLocation") }),
+    );
     create(
         "fmi2Instantiate",
         "GUID",
@@ -132,7 +136,7 @@ pub(crate) fn create(
     token: &str,
     logger: Logger,
     guid: &str,
-    folder: Result<(std::path::PathBuf, Option<String>), String>,
+    folder: Result<Location, String>,
     importer: ImporterOptions,
 ) -> fmi2Component {
     let Some(entry) = scene::find_by_guid(guid) else {
@@ -153,7 +157,7 @@ pub(crate) fn create(
     };
     let mut inst = Instance::new(&entry, logger);
     let dir = match folder {
-        Ok((dir, note)) => {
+        Ok(Location::Folder(dir, note)) => {
             if let Some(note) = note {
                 inst.log.log(
                     fmi2Warning,
@@ -163,7 +167,7 @@ pub(crate) fn create(
             }
             Some(dir)
         }
-        Err(reason) if entry.resources.is_empty() => {
+        Ok(Location::Absent(reason)) if entry.resources.is_empty() => {
             inst.log.log(
                 fmi2Warning,
                 Category::StatusWarning,
@@ -173,13 +177,23 @@ pub(crate) fn create(
             );
             None
         }
-        Err(reason) => {
+        Ok(Location::Absent(reason)) => {
             inst.log.log(
                 fmi2Error,
                 Category::StatusError,
                 &format!(
                     "{func}: {reason}; model `{}` needs its resources folder (its data files); instance not created",
                     (entry.info)().identifier
+                ),
+            );
+            return null_mut();
+        }
+        Err(reason) => {
+            inst.log.log(
+                fmi2Error,
+                Category::StatusError,
+                &format!(
+                    "{func}: {reason}; the FMU's resources (its scene.toml) cannot be read from there, so the instance is not created rather than run with other parameters (pass the file: URI of the unpacked FMU's resources folder, or NULL for the built-in defaults)"
                 ),
             );
             return null_mut();

@@ -4,11 +4,12 @@ use std::os::raw::c_char;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::ptr::null_mut;
 
-use crate::fmi::boundary::{c_str, guard, in_slice, panic_message, resource_folder3};
+use crate::fmi::boundary::{c_str, guard, in_slice, panic_message};
 use crate::fmi::exports::{create, free_instance, set_debug_logging};
 use crate::fmi::intermediate::ImporterOptions;
 use crate::fmi::logger::{Category, Logger};
 use crate::fmi::machine::{ALIVE, INIT_MODE, INSTANTIATED, TERMINATE};
+use crate::fmi::resource_location::resource_folder3;
 use crate::fmi::types::{fmi2Error, fmi2Warning};
 use crate::fmi::types3::*;
 
@@ -108,7 +109,9 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 );
             }
         }
-        let folder = resource_folder3(c_str(resourcePath, "resourcePath"));
+        let folder = resource_folder3(
+            (!resourcePath.is_null()).then(|| c_str(resourcePath, "resourcePath")),
+        );
         let importer = ImporterOptions {
             early_return: earlyReturnAllowed != 0,
             callback: intermediateUpdate,
