@@ -314,6 +314,47 @@ def unreadable(p):
     raise SystemExit(0)  # running as root: permissions do not apply, nothing to check
 
 
+# ---------------------------------------------------------------------------------------------
+# D. long messages are cut (src/fmi/logger.rs: MAX_MESSAGE)
+
+LONG = 10_000_000
+MAX_MESSAGE = 4096
+
+
+def cut_properly(msg, long_text_len):
+    assert len(msg) <= MAX_MESSAGE + 40, f"a message of {len(msg)} characters reached the logger"
+    assert msg.endswith(" more characters)"), msg[-80:]
+    more = int(msg.rsplit("(", 1)[1].split()[0])
+    assert MAX_MESSAGE + more >= long_text_len, (more, long_text_len)
+
+
+def long_message2(unzip):
+    """An unknown log category of 10 MB, echoed in the error: fmpy's proxy would cut it at 2 kB,
+    so the message is taken from the raw (non-formatting) logger argument."""
+    lib, md = lib2(unzip)
+    got = []
+    raw_type = C.CFUNCTYPE(None, C.c_void_p, C.c_char_p, C.c_int, C.c_char_p, C.c_char_p, C.c_char_p)
+    raw = raw_type(lambda env, name, status, category, fmt, msg: got.append((status, fmt, msg)))
+    callbacks = R2.fmi2CallbackFunctions()
+    callbacks.logger = C.cast(raw, R2.fmi2CallbackLoggerTYPE)
+    c = lib.fmi2Instantiate(b"inst", 1, md.guid.encode(), None, C.byref(callbacks), 0, 0)
+    assert c
+    cats = (C.c_char_p * 1)(b"x" * LONG)
+    status = lib.fmi2SetDebugLogging(c, 1, 1, cats)
+    lib.fmi2FreeInstance(c)
+    assert status == R2.ERROR, status
+    s, fmt, msg = got[-1]
+    assert s == R2.ERROR and fmt == b"%s", (s, fmt)
+    cut_properly(msg.decode(), LONG)
+
+
+def long_message3(unzip):
+    i = new3(unzip)
+    assert i.set_debug_logging(True, ["x" * LONG]) == R3.ERROR
+    cut_properly(i.messages()[-1], LONG)
+    i.free()
+
+
 def up(s):
     return s.replace("file://", "FILE://", 1)
 
@@ -361,6 +402,9 @@ CASES = {
     "fmi3_missing_folder": lambda u: location3(
         u, lambda r: str(r / "missing") + os.sep, "null", ["missing", "not an existing folder"]),
     "fmi3_null_path": lambda u: location3(u, lambda r: None, "default"),
+    # D
+    "fmi2_long_message_is_cut": long_message2,
+    "fmi3_long_message_is_cut": long_message3,
     "fmi3_scene_symlink_loop": lambda u: broken_scene3(u, loop, ["scene.toml", "cannot read", "symbolic links"]),
 }
 

@@ -9,6 +9,8 @@
   host, a query or fragment, a missing folder, or a scene.toml that cannot be read refuses the
   instance with the location and the cause named; NULL or empty stays a Warning with the built-in
   defaults (docs/resource_location.md).
+- Log messages are cut after 4096 bytes with "... (N more characters)" (a 10 MB string echoed
+  in a message reached the logger whole).
 
 Each case runs in its own interpreter (robust_worker.py) on PidController, so a crash fails the
 case, not pytest. Every case but the controls (`*_control`, `*localhost*`, NULL and empty
