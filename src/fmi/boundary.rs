@@ -41,7 +41,9 @@ pub unsafe fn guard(
     let Some(mut entered) = (unsafe { handle::enter(c, func) }) else {
         return fmi2Error;
     };
-    let inst = entered.instance();
+    let Some(inst) = entered.instance() else {
+        return fmi2Error;
+    };
     let result = catch_unwind(AssertUnwindSafe(|| inst.call(func, mask, body)));
     match result {
         Ok(status) => status,

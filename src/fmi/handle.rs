@@ -118,13 +118,13 @@ pub struct Entered<'a> {
 }
 
 impl Entered<'_> {
-    /// The instance. The hold makes this the only reference to it.
-    pub fn instance(&mut self) -> &mut Instance {
+    /// The instance. The hold makes this the only reference to it; `enter` checked that it is
+    /// there (the magic was MAGIC after the hold was taken).
+    pub fn instance(&mut self) -> Option<&mut Instance> {
         // SAFETY: `running` names this call, so no other call holds a reference into the
-        // instance (every access goes through `enter`); it is `Some` while the magic is MAGIC.
+        // instance (every access goes through `enter` or `free`, which take the hold first).
         let slot = unsafe { &mut *self.handle.instance.get() };
         slot.as_deref_mut()
-            .expect("a live handle holds its instance")
     }
 }
 
@@ -156,7 +156,13 @@ pub unsafe fn enter<'a>(c: fmi2Component, func: &'static str) -> Option<Entered<
         refuse(handle, func, other, "refused; the instance is unchanged");
         return None;
     }
-    Some(Entered { handle })
+    let entered = Entered { handle };
+    // freed by another thread between the check and the hold (itself a misuse): refuse
+    if handle.magic.load(Ordering::Acquire) != MAGIC {
+        eprintln!("mbcosim: {}", Bad::Freed.message(func));
+        return None;
+    }
+    Some(entered)
 }
 
 /// Marks `func` as running on `handle`; the function already running if there is one.
@@ -200,6 +206,12 @@ pub unsafe fn free(c: fmi2Component, func: &'static str) {
     };
     if let Err(other) = claim(handle, func) {
         refuse(handle, func, other, "refused: the instance is not freed");
+        return;
+    }
+    if handle.magic.load(Ordering::Acquire) != MAGIC {
+        // freed by another thread between the check and the hold (itself a misuse)
+        *lock(&handle.running) = None;
+        eprintln!("mbcosim: {}; ignored", Bad::Freed.message(func));
         return;
     }
     // From here every call with this handle is refused as freed, including calls made from the
