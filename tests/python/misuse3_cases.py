@@ -4,8 +4,9 @@ expected and which words the logged message must contain.
 Every case runs in its own forked process (misuse3_worker.py) on a fresh instance, so a crash is
 reported per case. `Ctx` finds suitable variables in any model's FMI 3.0 description, so the same
 cases apply to every packaged FMU; a case named `typed_*` needs a variable type that not every
-model has (it returns SKIP there). Calls whose misuse is undefined behaviour by the standard (any
-call on a freed instance, freeing an instance twice, pointers to too-short arrays) are not cases.
+model has (it returns SKIP there). Pointers to too-short arrays (undefined behaviour by the
+standard) are not cases; calls on a freed instance, freeing an instance twice and calls from
+inside the instance's callbacks are in test_misuse_robust.py (one interpreter per case).
 """
 
 import ctypes as C
