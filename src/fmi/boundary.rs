@@ -1,4 +1,4 @@
-//! The C boundary: panic guard, instance handles, pointer-to-slice and string conversions.
+//! The C boundary: panic guard, pointer-to-slice and string conversions.
 //!
 //! No panic may unwind into the importer (it would abort the host process): every export runs
 //! under [`guard`] or [`catch_unwind`]. A panic inside an instance call becomes `fmi2Fatal` with a
@@ -8,8 +8,8 @@ use std::any::Any;
 use std::ffi::CStr;
 use std::os::raw::c_char;
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::path::PathBuf;
 
+use super::handle;
 use super::instance::{Instance, Outcome};
 use super::machine::Mask;
 use super::types::*;
@@ -25,40 +25,32 @@ pub fn panic_message(payload: &(dyn Any + Send)) -> String {
     }
 }
 
-/// Runs `body` on the instance behind `c` under the state machine and a panic guard.
+/// Runs `body` on the instance behind `c` under the handle check ([`handle::enter`]: freed and
+/// foreign pointers, calls from inside the instance's own callbacks), the state machine and a
+/// panic guard.
 ///
 /// # Safety
-/// `c` must be NULL or a handle returned by `fmi2Instantiate` and not yet freed, used by one
-/// thread at a time.
+/// `c` must be NULL, a handle returned by `fmi2Instantiate` (live or freed), or a pointer to at
+/// least 8 readable bytes (see [`handle`] for the limits of the check).
 pub unsafe fn guard(
     c: fmi2Component,
     func: &'static str,
     mask: Mask,
     body: impl FnOnce(&mut Instance) -> Outcome,
 ) -> fmi2Status {
-    if c.is_null() {
-        eprintln!("mbcosim: {func} called with a NULL instance (fmi2Component)");
+    let Some(mut entered) = (unsafe { handle::enter(c, func) }) else {
         return fmi2Error;
-    }
-    if super::intermediate::reentered(c as usize) {
-        eprintln!(
-            "mbcosim: {func} called from inside the instance's own intermediate-update callback (intermediateVariableGetAllowed and intermediateVariableSetRequested are false): refused"
-        );
+    };
+    let Some(inst) = entered.instance() else {
         return fmi2Error;
-    }
-    let inst = c.cast::<Instance>();
-    // SAFETY: per the contract above, `inst` points to a live Instance not used elsewhere.
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        unsafe { &mut *inst }.call(func, mask, body)
-    }));
+    };
+    let result = catch_unwind(AssertUnwindSafe(|| inst.call(func, mask, body)));
     match result {
         Ok(status) => status,
         Err(payload) => {
             let reason = panic_message(payload.as_ref());
             // The instance may be half-updated; marking it fatal only writes plain fields.
-            let logged = catch_unwind(AssertUnwindSafe(|| {
-                unsafe { &mut *inst }.set_fatal(func, &reason)
-            }));
+            let logged = catch_unwind(AssertUnwindSafe(|| inst.set_fatal(func, &reason)));
             if logged.is_err() {
                 eprintln!("mbcosim: {func}: internal error: {reason}");
             }
@@ -135,150 +127,9 @@ pub unsafe fn c_str<'a>(p: *const c_char, what: &str) -> Outcome<&'a str> {
         .map_err(|e| format!("{what} is not valid UTF-8 ({e})"))
 }
 
-/// The folder named by a `file:` URI (`file:///a/b%20c`, `file:/a/b`, `file://localhost/a/b`),
-/// with a trailing slash allowed; `None` for other schemes or undecodable text.
-pub fn path_from_file_uri(uri: &str) -> Option<PathBuf> {
-    let rest = uri.strip_prefix("file:")?;
-    let path = if let Some(r) = rest.strip_prefix("//") {
-        // authority: empty or localhost
-        let slash = r.find('/')?;
-        let (host, p) = r.split_at(slash);
-        if !(host.is_empty() || host.eq_ignore_ascii_case("localhost")) {
-            return None;
-        }
-        p
-    } else {
-        rest
-    };
-    if !path.starts_with('/') {
-        return None;
-    }
-    let mut bytes = Vec::with_capacity(path.len());
-    let mut it = path.bytes();
-    while let Some(b) = it.next() {
-        if b == b'%' {
-            let hi = (it.next()? as char).to_digit(16)?;
-            let lo = (it.next()? as char).to_digit(16)?;
-            bytes.push((hi * 16 + lo) as u8);
-        } else {
-            bytes.push(b);
-        }
-    }
-    String::from_utf8(bytes).ok().map(PathBuf::from)
-}
-
-/// The resources folder named by `fmuResourceLocation`, or why it cannot be used (the text
-/// names what was received). `location` is `Err` when the pointer was NULL or not UTF-8.
-///
-/// Accepted: a `file:` URI of an existing folder. A URI of the unpacked FMU's root (a folder
-/// holding `modelDescription.xml` and `resources/`, which some importers pass) is taken to mean
-/// its `resources/` folder; the second value is then a note saying so.
-pub fn resource_folder(location: Outcome<&str>) -> Result<(PathBuf, Option<String>), String> {
-    let uri = location?;
-    let Some(path) = path_from_file_uri(uri) else {
-        return Err(format!(
-            "fmuResourceLocation `{}` is not a file:// URI of a local folder",
-            uri.escape_debug()
-        ));
-    };
-    existing_folder(path, "fmuResourceLocation", uri)
-}
-
-/// FMI 3.0's `resourcePath`: an absolute path of the resources folder, normally with a trailing
-/// separator (a `file:` URI, as FMI 2.0 gives, is accepted too); otherwise as
-/// [`resource_folder`].
-pub fn resource_folder3(location: Outcome<&str>) -> Result<(PathBuf, Option<String>), String> {
-    let text = location?;
-    if text.starts_with("file:") {
-        let path = path_from_file_uri(text).ok_or_else(|| {
-            format!(
-                "resourcePath `{}` is neither an absolute path nor a file:// URI of a local folder",
-                text.escape_debug()
-            )
-        })?;
-        return existing_folder(path, "resourcePath", text);
-    }
-    let path = PathBuf::from(text);
-    if !path.is_absolute() {
-        return Err(format!(
-            "resourcePath `{}` is not an absolute path",
-            text.escape_debug()
-        ));
-    }
-    existing_folder(path, "resourcePath", text)
-}
-
-/// `path` when it is an existing folder; the FMU's root folder is taken to mean its
-/// `resources/` folder, with a note saying so. `what` and `given` name the argument.
-fn existing_folder(
-    path: PathBuf,
-    what: &str,
-    given: &str,
-) -> Result<(PathBuf, Option<String>), String> {
-    if !path.is_dir() {
-        return Err(format!(
-            "{what} `{}` names {}, which is not an existing folder",
-            given.escape_debug(),
-            path.display()
-        ));
-    }
-    let inner = path.join("resources");
-    if path.join("modelDescription.xml").is_file() && inner.is_dir() {
-        let note = format!(
-            "{what} `{}` is the FMU's root folder, not its resources folder; using {}",
-            given.escape_debug(),
-            inner.display()
-        );
-        return Ok((inner, Some(note)));
-    }
-    Ok((path, None))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn resource_folders_resolve_or_say_why_not() {
-        let root = std::env::temp_dir().join(format!("mbcosim-res-{}", std::process::id()));
-        let res = root.join("resources");
-        std::fs::create_dir_all(&res).unwrap();
-        std::fs::write(root.join("modelDescription.xml"), "<x/>").unwrap();
-        let uri = |p: &std::path::Path| format!("file://{}", p.display());
-        let (dir, note) = resource_folder(Ok(&uri(&res))).unwrap();
-        assert_eq!((dir, note), (res.clone(), None));
-        let (dir, note) = resource_folder(Ok(&uri(&root))).unwrap();
-        assert_eq!(dir, res);
-        assert!(note.unwrap().contains("root folder"));
-        let e = resource_folder(Ok(res.to_str().unwrap())).unwrap_err();
-        assert!(
-            e.contains("not a file:// URI") && e.contains("resources"),
-            "{e}"
-        );
-        let e = resource_folder(Ok(&uri(&root.join("missing")))).unwrap_err();
-        assert!(
-            e.contains("not an existing folder") && e.contains("missing"),
-            "{e}"
-        );
-        let e = resource_folder(Err("fmuResourceLocation is NULL".into())).unwrap_err();
-        assert!(e.contains("NULL"), "{e}");
-        std::fs::remove_dir_all(&root).unwrap();
-    }
-
-    #[test]
-    fn file_uris_decode() {
-        let p = |s: &str| path_from_file_uri(s).map(|p| p.to_string_lossy().into_owned());
-        assert_eq!(
-            p("file:///tmp/a%20b/resources"),
-            Some("/tmp/a b/resources".into())
-        );
-        assert_eq!(p("file:/tmp/x/"), Some("/tmp/x/".into()));
-        assert_eq!(p("file://localhost/tmp/x"), Some("/tmp/x".into()));
-        assert_eq!(p("file://server/tmp/x"), None);
-        assert_eq!(p("http://x/y"), None);
-        assert_eq!(p("file:///bad%2"), None);
-        assert_eq!(p("file:relative"), None);
-    }
 
     #[test]
     fn slices_handle_null_and_zero_lengths() {

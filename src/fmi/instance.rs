@@ -108,10 +108,14 @@ impl Instance {
                     .map_err(|e| e.to_string())?;
                 self.resource_dir = Some(dir.to_path_buf());
                 let path = dir.join(scene_file::FMU_SCENE);
-                if path.is_file() {
+                let text = super::resource_location::read_scene_text(&path).map_err(|e| {
+                    format!(
+                        "{e}; fix or remove it (without a {} the model starts from its built-in defaults)",
+                        scene_file::FMU_SCENE
+                    )
+                })?;
+                if let Some(text) = text {
                     let origin = path.display().to_string();
-                    let text = std::fs::read_to_string(&path)
-                        .map_err(|e| format!("cannot read {origin}: {e}"))?;
                     let scene = scene_file::parse(&text, &origin)?;
                     scene_file::apply(self.model.as_mut(), &scene, &origin)?;
                     self.model.take_log();
@@ -492,7 +496,6 @@ impl Instance {
     pub fn do_step3(&mut self, t: f64, h: f64) -> Outcome<bool> {
         let mut watch = ImporterWatch {
             options: self.importer,
-            instance: self as *const Instance as usize,
         };
         let end = self.do_step_watched(t, h, &mut watch)?;
         Ok(matches!(end, StepEnd::Early { .. }))

@@ -23,7 +23,7 @@ impl H {
         let (logger, log) = Logger::capture("t", logging_on);
         let inst = Instance::new(&entry, logger);
         H {
-            c: Box::into_raw(Box::new(inst)).cast(),
+            c: crate::fmi::handle::into_component(inst),
             log,
         }
     }
@@ -31,7 +31,7 @@ impl H {
         H::new(probe_entry(), false)
     }
     fn inst(&self) -> &Instance {
-        unsafe { &*self.c.cast::<Instance>() }
+        unsafe { crate::fmi::handle::peek(self.c) }
     }
     fn state(&self) -> State {
         self.inst().state()

@@ -7,24 +7,11 @@
 //! declare no intermediate variables), `intermediateStepFinished` true and `canReturnEarly`
 //! equal to `earlyReturnAllowed`. An early return it requests ends the step at
 //! `earlyReturnTime` when that lies ahead, at once otherwise. While the callback runs, calls back
-//! into the same instance are refused ([`reentered`]): the instance is in the middle of its step.
-
-use std::cell::Cell;
+//! into the same instance are refused, as from every other callback of the instance
+//! ([`super::handle`]: `fmi3DoStep` holds the instance until it returns).
 
 use super::types3::{fmi3InstanceEnvironment, fmi3IntermediateUpdateCallback};
 use crate::scene::watch::StepWatch;
-
-thread_local! {
-    /// Address of the instance whose intermediate-update callback is running on this thread
-    /// (0: none).
-    static IN_CALLBACK: Cell<usize> = const { Cell::new(0) };
-}
-
-/// True when `instance` (its address) is inside its own intermediate-update callback on this
-/// thread: a call into it now would alias the instance that is stepping.
-pub fn reentered(instance: usize) -> bool {
-    instance != 0 && IN_CALLBACK.with(|c| c.get()) == instance
-}
 
 /// The importer's choices at instantiation (FMI 3.0 only; FMI 2.0 instances keep the default:
 /// no early return, no callback).
@@ -38,10 +25,9 @@ pub struct ImporterOptions {
     pub environment: usize,
 }
 
-/// The watch of one `fmi3DoStep` of the instance at address `instance`.
+/// The watch of one `fmi3DoStep`.
 pub struct ImporterWatch {
     pub options: ImporterOptions,
-    pub instance: usize,
 }
 
 impl StepWatch for ImporterWatch {
@@ -56,10 +42,9 @@ impl StepWatch for ImporterWatch {
     fn internal_step(&mut self, t: f64) -> Option<f64> {
         let callback = self.options.callback?;
         let (mut requested, mut at) = (0u8, t);
-        let previous = IN_CALLBACK.with(|c| c.replace(self.instance));
         // SAFETY: the importer gave this callback and environment at instantiation for exactly
         // this call; the out-pointers are valid locals. Calls back into this instance are refused
-        // while it runs (`reentered`).
+        // while it runs (`super::handle::enter`).
         unsafe {
             callback(
                 self.options.environment as fmi3InstanceEnvironment,
@@ -72,7 +57,6 @@ impl StepWatch for ImporterWatch {
                 &mut at,
             );
         }
-        IN_CALLBACK.with(|c| c.set(previous));
         if requested == 0 || !self.options.early_return {
             return None;
         }

@@ -10,7 +10,12 @@
 //!
 //! The logger is variadic and printf-style, so it is always called with the format `"%s"` and the
 //! message as its argument: a `%` in a message can never be read as a conversion.
+//!
+//! A message longer than [`MAX_MESSAGE`] bytes (a message that echoes a 10 MB string the importer
+//! passed, say) is cut at a character boundary after [`MAX_MESSAGE`] bytes and ends with
+//! `... (N more characters)` ([`clip`]), whatever the sink.
 
+use std::borrow::Cow;
 use std::ffi::{CStr, CString};
 
 use super::types::*;
@@ -94,7 +99,7 @@ struct Env(fmi2ComponentEnvironment);
 unsafe impl Send for Env {}
 
 /// Where messages go.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 enum Sink {
     /// The importer's callback.
     Importer(
@@ -131,7 +136,7 @@ enum Sink {
 pub type Captured = (fmi2Status, Category, String);
 
 /// The importer's logger plus the filters set by `loggingOn` and `fmi2SetDebugLogging`.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Logger {
     sink: Sink,
     name: CString,
@@ -226,11 +231,13 @@ impl Logger {
         status >= fmi2Discard || (self.logging_on && self.enabled[category.index()])
     }
 
-    /// Sends `message` with its status and category, if the filters let it through.
+    /// Sends `message` with its status and category, if the filters let it through; a message
+    /// longer than [`MAX_MESSAGE`] bytes is cut ([`clip`]).
     pub fn log(&self, status: fmi2Status, category: Category, message: &str) {
         if !self.passes(status, category) {
             return;
         }
+        let message = &*clip(message);
         match &self.sink {
             Sink::Importer(f, env) => {
                 let msg = to_cstring(message);
@@ -269,6 +276,24 @@ impl Logger {
     }
 }
 
+/// The longest message text sent to a logger, in bytes (before the `... (N more characters)`
+/// suffix of a cut message).
+pub const MAX_MESSAGE: usize = 4096;
+
+/// `message`, or its first [`MAX_MESSAGE`] bytes (cut at a character boundary) followed by
+/// `... (N more characters)` when it is longer.
+pub fn clip(message: &str) -> Cow<'_, str> {
+    if message.len() <= MAX_MESSAGE {
+        return Cow::Borrowed(message);
+    }
+    let mut end = MAX_MESSAGE;
+    while !message.is_char_boundary(end) {
+        end -= 1;
+    }
+    let more = message[end..].chars().count();
+    Cow::Owned(format!("{}... ({more} more characters)", &message[..end]))
+}
+
 /// `s` as a C string; interior NUL bytes are shown as `\0`.
 pub fn to_cstring(s: &str) -> CString {
     CString::new(s.replace('\0', "\\0")).unwrap_or_default()
@@ -295,5 +320,31 @@ mod tests {
         assert_eq!(Category::from_name(b"logSolver"), Some(Category::Solver));
         assert_eq!(Category::from_name(b"logNope"), None);
         assert_eq!(to_cstring("a\0b").to_bytes(), b"a\\0b");
+    }
+
+    #[test]
+    fn long_messages_are_cut_at_a_character_boundary() {
+        assert!(matches!(clip("short"), Cow::Borrowed("short")));
+        let exact = "x".repeat(MAX_MESSAGE);
+        assert_eq!(clip(&exact), exact);
+        let long = format!("{}{}", "a".repeat(MAX_MESSAGE - 1), "é".repeat(10));
+        let cut = clip(&long);
+        assert_eq!(
+            cut,
+            format!("{}... (10 more characters)", "a".repeat(MAX_MESSAGE - 1))
+        );
+        let (l, log) = Logger::capture("x", false);
+        l.log(
+            fmi2Error,
+            Category::StatusError,
+            &format!("name `{}`", "n".repeat(10_000_000)),
+        );
+        let got = log.lock().unwrap()[0].2.clone();
+        assert!(got.len() < MAX_MESSAGE + 40, "{}", got.len());
+        assert!(
+            got.ends_with("... (9995911 more characters)"),
+            "{}",
+            &got[4000..]
+        );
     }
 }

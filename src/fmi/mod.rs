@@ -11,9 +11,10 @@
 //!
 //! - [`types`]: hand-written `#[repr(C)]` FMI 2.0 types.
 //! - [`exports`](self#functions): the 34 `fmi2*` functions (re-exported here).
-//! - [`boundary`]: panic guard and pointer conversions; [`instance`]: the state machine and the
+//! - [`boundary`]: panic guard and pointer conversions; [`handle`]: instance handles (magic
+//!   number, freed handles, calls from inside the instance's callbacks); [`instance`]: the state machine and the
 //!   function bodies in safe Rust; [`machine`]: states and per-function masks; [`logger`]: log
-//!   categories and filters; [`snapshot`]: FMU states and their byte format.
+//!   categories and filters; [`resource_location`]: the resources folder and its scene file; [`snapshot`]: FMU states and their byte format.
 //! - [`model_description`] and [`units`]: `modelDescription.xml` from a variable table;
 //!   [`package`] and [`documentation`]: the `.fmu` archive.
 #![allow(unsafe_code, non_snake_case, non_upper_case_globals)]
@@ -23,6 +24,7 @@ pub mod boundary;
 pub mod documentation;
 mod exports;
 mod exports3;
+pub mod handle;
 pub mod instance;
 pub mod intermediate;
 pub mod logger;
@@ -30,6 +32,7 @@ pub mod machine;
 pub mod model_description;
 pub mod model_description3;
 pub mod package;
+pub mod resource_location;
 pub mod sketch;
 pub mod snapshot;
 #[cfg(test)]

@@ -276,7 +276,12 @@ CASES = [
     ("instantiate_null_name", NULL, "instanceName is NULL", lambda x: _instantiate(x, name=None)),
     ("instantiate_null_callbacks", NULL, "stderr:functions (the callback struct) is NULL", lambda x: _instantiate(x, callbacks=False)),
     ("instantiate_guid_with_format_directives", NULL, "%s%n%p%n", lambda x: _instantiate(x, guid="%s%n%p%n")),
-    ("instantiate_odd_resource_location_is_fine", R.OK, None, lambda x: _instantiate(x, resource_uri="not a uri")),
+    # an unusable resource location is refused, never run with other parameters (issue #48,
+    # docs/resource_location.md)
+    ("instantiate_relative_resource_location", NULL, "neither a file: URI nor an absolute path",
+     lambda x: _instantiate(x, resource_uri="not a uri")),
+    ("instantiate_http_resource_location", NULL, "URI scheme `http:`",
+     lambda x: _instantiate(x, resource_uri="http://example.com/resources")),
     ("null_logger_still_reports", R.ERROR, "stderr:illegal call sequence", lambda x: _seq(x.new(logger=False), lambda i: i.do_step(0, x.h))),
     ("null_instance", R.ERROR, "stderr:NULL instance", _null_component),
     ("free_null_instance", R.OK, None, _free_null),

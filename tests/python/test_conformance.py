@@ -7,9 +7,10 @@ locations.
 - Tolerance of fmi2SetupExperiment: becomes the model's `rtol` (bit for bit the run with `rtol`
   set to it) unless the importer sets `rtol` itself, which wins; a tolerance outside `rtol`'s
   range is an error; every decision is logged in category logSolver.
-- fmuResourceLocation: a plain path, NULL or a missing folder still instantiates, with a warning
-  that names what was received and says the scene.toml is not read; the FMU's root folder is
-  taken to mean its resources/ folder (warning, scene.toml applied).
+- fmuResourceLocation (docs/resource_location.md): NULL still instantiates, with a warning that
+  says the scene.toml is not read; a plain absolute path is used (warning, scene.toml applied); a
+  missing folder is refused (NULL, the error names it): never silently different physics; the
+  FMU's root folder is taken to mean its resources/ folder (warning, scene.toml applied).
 """
 
 import math
@@ -360,7 +361,7 @@ def _warnings(inst):
 
 
 @pytest.mark.parametrize("edited_root", [n for n in _names() if n in SCENE_EDITS], indirect=True)
-def test_unusable_resource_location_instantiates_with_a_warning(edited_root):
+def test_resource_locations_are_used_or_refused(edited_root):
     name, md, unzip, root = edited_root
     param, _, _, default, edited = SCENE_EDITS[name]
     lib = fmi2raw.Library(unzip, md.coSimulation.modelIdentifier)
@@ -372,26 +373,34 @@ def test_unusable_resource_location_instantiates_with_a_warning(edited_root):
     assert _parameter(inst, md, param) == edited
     inst.free()
 
-    unusable = {
-        "plain path": (str(resources).encode(), str(resources)),
-        "NULL": (None, "NULL"),
-        "missing folder": ((root / "missing").as_uri().encode(), (root / "missing").as_uri()),
-    }
-    for case, (location, shown) in unusable.items():
-        inst = _Instance(lib, md.guid, location)
-        assert inst.c, f"{name} {case}: fmi2Instantiate returned NULL: {inst.log}"
-        warnings = _warnings(inst)
-        assert len(warnings) == 1, f"{name} {case}: {inst.log}"
-        category, text = warnings[0]
-        assert category == "logStatusWarning", (name, case, category)
-        assert shown in text, f"{name} {case}: the warning must name `{shown}`: {text}"
-        assert "scene.toml is not read" in text, f"{name} {case}: {text}"
-        assert _parameter(inst, md, param) == default, f"{name} {case}: built-in default expected"
-        # the instance works: it initializes and steps
-        for n, value in RUNS[name]["values"].items():
-            assert _set(inst.set_real, inst.set_integer, inst.set_boolean, _by_name(md)[n], value) == fmi2raw.OK
-        assert inst.exit() == fmi2raw.OK and inst.do_step(0.0, 0.01) == fmi2raw.OK, inst.messages()
-        inst.free()
+    # a plain absolute path: used, with a warning that says it is not a URI
+    inst = _Instance(lib, md.guid, str(resources).encode())
+    assert inst.c, f"{name} plain path: fmi2Instantiate returned NULL: {inst.log}"
+    warnings = _warnings(inst)
+    assert len(warnings) == 1 and str(resources) in warnings[0][1] and "plain path" in warnings[0][1], inst.log
+    assert _parameter(inst, md, param) == edited, f"{name} plain path: its scene.toml must be applied"
+    inst.free()
+
+    # NULL: no resources given; a warning, the built-in defaults, and a working instance
+    inst = _Instance(lib, md.guid, None)
+    assert inst.c, f"{name} NULL: fmi2Instantiate returned NULL: {inst.log}"
+    warnings = _warnings(inst)
+    assert len(warnings) == 1, f"{name} NULL: {inst.log}"
+    category, text = warnings[0]
+    assert category == "logStatusWarning", (name, category)
+    assert "NULL" in text and "scene.toml is not read" in text, f"{name} NULL: {text}"
+    assert _parameter(inst, md, param) == default, f"{name} NULL: built-in default expected"
+    for n, value in RUNS[name]["values"].items():
+        assert _set(inst.set_real, inst.set_integer, inst.set_boolean, _by_name(md)[n], value) == fmi2raw.OK
+    assert inst.exit() == fmi2raw.OK and inst.do_step(0.0, 0.01) == fmi2raw.OK, inst.messages()
+    inst.free()
+
+    # a folder that does not exist: refused, the error names it (never other physics silently)
+    missing = (root / "missing").as_uri()
+    inst = _Instance(lib, md.guid, missing.encode())
+    assert not inst.c, f"{name} missing folder: instantiated: {inst.log}"
+    errors = inst.messages(fmi2raw.ERROR)
+    assert errors and missing in errors[-1] and "not an existing folder" in errors[-1], inst.log
 
     # the FMU's root folder: its resources/ is used
     inst = _Instance(lib, md.guid, root.as_uri().encode())

@@ -4,10 +4,13 @@ use std::os::raw::c_char;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::ptr::null_mut;
 
-use crate::fmi::boundary::{c_str, guard, in_slice, panic_message, resource_folder};
+use crate::fmi::boundary::{c_str, guard, in_slice, panic_message};
+use crate::fmi::handle;
 use crate::fmi::instance::Instance;
+use crate::fmi::intermediate::ImporterOptions;
 use crate::fmi::logger::{CATEGORIES, Category, Logger};
 use crate::fmi::machine::{ALIVE, INIT_MODE, INSTANTIATED, TERMINATE};
+use crate::fmi::resource_location::{Location, resource_folder};
 use crate::fmi::types::*;
 use crate::scene;
 
@@ -111,19 +114,30 @@ unsafe fn instantiate(
         Ok(g) => g,
         Err(e) => return fail(e),
     };
-    let folder = resource_folder(unsafe { c_str(resource_location, "fmuResourceLocation") });
-    create("fmi2Instantiate", "GUID", logger, guid, folder)
+    let folder = resource_folder(
+        (!resource_location.is_null())
+            .then(|| unsafe { c_str(resource_location, "fmuResourceLocation") }),
+    );
+    create(
+        "fmi2Instantiate",
+        "GUID",
+        logger,
+        guid,
+        folder,
+        ImporterOptions::default(),
+    )
 }
 
-/// The instance of the model whose GUID is `guid`, with its logger and resources folder, or NULL
-/// with the reason logged. Shared by `fmi2Instantiate` and `fmi3InstantiateCoSimulation`: `func`
-/// names the caller in messages, `token` the GUID argument.
+/// The instance of the model whose GUID is `guid`, with its logger, resources folder and the
+/// importer's FMI 3.0 options, or NULL with the reason logged. Shared by `fmi2Instantiate` and
+/// `fmi3InstantiateCoSimulation`: `func` names the caller in messages, `token` the GUID argument.
 pub(crate) fn create(
     func: &str,
     token: &str,
     logger: Logger,
     guid: &str,
-    folder: Result<(std::path::PathBuf, Option<String>), String>,
+    folder: Result<Location, String>,
+    importer: ImporterOptions,
 ) -> fmi2Component {
     let Some(entry) = scene::find_by_guid(guid) else {
         let known: Vec<String> = scene::registry()
@@ -143,7 +157,7 @@ pub(crate) fn create(
     };
     let mut inst = Instance::new(&entry, logger);
     let dir = match folder {
-        Ok((dir, note)) => {
+        Ok(Location::Folder(dir, note)) => {
             if let Some(note) = note {
                 inst.log.log(
                     fmi2Warning,
@@ -153,7 +167,7 @@ pub(crate) fn create(
             }
             Some(dir)
         }
-        Err(reason) if entry.resources.is_empty() => {
+        Ok(Location::Absent(reason)) if entry.resources.is_empty() => {
             inst.log.log(
                 fmi2Warning,
                 Category::StatusWarning,
@@ -163,13 +177,23 @@ pub(crate) fn create(
             );
             None
         }
-        Err(reason) => {
+        Ok(Location::Absent(reason)) => {
             inst.log.log(
                 fmi2Error,
                 Category::StatusError,
                 &format!(
                     "{func}: {reason}; model `{}` needs its resources folder (its data files); instance not created",
                     (entry.info)().identifier
+                ),
+            );
+            return null_mut();
+        }
+        Err(reason) => {
+            inst.log.log(
+                fmi2Error,
+                Category::StatusError,
+                &format!(
+                    "{func}: {reason}; the FMU's resources (its scene.toml) cannot be read from there, so the instance is not created rather than run with other parameters (pass the file: URI of the unpacked FMU's resources folder, or NULL for the built-in defaults)"
                 ),
             );
             return null_mut();
@@ -183,25 +207,30 @@ pub(crate) fn create(
         );
         return null_mut();
     }
-    Box::into_raw(Box::new(inst)).cast()
+    inst.importer = importer;
+    handle::into_component(inst)
 }
 
-/// Frees the instance and every FMU state it owns; NULL is ignored.
+/// Frees the instance and every FMU state it owns; NULL is ignored, and so (with a message) are
+/// a handle already freed, a pointer that is not an instance, and a call from inside one of the
+/// instance's own callbacks ([`handle::free`]).
 ///
 /// # Safety
-/// `c` must be NULL or a live handle from `fmi2Instantiate`; it is invalid afterwards.
+/// `c` must be NULL or a handle from `fmi2Instantiate`; it is invalid afterwards.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
-    if c.is_null() {
-        return;
-    }
-    // SAFETY: a live handle created by Box::into_raw in fmi2Instantiate.
-    let res = catch_unwind(AssertUnwindSafe(|| {
-        drop(unsafe { Box::from_raw(c.cast::<Instance>()) })
-    }));
+    unsafe { free_instance(c, "fmi2FreeInstance") }
+}
+
+/// The body of `fmi2FreeInstance` and `fmi3FreeInstance` (`func`).
+///
+/// # Safety
+/// As for `fmi2FreeInstance`.
+pub(crate) unsafe fn free_instance(c: fmi2Component, func: &'static str) {
+    let res = catch_unwind(AssertUnwindSafe(|| unsafe { handle::free(c, func) }));
     if let Err(p) = res {
         eprintln!(
-            "mbcosim: fmi2FreeInstance: internal error: {}",
+            "mbcosim: {func}: internal error: {}",
             panic_message(p.as_ref())
         );
     }

@@ -4,12 +4,12 @@ use std::os::raw::c_char;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::ptr::null_mut;
 
-use crate::fmi::boundary::{c_str, guard, in_slice, panic_message, resource_folder3};
-use crate::fmi::exports::{create, fmi2FreeInstance, set_debug_logging};
-use crate::fmi::instance::Instance;
+use crate::fmi::boundary::{c_str, guard, in_slice, panic_message};
+use crate::fmi::exports::{create, free_instance, set_debug_logging};
 use crate::fmi::intermediate::ImporterOptions;
 use crate::fmi::logger::{Category, Logger};
 use crate::fmi::machine::{ALIVE, INIT_MODE, INSTANTIATED, TERMINATE};
+use crate::fmi::resource_location::resource_folder3;
 use crate::fmi::types::{fmi2Error, fmi2Warning};
 use crate::fmi::types3::*;
 
@@ -109,18 +109,15 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 );
             }
         }
-        let folder = resource_folder3(c_str(resourcePath, "resourcePath"));
-        let instance = create(F, "instantiationToken", logger, token, folder);
-        if !instance.is_null() {
-            // SAFETY: `create` returned a live instance that nobody else holds yet.
-            let inst = &mut *instance.cast::<Instance>();
-            inst.importer = ImporterOptions {
-                early_return: earlyReturnAllowed != 0,
-                callback: intermediateUpdate,
-                environment: instanceEnvironment as usize,
-            };
-        }
-        instance
+        let folder = resource_folder3(
+            (!resourcePath.is_null()).then(|| c_str(resourcePath, "resourcePath")),
+        );
+        let importer = ImporterOptions {
+            early_return: earlyReturnAllowed != 0,
+            callback: intermediateUpdate,
+            environment: instanceEnvironment as usize,
+        };
+        create(F, "instantiationToken", logger, token, folder, importer)
     });
     catch_unwind(run).unwrap_or_else(|p| {
         eprintln!(
@@ -211,7 +208,7 @@ unsafe fn refuse_interface(
 /// `instance` must be NULL or a live handle; it is invalid afterwards.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3FreeInstance(instance: fmi3Instance) {
-    unsafe { fmi2FreeInstance(instance) }
+    unsafe { free_instance(instance, "fmi3FreeInstance") }
 }
 
 /// Records tolerance, start and stop time [s] and enters initialization mode.
