@@ -1134,12 +1134,17 @@ impl Integrator for Bdf {
         }
         m.push(self.lam.len() as f64);
         m.extend_from_slice(&self.lam);
-        match (&self.jac_point, self.jac_valid) {
-            (Some(p), true) => {
+        // the matrix point: the valid one, or a restored one not formed again yet
+        let point = match (&self.jac_point, self.jac_valid) {
+            (Some(p), true) => Some(p),
+            _ => self.pending.as_ref(),
+        };
+        match point {
+            Some(p) => {
                 m.push(1.0);
                 p.write(&mut m);
             }
-            _ => m.push(0.0),
+            None => m.push(0.0),
         }
         // optional (states written before it have none): the previous multipliers
         if let Some((t, l)) = &self.lam_prev {

@@ -932,12 +932,17 @@ impl Integrator for GenAlpha {
     fn memory(&self) -> Vec<f64> {
         let mut m = vec![self.h, self.p_prev.0, self.p_prev.1, self.a.len() as f64];
         m.extend_from_slice(&self.a);
-        match (&self.jac_point, self.jac_valid) {
-            (Some(p), true) => {
+        // the matrix point: the valid one, or a restored one not formed again yet
+        let point = match (&self.jac_point, self.jac_valid) {
+            (Some(p), true) => Some(p),
+            _ => self.pending.as_ref(),
+        };
+        match point {
+            Some(p) => {
                 m.push(1.0);
                 p.write(&mut m);
             }
-            _ => m.push(0.0),
+            None => m.push(0.0),
         }
         m
     }

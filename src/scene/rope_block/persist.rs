@@ -12,7 +12,7 @@
 
 use super::build::build;
 use super::params::RopeBlockParams;
-use super::runner::RopeBlockSim;
+use super::runner::{RopeBlockSim, run_settings};
 use super::scene::solver_settings;
 use super::structure::{BlockSpec, EndSpec, LoadSpec, NodeContact, NodeSpec, RopeSpec, Structure};
 use crate::math::{Mat3, Quat, Vec3};
@@ -462,7 +462,7 @@ pub fn read_sim(
         version,
     )?;
     let (settings, contact) = solver_settings(params);
-    let mut sim = Simulation::new(model, params.integrator, settings, state.t)
+    let mut sim = Simulation::new(model, params.integrator, run_settings(settings), state.t)
         .map_err(ModelError::BadState)?;
     if inputs.len() != sim.system.inputs.len() {
         return Err(bad(

@@ -48,6 +48,15 @@ pub struct RopeBlockSim {
     pub hook_ramp: f64,
 }
 
+/// The integrator settings a RopeBlock scene runs `settings` with (see [`RopeBlockSim::new`]
+/// for why): the error held per step, on the positions only. A restored state runs with the
+/// same ([`super::persist::read_sim`]).
+pub fn run_settings(mut settings: Settings) -> Settings {
+    settings.error_per_unit_step = false;
+    settings.error_includes_speeds = false;
+    settings
+}
+
 impl RopeBlockSim {
     /// Inserts contact nodes at every initial crossing, builds the model and finds consistent
     /// initial conditions at `t0` [s]. Generalized-alpha holds its error per step here
@@ -60,7 +69,7 @@ impl RopeBlockSim {
     pub fn new(
         mut structure: Structure,
         kind: IntegratorKind,
-        mut settings: Settings,
+        settings: Settings,
         contact: ContactSettings,
         t0: f64,
     ) -> Result<Self, String> {
@@ -72,9 +81,7 @@ impl RopeBlockSim {
             insert_initial_contacts(&mut structure, contact.tolerance, contact.max_depth, 100);
         }
         let (model, map) = build(&structure)?;
-        settings.error_per_unit_step = false;
-        settings.error_includes_speeds = false;
-        let sim = Simulation::new(model, kind, settings, t0)?;
+        let sim = Simulation::new(model, kind, run_settings(settings), t0)?;
         Ok(RopeBlockSim {
             structure,
             sim,
