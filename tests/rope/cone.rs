@@ -76,8 +76,8 @@ fn tilted_run(tilt_deg: f64, t1: f64) -> Tilted {
         sim.advance_to(t).unwrap();
         let modes = sim.slip_modes();
         for rep in sim.contact_reports() {
-            let n = rep.pull.normal;
-            let f = rep.hold_force.hypot(rep.pull.along_rope);
+            let n = rep.reaction.normal;
+            let f = rep.reaction.friction();
             let excess = if n > 0.0 { f / (MU * n) } else { 0.0 };
             if f > MU * n.max(0.0) * (1.0 + 1e-9) + floor && first_bad.is_none() {
                 first_bad = Some(format!(

@@ -10,6 +10,7 @@ mod hanging;
 mod hard_cases;
 mod jacobian;
 mod lift_cone;
+mod reported_cone;
 mod reports;
 mod rig;
 mod slings;

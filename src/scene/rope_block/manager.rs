@@ -15,7 +15,7 @@ use crate::math::Vec3;
 use crate::rope::cone::{NodeCone, SegmentAxial, ShareSearch, edge_slide};
 use crate::rope::friction::{self, ContactFrame, Reaction};
 use crate::rope::shell::detect::{clears_edge, segment_crossing};
-use crate::rope::{NodeSegments, RopeEffect};
+use crate::rope::{NodeSegments, RopeEffect, SlipMode};
 use crate::state::State;
 
 /// Settings of contact detection and node management.
@@ -134,7 +134,19 @@ pub struct NodeReport {
     pub rope: usize,
     pub node: usize,
     pub frame: ContactFrame,
+    /// The force of the plate edge on the rope at the node [N], in `frame`, as the dynamics
+    /// applies it: the normal force `N` and the friction along the rope `F_r` of the rope's pull
+    /// ([`NodeReport::pull`]: what the plate supplies to the tensions either side) and the
+    /// friction along the edge `F_e` of the hold ([`NodeReport::hold_force`]). This is the force
+    /// the node's Coulomb cone is enforced on, so `|(F_e, F_r)| <= mu N`. It is not the line
+    /// joint's multipliers: those also carry the node's lumped rope mass (its weight, 30.8 N
+    /// across the edge in the default rig, and its inertia) and, from an index-3 integrator, are
+    /// no physical reaction at a point in time.
     pub reaction: Reaction,
+    /// Coefficient `mu` of the node's Coulomb cone [-] (0: friction off) and its slip state
+    /// along the rope, from the memory the report was taken with.
+    pub mu: f64,
+    pub mode: SlipMode,
     pub segments: NodeSegments,
     /// Turning angle of the rope at the node [rad].
     pub turn: f64,
@@ -157,6 +169,15 @@ pub struct NodeReport {
     pub pull: Reaction,
 }
 
+impl NodeReport {
+    /// The slip flag a user reads: 0 while the node sticks along the rope or has no friction
+    /// (`mu = 0`: the rope runs freely through it and its slip direction is noise), else the
+    /// slip state's code (+1 forward, -1 backward).
+    pub fn slip_code(&self) -> f64 {
+        if self.mu > 0.0 { self.mode.code() } else { 0.0 }
+    }
+}
+
 /// Evaluates every contact node of the current build at `state`.
 pub fn node_reports(
     sys: &mut System,
@@ -164,7 +185,6 @@ pub fn node_reports(
     s: &Structure,
     st: &State,
 ) -> Vec<NodeReport> {
-    let rows = contact_rows(sys, map);
     sys.update_kinematics(&st.q, &st.v);
     let ctx = rope_ctx(map, sys.kins(), &sys.inputs, st);
     let rope = &map.rope;
@@ -188,21 +208,22 @@ pub fn node_reports(
         let plate_normal = kin.rot * edge.mean_normal();
         let frame = ContactFrame::new(&(kin.rot * edge.dir), &plate_normal, &e_prev, &e_next)
             .facing_plate(&plate_normal);
-        // reaction of the block on the node: the two line rows (-G^T lambda) plus the friction
-        // element along the edge
-        let rr = rows[c];
-        let axes = crate::model::Frame::with_z(map.blocks[ct.block], edge.a, edge.dir).axes;
-        let (xw, yw) = (kin.rot * axes.column(0), kin.rot * axes.column(1));
         let hold = rope.edge_hold(&ctx, c);
         let along = hold.map(|h| h.force).unwrap_or(0.0);
-        let lam = -(xw * st.lambda[rr[0]] + yw * st.lambda[rr[1]]) + kin.rot * edge.dir * along;
+        let pull = friction::rope_pull(&frame, &e_prev, &e_next, segs[c].t_prev, segs[c].t_next);
+        let (mode, _) = rope.contact_state(ctx.memory, c);
         let turn = std::f64::consts::PI - e_prev.dot(&e_next).clamp(-1.0, 1.0).acos();
         out.push(NodeReport {
             slot: c,
             rope: r,
             node: i,
             frame,
-            reaction: Reaction::new(&lam, &frame),
+            reaction: Reaction {
+                along_edge: along,
+                ..pull
+            },
+            mu: rope.contact_mu(ctx.memory, c),
+            mode,
             segments: segs[c],
             turn,
             e_prev,
@@ -213,27 +234,10 @@ pub fn node_reports(
             p_next: pn,
             u: hold.map(|h| h.u).unwrap_or(0.0),
             hold_force: along,
-            pull: friction::rope_pull(&frame, &e_prev, &e_next, segs[c].t_prev, segs[c].t_next),
+            pull,
         });
     }
     out
-}
-
-/// Multiplier rows of each contact slot's line joint (its first two active rows, ascending),
-/// from one pass over the active rows: a search of all rows per slot made every accepted step
-/// cost O(k^2) in the number k of contact nodes.
-pub fn contact_rows(sys: &System, map: &BuildMap) -> Vec<[usize; 2]> {
-    let joints = map.contacts.iter().map(|c| c.2 + 1).max().unwrap_or(0);
-    let mut rows = vec![Vec::with_capacity(2); joints];
-    for r in 0..sys.n_c() {
-        if let Some(list) = sys.joint_of_active_row(r).and_then(|j| rows.get_mut(j)) {
-            list.push(r);
-        }
-    }
-    map.contacts
-        .iter()
-        .map(|&(_, _, j)| [rows[j][0], rows[j][1]])
-        .collect()
 }
 
 /// The cone settlement's view ([`NodeCone`]) of a reported node, with the rope's memory `mem`.
