@@ -1,5 +1,6 @@
 //! RopeBlock physics tests against independent references (one test binary for build speed).
 
+mod at_rest;
 mod bordered;
 mod capstan;
 mod cone;

@@ -130,6 +130,19 @@ fn lift_reports_contact_forces_inside_the_cone() {
 }
 
 #[test]
+fn turnover_reports_contact_forces_inside_the_cone() {
+    // crane B lowering its slings at 0.4 m/s, as the shipped turn-over scenario is driven
+    let scene = RopeBlockScene::new(RopeBlockParams::turnover()).unwrap();
+    let lower = |scene: &mut RopeBlockScene, t: f64| {
+        if t == 0.0 {
+            scene.set_hook(1, Vec3::new(0.0, 0.0, -0.4), 0.0).unwrap();
+        }
+    };
+    let cone = run(scene, 40, 0.05, lower);
+    assert_inside("turn-over", &cone, 60);
+}
+
+#[test]
 fn friction_off_reports_exactly_zero_friction_and_no_slip() {
     // a block hanging at rest on frictionless slings (the reviewer's CLI case): the rope runs
     // freely through every node, so no friction acts; the normal force is the bisector's share of

@@ -12,7 +12,7 @@ use super::structure::Structure;
 use crate::dae::System;
 use crate::integrator::{SolverError, StepAction, StepHook};
 use crate::math::Vec3;
-use crate::rope::cone::{NodeCone, SegmentAxial, ShareSearch, edge_slide};
+use crate::rope::cone::{EdgeFriction, NodeCone, ShareSearch, edge_friction};
 use crate::rope::friction::{self, ContactFrame, Reaction};
 use crate::rope::shell::detect::{clears_edge, segment_crossing};
 use crate::rope::{NodeSegments, RopeEffect, SlipMode};
@@ -158,8 +158,10 @@ pub struct NodeReport {
     /// Positions of the previous and next rope points [m], world.
     pub p_prev: Vec3,
     pub p_next: Vec3,
-    /// Coordinate of the node along its edge [m] from the edge's first end.
+    /// Coordinate of the node along its edge [m] from the edge's first end, and its rate [m/s]
+    /// (relative to the block).
     pub u: f64,
+    pub u_dot: f64,
     /// Force of the hold along the edge on the node [N].
     pub hold_force: f64,
     /// The rope's pull on the node split in the contact frame: what the plate (joint and hold)
@@ -233,6 +235,7 @@ pub fn node_reports(
             p_prev: pp,
             p_next: pn,
             u: hold.map(|h| h.u).unwrap_or(0.0),
+            u_dot: hold.map(|h| h.u_dot).unwrap_or(0.0),
             hold_force: along,
             pull,
         });
@@ -303,38 +306,39 @@ impl Manager<'_> {
                 }
             }
             // friction along the edge: the node's Coulomb cone gives the edge's load way last
-            // (friction::return_map), so the edge slides once its hold's force exceeds mu N,
-            // by the move of `cone::edge_slide` (the hold's force itself is cut to the cone by
-            // `enforce_cone`)
+            // (friction::return_map), so the edge slides once its hold's force exceeds mu N, and
+            // then moves with the dynamics against a constant friction force on the cone
+            // (`cone::edge_friction`; its force is set on the cone again by `enforce_cone`)
             let seg = rep.segments;
-            st.memory[o + 4] = mu * n.max(0.0);
-            let e = &rep.frame.edge;
-            let axial = |tension, rest, length, dir| SegmentAxial {
-                tension,
-                rest,
-                length,
-                dir,
+            let slide = st.memory[o + 5];
+            if slide == 0.0 {
+                st.memory[o + 4] = mu * n.max(0.0);
+            }
+            let decision =
+                edge_friction(mu, n, rep.pull.along_rope, rep.hold_force, slide, rep.u_dot);
+            let write = match decision {
+                EdgeFriction::Stick => None,
+                EdgeFriction::Slide(force) => {
+                    self.counters.edge_slides += 1;
+                    let sign = if slide != 0.0 { slide } else { force.signum() };
+                    Some([sign, force.abs(), st.memory[o + 3]])
+                }
+                EdgeFriction::Restick(force) => {
+                    let ctx = rope_ctx(self.map, sys.kins(), &sys.inputs, st);
+                    let anchor = rope.hold_anchor_for(&ctx, c, force);
+                    Some([0.0, st.memory[o + 4], anchor.unwrap_or(st.memory[o + 3])])
+                }
             };
-            if let Some(du) = edge_slide(
-                mu,
-                n,
-                rep.hold_force,
-                e,
-                spec.props.ea,
-                &axial(seg.t_prev, seg.rest_prev, rep.l_prev, rep.e_prev),
-                &axial(seg.t_next, seg.rest_next, rep.l_next, rep.e_next),
-            ) {
+            if let Some([state, cap, anchor]) = write
+                && [st.memory[o + 5], st.memory[o + 4], st.memory[o + 3]] != [state, cap, anchor]
+            {
                 if self.energy_before_slides.is_none() {
                     // the system still holds the step's memory and these positions
                     self.energy_before_slides = Some(self.mechanical_energy(sys, st));
                 }
-                st.memory[o + 3] += du;
-                let body = self.map.nodes[rep.rope][rep.node];
-                let qo = sys.model.bodies[body.index().unwrap_or(0)].q_offset;
-                for i in 0..3 {
-                    st.q[qo + i] += du * e[i];
-                }
-                self.counters.edge_slides += 1;
+                st.memory[o + 5] = state;
+                st.memory[o + 4] = cap;
+                st.memory[o + 3] = anchor;
                 changed = true;
             }
             if let Some(m) = mesh
@@ -469,22 +473,39 @@ impl Manager<'_> {
         let reports = node_reports(sys, self.map, self.structure, st);
         let ctx = rope_ctx(self.map, sys.kins(), &sys.inputs, st);
         let mut anchors = Vec::new();
+        let mut caps = Vec::new();
         for rep in &reports {
             let c = rep.slot;
+            let o = base + rope.contact_memory_offset(c);
+            if st.memory[o + 5] != 0.0 {
+                // sliding along the edge: friction on the cone, what it leaves along the edge;
+                // the anchor follows (a spring carrying that force here), which a rebuild takes
+                let cap = friction::edge_capacity(rep.mu, rep.pull.normal, rep.pull.along_rope);
+                let force = st.memory[o + 5].signum() * cap;
+                if let Some(u0) = rope.hold_anchor_for(&ctx, c, force)
+                    && st.memory[o + 3] != u0
+                {
+                    caps.push((o + 3, u0));
+                }
+                if st.memory[o + 4] != cap {
+                    caps.push((o + 4, cap));
+                }
+                continue;
+            }
             if let Some(force) = node_cone(rope, rep, ctx.memory).clipped_hold()
                 && let Some(u0) = rope.hold_anchor_for(&ctx, c, force)
             {
                 anchors.push((base + rope.contact_memory_offset(c) + 3, u0));
             }
         }
-        if anchors.is_empty() {
+        if anchors.is_empty() && caps.is_empty() {
             return false;
         }
         if self.energy_before_slides.is_none() {
             self.energy_before_slides = Some(self.mechanical_energy(sys, st));
         }
-        for (i, u0) in anchors {
-            st.memory[i] = u0;
+        for (i, value) in anchors.into_iter().chain(caps) {
+            st.memory[i] = value;
         }
         true
     }

@@ -50,9 +50,10 @@ use crate::integrator::Settings;
 use crate::math::Vec3;
 use crate::rope::SlipMode;
 
-/// Static equilibrium with the rope sliding freely over every contact node (equal tensions on
-/// both sides, as when a sling is loaded slowly), then every node sticking where it is.
-/// `weight` [N] scales the force tolerance.
+/// Static equilibrium with the rope sliding freely over every contact node and every node
+/// sliding freely along its edge (equal tensions on both sides and no load along the edge, as
+/// when a sling is loaded slowly), then every node sticking where it is: each node starts inside
+/// its Coulomb cone (no friction at all) and at rest. `weight` [N] scales the force tolerance.
 pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
     let base = sim.map.rope_memory;
     let n = sim.map.rope.n_contacts();
@@ -60,11 +61,15 @@ pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
     for c in 0..n {
         let o = base + sim.map.rope.contact_memory_offset(c);
         let m = &mut sim.sim.state.memory;
-        saved.push((m[o + 1], m[o + 2], m[o + 6]));
-        // frictionless sliding: no share along the rope, no cone to re-stick in
+        saved.push((m[o + 1], m[o + 2], m[o + 6], m[o + 4]));
+        // frictionless sliding: no share along the rope, no cone to re-stick in, and along the
+        // edge a slide against no force (the hold's spring would keep the node at its rigging
+        // point: the turn-over started with 1.28 mu N on its edge, and slid off at once)
         m[o + 1] = SlipMode::SlipForward.code();
         m[o + 2] = 0.0;
         m[o + 6] = 0.0;
+        m[o + 5] = 1.0;
+        m[o + 4] = 0.0;
     }
     sim.sim.restart().map_err(|e| e.0)?;
     statics::solve(sim, 1e-9 * weight, 300)?;
@@ -76,12 +81,19 @@ pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
         &sim.sim.state.v.clone(),
         &mut sim.sim.state.memory,
     );
-    for (c, (mode, share, mu)) in saved.into_iter().enumerate() {
+    // each hold sticks where its node came to rest, carrying nothing
+    let anchors = sim.hold_anchors(0.0);
+    for (c, (mode, share, mu, cap)) in saved.into_iter().enumerate() {
         let o = base + sim.map.rope.contact_memory_offset(c);
         let m = &mut sim.sim.state.memory;
         m[o + 1] = mode;
         m[o + 2] = share;
         m[o + 6] = mu;
+        m[o + 5] = 0.0;
+        m[o + 4] = cap;
+        if let Some(u0) = anchors[c] {
+            m[o + 3] = u0;
+        }
     }
     sim.sim.restart().map_err(|e| e.0)
 }
