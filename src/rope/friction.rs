@@ -117,8 +117,11 @@ impl Reaction {
     /// Pseudo friction coefficient `rho` for friction coefficient `mu`: 1 while
     /// `|F| <= mu N`, else `mu N / |F|` (0 when the normal force pulls).
     pub fn pseudo_friction(&self, mu: f64) -> f64 {
+        if self.normal < 0.0 {
+            return 0.0;
+        }
         let f = self.friction();
-        let cap = mu * self.normal.max(0.0);
+        let cap = mu * self.normal;
         if f <= cap { 1.0 } else { cap / f }
     }
 }
