@@ -12,10 +12,9 @@
 //! - A hold whose force exceeds what the cone leaves along the edge is cut to that capacity
 //!   ([`NodeCone::clipped_hold`]), at sliding nodes and wherever the edge load alone exceeds
 //!   `mu N`.
-//!
-//! - A node whose hold's force alone exceeds `mu N` slides along its edge, by the move that
-//!   brings the hold back to `mu N` against the rope's stiffness along the edge
-//!   ([`edge_slide`]).
+//! - A node whose hold's force alone exceeds `mu N` slides along its edge against a constant
+//!   friction force on the cone, until it stops ([`edge_friction`]); while it slides the cut
+//!   of the previous point sets that force.
 //!
 //! "Outside" means friction above `mu N (1 + 1e-12)` with `N > 0`.
 
@@ -130,46 +129,49 @@ impl NodeCone<'_> {
     }
 }
 
-/// One of a contact node's two segments, as the edge slide sees it.
-#[derive(Debug, Clone, Copy)]
-pub struct SegmentAxial {
-    /// Tension [N] and rest length [m].
-    pub tension: f64,
-    pub rest: f64,
-    /// Length [m] and unit direction from the node (world).
-    pub length: f64,
-    pub dir: Vec3,
+/// What a node's friction along its edge does after an accepted step ([`edge_friction`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EdgeFriction {
+    /// The hold's spring keeps the node where it is.
+    Stick,
+    /// The node slides along its edge against the constant friction force [N] on its coordinate
+    /// (the hold's sign: against the rope's pull along the edge, so against the slide).
+    Slide(f64),
+    /// The slide stopped (the node moves along its friction force, or not at all): the spring
+    /// holds it again, carrying this force [N] at first (continuous across the switch).
+    Restick(f64),
 }
 
-impl SegmentAxial {
-    /// Stiffness [N/m] of the segment against a move of the node along `edge` (unit, world):
-    /// axial `EA / L0` for the part along the segment, the tension's geometric `T / l` across.
-    fn stiffness_along(&self, ea: f64, edge: &Vec3) -> f64 {
-        let c2 = self.dir.dot(edge).powi(2);
-        ea / self.rest.max(1e-12) * c2 + self.tension / self.length * (1.0 - c2)
-    }
-}
-
-/// The edge slide of a node whose hold's force `hold_force` [N] exceeds the cone's edge limit
-/// `mu N` (`normal` > 0): the move [m] of the node and its anchor along `edge` (unit, world) by
-/// the unbalanced force over the rope's stiffness along the edge (segments `prev` and `next`,
-/// axial stiffness `ea` [N]), so that the next step starts at the friction limit; the spring
-/// pushes the node along `+F`, the rope pulls it the other way. `None` inside the limit.
-pub fn edge_slide(
+/// Coulomb along the edge for a node at normal force `normal` [N] (the rope's pull), friction
+/// along the rope `along_rope` [N], the hold's force `hold_force` [N] and the node's rate along
+/// the edge `u_dot` [m/s]; `slide` is the sign of the friction force while the node slides along
+/// its edge (0 while it sticks there). A sticking node whose spring carries more than `mu N`
+/// starts sliding against the spring's sign; a sliding one keeps sliding while it moves against
+/// its friction (the force follows the cone: [`friction::edge_capacity`], `mu N` where the rope
+/// has no friction along it; 0 without normal force), so the edge's friction is on the cone while
+/// the node slides and the rope's tensions stay continuous through it (the node moves with the
+/// dynamics, not by jumps). Once it moves along its friction's sign (the slide turned within the
+/// step) it sticks again.
+pub fn edge_friction(
     mu: f64,
     normal: f64,
+    along_rope: f64,
     hold_force: f64,
-    edge: &Vec3,
-    ea: f64,
-    prev: &SegmentAxial,
-    next: &SegmentAxial,
-) -> Option<f64> {
-    let cap = mu * normal.max(0.0);
-    if !(hold_force.abs() > cap && normal > 0.0) {
-        return None;
+    slide: f64,
+    u_dot: f64,
+) -> EdgeFriction {
+    let capacity = friction::edge_capacity(mu, normal, along_rope);
+    if slide == 0.0 {
+        if normal > 0.0 && hold_force.abs() > mu * normal {
+            return EdgeFriction::Slide(hold_force.signum() * capacity);
+        }
+        return EdgeFriction::Stick;
     }
-    let k = prev.stiffness_along(ea, edge) + next.stiffness_along(ea, edge);
-    Some(-hold_force.signum() * (hold_force.abs() - cap) / k.max(1e-300))
+    if u_dot * slide > 0.0 {
+        EdgeFriction::Restick(hold_force)
+    } else {
+        EdgeFriction::Slide(slide.signum() * capacity)
+    }
 }
 
 /// The fixed point `c = G(c)` of one node's share coefficient, `G` the target the cone leaves
@@ -223,33 +225,43 @@ mod tests {
     const MU: f64 = 0.2;
 
     #[test]
-    fn an_edge_slide_takes_the_excess_over_the_rope_stiffness_along_the_edge() {
-        let edge = Vec3::x();
-        // a rope across the edge (both segments perpendicular to it): only the tensions' geometric
-        // stiffness T / l holds the node along the edge
-        let across = |dir: Vec3| SegmentAxial {
-            tension: 2e3,
-            rest: 0.5,
-            length: 0.5,
-            dir,
-        };
-        let (a, b) = (across(-Vec3::y()), across(-Vec3::z()));
-        let (n, ea) = (1e3, 7.5e7);
-        // hold force 260 N against mu N = 200 N: 60 N over 2 x 4000 N/m, against the force
-        let du = edge_slide(MU, n, 260.0, &edge, ea, &a, &b).unwrap();
-        assert!((du + 60.0 / 8e3).abs() < 1e-15, "{du}");
-        let du = edge_slide(MU, n, -260.0, &edge, ea, &a, &b).unwrap();
-        assert!((du - 60.0 / 8e3).abs() < 1e-15, "{du}");
-        // inside the limit, or the plate pulling: no slide
-        assert!(edge_slide(MU, n, 199.0, &edge, ea, &a, &b).is_none());
-        assert!(edge_slide(MU, -n, 260.0, &edge, ea, &a, &b).is_none());
-        // a segment along the edge holds with its axial stiffness EA / L0
-        let along = SegmentAxial {
-            dir: Vec3::x(),
-            ..a
-        };
-        let du = edge_slide(MU, n, 260.0, &edge, ea, &along, &b).unwrap();
-        assert!((du + 60.0 / (ea / 0.5 + 4e3)).abs() < 1e-18, "{du}");
+    fn edge_friction_starts_keeps_and_ends_a_slide_on_the_cone() {
+        let (n, fr) = (1e3, 120.0);
+        let capacity = ((MU * n).powi(2) - fr * fr).sqrt();
+        // sticking: the spring inside mu N keeps it; beyond mu N (either sign) the node slides
+        // against the spring's sign with the capacity the rope's friction leaves
+        assert_eq!(
+            edge_friction(MU, n, fr, 199.0, 0.0, 0.0),
+            EdgeFriction::Stick
+        );
+        assert_eq!(
+            edge_friction(MU, n, fr, 260.0, 0.0, 0.0),
+            EdgeFriction::Slide(capacity)
+        );
+        assert_eq!(
+            edge_friction(MU, n, fr, -260.0, 0.0, 0.0),
+            EdgeFriction::Slide(-capacity)
+        );
+        // no normal force: no slide starts
+        assert_eq!(
+            edge_friction(MU, -n, 0.0, 260.0, 0.0, 0.0),
+            EdgeFriction::Stick
+        );
+        // sliding against the force: keeps sliding, force updated to the capacity at this N
+        assert_eq!(
+            edge_friction(MU, 2.0 * n, 0.0, 150.0, 1.0, -0.1),
+            EdgeFriction::Slide(2.0 * MU * n)
+        );
+        // moving with the force: sticks again, the spring taking the force over
+        assert_eq!(
+            edge_friction(MU, n, fr, -150.0, -1.0, -0.1),
+            EdgeFriction::Restick(-150.0)
+        );
+        // no normal force (the rope lifting off): slides on freely, whatever the signs
+        assert_eq!(
+            edge_friction(MU, 0.0, 0.0, -0.0, -1.0, 50.0),
+            EdgeFriction::Slide(-0.0)
+        );
     }
 
     /// A rope over an edge along z (plate normal +y) turning by `theta` in the plane across it,

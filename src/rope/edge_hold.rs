@@ -34,21 +34,44 @@ pub struct Hold {
     pub df_dudot: f64,
 }
 
-/// Evaluates the element for node `node` (a particle), block `block`, edge point `a` and
-/// direction `e` (block frame), anchor `u0` [m], stiffness `k` [N/m] and damping `c` [N s/m].
-#[allow(clippy::too_many_arguments)]
-pub fn eval(node: &BodyKin, block: &BodyKin, a: &Vec3, e: &Vec3, u0: f64, k: f64, c: f64) -> Hold {
+/// The node's coordinate `u` [m] along the edge and its rate `u_dot` [m/s] (node `node`, block
+/// `block`, edge point `a` and direction `e` in the block frame).
+fn coordinate(node: &BodyKin, block: &BodyKin, a: &Vec3, e: &Vec3) -> (f64, f64) {
     let ew = block.rot * e;
     let u = ew.dot(&(node.r - block.point(a)));
     let s = block.rot.transpose() * (node.r - block.r);
     // u_dot = g . v
     let u_dot = ew.dot(&(node.v - block.v)) + e.cross(&s).dot(&block.omega);
+    (u, u_dot)
+}
+
+/// Evaluates the element for node `node` (a particle), block `block`, edge point `a` and
+/// direction `e` (block frame), anchor `u0` [m], stiffness `k` [N/m] and damping `c` [N s/m].
+#[allow(clippy::too_many_arguments)]
+pub fn eval(node: &BodyKin, block: &BodyKin, a: &Vec3, e: &Vec3, u0: f64, k: f64, c: f64) -> Hold {
+    let (u, u_dot) = coordinate(node, block, a, e);
     Hold {
         u,
         u_dot,
         force: -(k * (u - u0) + c * u_dot),
         df_du: -k,
         df_dudot: -c,
+    }
+}
+
+/// The element while the node slides along its edge: Coulomb's sliding friction, the constant
+/// force `force` [N] on the coordinate (the contact manager sets it to the cone's capacity along
+/// the edge against the slide after every accepted step), no spring and no damping. The rope's
+/// pull beyond it moves the node along the edge through the dynamics, with the rope's tensions
+/// continuous through the node.
+pub fn sliding(node: &BodyKin, block: &BodyKin, a: &Vec3, e: &Vec3, force: f64) -> Hold {
+    let (u, u_dot) = coordinate(node, block, a, e);
+    Hold {
+        u,
+        u_dot,
+        force,
+        df_du: 0.0,
+        df_dudot: 0.0,
     }
 }
 

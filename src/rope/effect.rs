@@ -12,7 +12,9 @@
 //! target rate, ramp time, mode code and target position; see [`HookInit`]), then [`CONTACT_MEM`] per contact node:
 //! `sigma` [m] and the slip state along the rope of the last accepted step, the friction share
 //! `mu_rope` [-] with which the rope slides through the node, for the friction along the edge
-//! ([`super::edge_hold`]) the anchor `u0` [m], the capacity `cap` [N] and the sliding state, and
+//! ([`super::edge_hold`]) the anchor `u0` [m], the capacity `cap` [N] and the sliding state
+//! (0 sticking: the hold's spring acts; `+-1` sliding along the edge: the constant force
+//! `+-cap`, see [`RopeEffect::edge_slide_force`]), and
 //! the coefficient `mu` [-] of the node's Coulomb cone ([`super::friction`]). A sticking node's
 //! `sigma` freezes the split of rope between its two segments; a slipping node's `sigma` is
 //! recomputed after every accepted step (it is not used while slipping).
@@ -496,6 +498,9 @@ impl RopeEffect {
         let o = self.contact_memory_offset(c);
         let node = kin_of(ctx.kins, self.body[self.contact_point[c] as usize]);
         let block = kin_of(ctx.kins, h.block);
+        if let Some(force) = self.edge_slide_force(ctx.memory, c) {
+            return Some(edge_hold::sliding(node, block, &h.point, &h.dir, force));
+        }
         Some(edge_hold::eval(
             node,
             block,
@@ -505,6 +510,16 @@ impl RopeEffect {
             k,
             damp,
         ))
+    }
+
+    /// The friction force [N] on contact slot `c`'s coordinate along its edge while the node
+    /// slides along the edge (memory: the sliding state, the force's sign, and the capacity,
+    /// its magnitude); `None` while it sticks there (the hold's spring acts).
+    #[inline]
+    pub fn edge_slide_force(&self, memory: &[f64], c: usize) -> Option<f64> {
+        let o = self.contact_memory_offset(c);
+        let state = memory[o + 5];
+        (state != 0.0).then(|| state.signum() * memory[o + 4])
     }
 
     /// The edge (block, point, direction) of contact slot `c`, if it has edge friction.
@@ -744,6 +759,10 @@ impl ForceEffect for RopeEffect {
             e += bending::hinge(k, &p[0], &p[1], &p[2]).energy;
         }
         for c in 0..self.holds.len() {
+            if self.edge_slide_force(ctx.memory, c).is_some() {
+                // sliding: no spring stores energy
+                continue;
+            }
             if let (Some(h), Some((_, k, _))) = (self.edge_hold(ctx, c), self.holds[c]) {
                 let u0 = ctx.memory[self.contact_memory_offset(c) + 3];
                 e += 0.5 * k * (h.u - u0) * (h.u - u0);
@@ -768,9 +787,14 @@ impl ForceEffect for RopeEffect {
         }
         for c in 0..self.holds.len() {
             if let (Some(h), Some((_, k, _))) = (self.edge_hold(ctx, c), self.holds[c]) {
-                // the force's work rate beyond the stored spring energy's rate
-                let u0 = ctx.memory[self.contact_memory_offset(c) + 3];
-                p -= (h.force + k * (h.u - u0)) * h.u_dot;
+                // the force's work rate beyond the stored spring energy's rate (all of it while
+                // the node slides: sliding friction)
+                let stored = if self.edge_slide_force(ctx.memory, c).is_some() {
+                    0.0
+                } else {
+                    k * (h.u - ctx.memory[self.contact_memory_offset(c) + 3])
+                };
+                p -= (h.force + stored) * h.u_dot;
             }
         }
         p

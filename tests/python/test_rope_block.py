@@ -54,6 +54,45 @@ def _default_lift_weight(block_mass=200e3, rope_mass_per_length=15.0):
     return (block_mass + 4 * rope_mass_per_length * length) * G
 
 
+def _slots(res):
+    """(normal, friction, slip) arrays of every contact slot the run filled."""
+    return [(res[f"contact{i}_normal"], res[f"contact{i}_friction"], res[f"contact{i}_slip"])
+            for i in range(8) if (res[f"contact{i}_sling"] >= 0).all()]
+
+
+def test_friction_off_reports_exactly_zero_friction_and_no_slip():
+    # a block hanging at rest on frictionless slings: no friction element acts at any node (the
+    # rope runs through with equal tensions), so friction and slip flag read exactly 0 on every
+    # row (they read 30.76 N and +-1 when the outputs were the line joint's reaction)
+    for values in ({"friction": False}, {"mu": 0.0}):
+        res = _sim(values, stop=2.0, step=0.5)
+        slots = _slots(res)
+        assert len(slots) == 4, values
+        for normal, friction, slip in slots:
+            assert (normal > 0.0).all(), values
+            assert (friction == 0.0).all() and (slip == 0).all(), (values, friction, slip)
+
+
+def test_lift_contact_outputs_inside_the_coulomb_cone():
+    # the lift hoisted at 0.2 m/s from 0.5 s (ramped in over hook_ramp): at every communication
+    # point friction <= mu N (1 + 1e-9), and = mu N (1 - 1e-9) where the slip flag says the rope
+    # slides (friction / (mu N) reached 1.235 when the outputs were the line joint's reaction)
+    mu = 0.15
+    signal = np.array([(0.0, 0.0), (0.5, 0.0), (0.5001, 0.2), (3.0, 0.2)],
+                      dtype=[("time", float), ("hook0_vz", float)])
+    res = _sim({"mu": mu}, stop=3.0, step=0.05, input=signal)
+    worst, sliding = 0.0, 0
+    for normal, friction, slip in _slots(res):
+        assert (normal > 0.0).all()
+        ratio = friction / (mu * normal)
+        worst = max(worst, ratio.max())
+        assert (ratio <= 1.0 + 1e-9).all(), ratio.max()
+        on = slip != 0
+        sliding += int(on.sum())
+        assert (ratio[on] >= 1.0 - 1e-9).all(), ratio[on].min()
+    assert sliding > 0, "the lift never slid through a node"
+
+
 def test_hook_load_at_rest_equals_the_total_weight():
     for mass in (200e3, 80e3):
         res = _sim({"block_mass": mass}, stop=1.0)

@@ -72,8 +72,8 @@ fn ramp_to_gross_slip(mut rig: Wrap, t1: f64, reverse: bool, duration: f64, dt: 
         sim.advance_to(t).unwrap();
         let modes = sim.slip_modes();
         for rep in sim.contact_reports() {
-            let n = rep.pull.normal;
-            let f = rep.hold_force.hypot(rep.pull.along_rope);
+            let n = rep.reaction.normal;
+            let f = rep.reaction.friction();
             out.worst_cone = out.worst_cone.max(f / (MU * n));
             // Coulomb's other half: on the cone while the rope slides through the node
             let under = modes[rep.slot] != SlipMode::Stick && f < MU * n * (1.0 - 1e-9);

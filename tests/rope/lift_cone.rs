@@ -35,8 +35,8 @@ fn lift(integrator: IntegratorKind) -> (f64, usize, Vec<String>) {
         scene.step(h).unwrap();
         let modes = scene.sim.slip_modes();
         for rep in scene.sim.contact_reports() {
-            let n = rep.pull.normal;
-            let f = rep.hold_force.hypot(rep.pull.along_rope);
+            let n = rep.reaction.normal;
+            let f = rep.reaction.friction();
             samples += 1;
             if n > 0.0 {
                 worst = worst.max(f / (mu * n));

@@ -1,5 +1,6 @@
 //! RopeBlock physics tests against independent references (one test binary for build speed).
 
+mod at_rest;
 mod bordered;
 mod capstan;
 mod cone;
@@ -10,6 +11,7 @@ mod hanging;
 mod hard_cases;
 mod jacobian;
 mod lift_cone;
+mod reported_cone;
 mod reports;
 mod rig;
 mod slings;

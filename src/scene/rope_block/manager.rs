@@ -12,10 +12,10 @@ use super::structure::Structure;
 use crate::dae::System;
 use crate::integrator::{SolverError, StepAction, StepHook};
 use crate::math::Vec3;
-use crate::rope::cone::{NodeCone, SegmentAxial, ShareSearch, edge_slide};
+use crate::rope::cone::{EdgeFriction, NodeCone, ShareSearch, edge_friction};
 use crate::rope::friction::{self, ContactFrame, Reaction};
 use crate::rope::shell::detect::{clears_edge, segment_crossing};
-use crate::rope::{NodeSegments, RopeEffect};
+use crate::rope::{NodeSegments, RopeEffect, SlipMode};
 use crate::state::State;
 
 /// Settings of contact detection and node management.
@@ -134,7 +134,19 @@ pub struct NodeReport {
     pub rope: usize,
     pub node: usize,
     pub frame: ContactFrame,
+    /// The force of the plate edge on the rope at the node [N], in `frame`, as the dynamics
+    /// applies it: the normal force `N` and the friction along the rope `F_r` of the rope's pull
+    /// ([`NodeReport::pull`]: what the plate supplies to the tensions either side) and the
+    /// friction along the edge `F_e` of the hold ([`NodeReport::hold_force`]). This is the force
+    /// the node's Coulomb cone is enforced on, so `|(F_e, F_r)| <= mu N`. It is not the line
+    /// joint's multipliers: those also carry the node's lumped rope mass (its weight, 30.8 N
+    /// across the edge in the default rig, and its inertia) and, from an index-3 integrator, are
+    /// no physical reaction at a point in time.
     pub reaction: Reaction,
+    /// Coefficient `mu` of the node's Coulomb cone [-] (0: friction off) and its slip state
+    /// along the rope, from the memory the report was taken with.
+    pub mu: f64,
+    pub mode: SlipMode,
     pub segments: NodeSegments,
     /// Turning angle of the rope at the node [rad].
     pub turn: f64,
@@ -146,8 +158,10 @@ pub struct NodeReport {
     /// Positions of the previous and next rope points [m], world.
     pub p_prev: Vec3,
     pub p_next: Vec3,
-    /// Coordinate of the node along its edge [m] from the edge's first end.
+    /// Coordinate of the node along its edge [m] from the edge's first end, and its rate [m/s]
+    /// (relative to the block).
     pub u: f64,
+    pub u_dot: f64,
     /// Force of the hold along the edge on the node [N].
     pub hold_force: f64,
     /// The rope's pull on the node split in the contact frame: what the plate (joint and hold)
@@ -157,6 +171,15 @@ pub struct NodeReport {
     pub pull: Reaction,
 }
 
+impl NodeReport {
+    /// The slip flag a user reads: 0 while the node sticks along the rope or has no friction
+    /// (`mu = 0`: the rope runs freely through it and its slip direction is noise), else the
+    /// slip state's code (+1 forward, -1 backward).
+    pub fn slip_code(&self) -> f64 {
+        if self.mu > 0.0 { self.mode.code() } else { 0.0 }
+    }
+}
+
 /// Evaluates every contact node of the current build at `state`.
 pub fn node_reports(
     sys: &mut System,
@@ -164,7 +187,6 @@ pub fn node_reports(
     s: &Structure,
     st: &State,
 ) -> Vec<NodeReport> {
-    let rows = contact_rows(sys, map);
     sys.update_kinematics(&st.q, &st.v);
     let ctx = rope_ctx(map, sys.kins(), &sys.inputs, st);
     let rope = &map.rope;
@@ -188,21 +210,22 @@ pub fn node_reports(
         let plate_normal = kin.rot * edge.mean_normal();
         let frame = ContactFrame::new(&(kin.rot * edge.dir), &plate_normal, &e_prev, &e_next)
             .facing_plate(&plate_normal);
-        // reaction of the block on the node: the two line rows (-G^T lambda) plus the friction
-        // element along the edge
-        let rr = rows[c];
-        let axes = crate::model::Frame::with_z(map.blocks[ct.block], edge.a, edge.dir).axes;
-        let (xw, yw) = (kin.rot * axes.column(0), kin.rot * axes.column(1));
         let hold = rope.edge_hold(&ctx, c);
         let along = hold.map(|h| h.force).unwrap_or(0.0);
-        let lam = -(xw * st.lambda[rr[0]] + yw * st.lambda[rr[1]]) + kin.rot * edge.dir * along;
+        let pull = friction::rope_pull(&frame, &e_prev, &e_next, segs[c].t_prev, segs[c].t_next);
+        let (mode, _) = rope.contact_state(ctx.memory, c);
         let turn = std::f64::consts::PI - e_prev.dot(&e_next).clamp(-1.0, 1.0).acos();
         out.push(NodeReport {
             slot: c,
             rope: r,
             node: i,
             frame,
-            reaction: Reaction::new(&lam, &frame),
+            reaction: Reaction {
+                along_edge: along,
+                ..pull
+            },
+            mu: rope.contact_mu(ctx.memory, c),
+            mode,
             segments: segs[c],
             turn,
             e_prev,
@@ -212,28 +235,12 @@ pub fn node_reports(
             p_prev: pp,
             p_next: pn,
             u: hold.map(|h| h.u).unwrap_or(0.0),
+            u_dot: hold.map(|h| h.u_dot).unwrap_or(0.0),
             hold_force: along,
-            pull: friction::rope_pull(&frame, &e_prev, &e_next, segs[c].t_prev, segs[c].t_next),
+            pull,
         });
     }
     out
-}
-
-/// Multiplier rows of each contact slot's line joint (its first two active rows, ascending),
-/// from one pass over the active rows: a search of all rows per slot made every accepted step
-/// cost O(k^2) in the number k of contact nodes.
-pub fn contact_rows(sys: &System, map: &BuildMap) -> Vec<[usize; 2]> {
-    let joints = map.contacts.iter().map(|c| c.2 + 1).max().unwrap_or(0);
-    let mut rows = vec![Vec::with_capacity(2); joints];
-    for r in 0..sys.n_c() {
-        if let Some(list) = sys.joint_of_active_row(r).and_then(|j| rows.get_mut(j)) {
-            list.push(r);
-        }
-    }
-    map.contacts
-        .iter()
-        .map(|&(_, _, j)| [rows[j][0], rows[j][1]])
-        .collect()
 }
 
 /// The cone settlement's view ([`NodeCone`]) of a reported node, with the rope's memory `mem`.
@@ -299,38 +306,39 @@ impl Manager<'_> {
                 }
             }
             // friction along the edge: the node's Coulomb cone gives the edge's load way last
-            // (friction::return_map), so the edge slides once its hold's force exceeds mu N,
-            // by the move of `cone::edge_slide` (the hold's force itself is cut to the cone by
-            // `enforce_cone`)
+            // (friction::return_map), so the edge slides once its hold's force exceeds mu N, and
+            // then moves with the dynamics against a constant friction force on the cone
+            // (`cone::edge_friction`; its force is set on the cone again by `enforce_cone`)
             let seg = rep.segments;
-            st.memory[o + 4] = mu * n.max(0.0);
-            let e = &rep.frame.edge;
-            let axial = |tension, rest, length, dir| SegmentAxial {
-                tension,
-                rest,
-                length,
-                dir,
+            let slide = st.memory[o + 5];
+            if slide == 0.0 {
+                st.memory[o + 4] = mu * n.max(0.0);
+            }
+            let decision =
+                edge_friction(mu, n, rep.pull.along_rope, rep.hold_force, slide, rep.u_dot);
+            let write = match decision {
+                EdgeFriction::Stick => None,
+                EdgeFriction::Slide(force) => {
+                    self.counters.edge_slides += 1;
+                    let sign = if slide != 0.0 { slide } else { force.signum() };
+                    Some([sign, force.abs(), st.memory[o + 3]])
+                }
+                EdgeFriction::Restick(force) => {
+                    let ctx = rope_ctx(self.map, sys.kins(), &sys.inputs, st);
+                    let anchor = rope.hold_anchor_for(&ctx, c, force);
+                    Some([0.0, st.memory[o + 4], anchor.unwrap_or(st.memory[o + 3])])
+                }
             };
-            if let Some(du) = edge_slide(
-                mu,
-                n,
-                rep.hold_force,
-                e,
-                spec.props.ea,
-                &axial(seg.t_prev, seg.rest_prev, rep.l_prev, rep.e_prev),
-                &axial(seg.t_next, seg.rest_next, rep.l_next, rep.e_next),
-            ) {
+            if let Some([state, cap, anchor]) = write
+                && [st.memory[o + 5], st.memory[o + 4], st.memory[o + 3]] != [state, cap, anchor]
+            {
                 if self.energy_before_slides.is_none() {
                     // the system still holds the step's memory and these positions
                     self.energy_before_slides = Some(self.mechanical_energy(sys, st));
                 }
-                st.memory[o + 3] += du;
-                let body = self.map.nodes[rep.rope][rep.node];
-                let qo = sys.model.bodies[body.index().unwrap_or(0)].q_offset;
-                for i in 0..3 {
-                    st.q[qo + i] += du * e[i];
-                }
-                self.counters.edge_slides += 1;
+                st.memory[o + 5] = state;
+                st.memory[o + 4] = cap;
+                st.memory[o + 3] = anchor;
                 changed = true;
             }
             if let Some(m) = mesh
@@ -465,22 +473,39 @@ impl Manager<'_> {
         let reports = node_reports(sys, self.map, self.structure, st);
         let ctx = rope_ctx(self.map, sys.kins(), &sys.inputs, st);
         let mut anchors = Vec::new();
+        let mut caps = Vec::new();
         for rep in &reports {
             let c = rep.slot;
+            let o = base + rope.contact_memory_offset(c);
+            if st.memory[o + 5] != 0.0 {
+                // sliding along the edge: friction on the cone, what it leaves along the edge;
+                // the anchor follows (a spring carrying that force here), which a rebuild takes
+                let cap = friction::edge_capacity(rep.mu, rep.pull.normal, rep.pull.along_rope);
+                let force = st.memory[o + 5].signum() * cap;
+                if let Some(u0) = rope.hold_anchor_for(&ctx, c, force)
+                    && st.memory[o + 3] != u0
+                {
+                    caps.push((o + 3, u0));
+                }
+                if st.memory[o + 4] != cap {
+                    caps.push((o + 4, cap));
+                }
+                continue;
+            }
             if let Some(force) = node_cone(rope, rep, ctx.memory).clipped_hold()
                 && let Some(u0) = rope.hold_anchor_for(&ctx, c, force)
             {
                 anchors.push((base + rope.contact_memory_offset(c) + 3, u0));
             }
         }
-        if anchors.is_empty() {
+        if anchors.is_empty() && caps.is_empty() {
             return false;
         }
         if self.energy_before_slides.is_none() {
             self.energy_before_slides = Some(self.mechanical_energy(sys, st));
         }
-        for (i, u0) in anchors {
-            st.memory[i] = u0;
+        for (i, value) in anchors.into_iter().chain(caps) {
+            st.memory[i] = value;
         }
         true
     }

@@ -413,9 +413,13 @@ pub const SLOT_OUTPUTS: [(&str, Option<&str>, &str); 5] = [
     (
         "normal",
         Some("N"),
-        "normal force of the plate edge on the rope",
+        "normal force N of the plate edge on the rope at the communication point: the rope's pull -(T_prev e_prev + T_next e_next) along the contact normal n (the rope's turn bisector perpendicular to the edge, towards the plate), positive when the plate pushes [N]",
     ),
-    ("friction", Some("N"), "magnitude of the friction force"),
+    (
+        "friction",
+        Some("N"),
+        "magnitude of the friction force of the plate edge on the rope at the communication point, |(F_e, F_r)| with F_e along the edge (the edge hold) and F_r along the rope (the pull across the edge); at most mu N while sticking, mu N while sliding, exactly 0 with friction off [N]",
+    ),
     ("x", Some("m"), "node position, block design frame x"),
     ("y", Some("m"), "node position, block design frame y"),
     ("z", Some("m"), "node position, block design frame z"),
@@ -642,7 +646,7 @@ pub fn info() -> &'static ModelInfo {
         ports.push(int_output("contact_rebuilds", ivr::REBUILDS, "Model rebuilds for contact-node changes since the start."));
         for i in 0..MAX_CONTACT_SLOTS {
             ports.push(int_output(&format!("contact{i}_sling"), ivr_slot(i, 0), &format!("Contact slot {i}: sling index; -1 for an empty slot.")));
-            ports.push(int_output(&format!("contact{i}_slip"), ivr_slot(i, 1), &format!("Contact slot {i}: slip along the rope (0 stick, 1 forward, -1 backward).")));
+            ports.push(int_output(&format!("contact{i}_slip"), ivr_slot(i, 1), &format!("Contact slot {i}: slip along the rope (0 stick or friction off, 1 forward, -1 backward).")));
         }
         ModelInfo {
             identifier: IDENTIFIER,

@@ -266,6 +266,18 @@ impl RopeBlockSim {
         Ok(())
     }
 
+    /// The anchor [m] of every contact slot's edge hold at which its spring carries `force` [N]
+    /// at the current state (`None` where the slot has no hold or no friction).
+    pub fn hold_anchors(&mut self, force: f64) -> Vec<Option<f64>> {
+        let st = &self.sim.state;
+        let sys = &mut self.sim.system;
+        sys.update_kinematics(&st.q, &st.v);
+        let ctx = rope_ctx(&self.map, sys.kins(), &sys.inputs, st);
+        (0..self.map.rope.n_contacts())
+            .map(|c| self.map.rope.hold_anchor_for(&ctx, c, force))
+            .collect()
+    }
+
     /// Reports (geometry, tensions, reaction) of every contact node at the current state.
     pub fn contact_reports(&mut self) -> Vec<NodeReport> {
         let st = self.sim.state.clone();

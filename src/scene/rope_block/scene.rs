@@ -13,9 +13,9 @@
 //! | `sling{r}.utilisation` | highest segment tension over the sling's breaking load [-] |
 //! | `sling{r}.angle` | angle of the segment at the hook to the vertical [rad] |
 //! | `contact.count` | number of contact nodes |
-//! | `contact{i}.normal`, `contact{i}.friction` | normal force `N` and friction `|F|` at contact slot `i` [N] |
+//! | `contact{i}.normal`, `contact{i}.friction` | force of the plate edge on the rope at contact slot `i` [N] (below) |
 //! | `contact{i}.x/y/z` | node position [m] in the block's design frame |
-//! | `contact{i}.sling`, `contact{i}.slip` | sling index (-1: empty slot), slip state (0 stick, +-1 sliding) |
+//! | `contact{i}.sling`, `contact{i}.slip` | sling index (-1: empty slot), slip along the rope (0 stick or frictionless, +-1 sliding) |
 //! | `block.x/y/z` | centre of mass [m], world |
 //! | `block.qw/qx/qy/qz` | orientation quaternion (block to world) |
 //! | `block.vx/vy/vz` | velocity of the centre of mass [m/s], world |
@@ -26,6 +26,19 @@
 //!
 //! Contact slots are filled in rope order each time outputs are read; beyond
 //! `params.contact_outputs` nodes are counted but not reported.
+//!
+//! The contact force ([`NodeReport::reaction`]) is the force the plate edge applies to the rope
+//! in the dynamics at the communication point (the state the last accepted step and the contact
+//! manager left), in the node's contact frame ([`crate::rope::friction::ContactFrame`]: `n` the
+//! rope's turn bisector made perpendicular to the edge, turned to the plate's side; `e` along the
+//! edge; `t = e x n` across it, along the rope). `normal` is `N`, the rope's pull
+//! `-(T_prev e_prev + T_next e_next)` along `n` (positive: the plate pushes the rope; the
+//! segment tensions either side, unit vectors from the node to its neighbours). `friction` is
+//! `|(F_e, F_r)| >= 0`: `F_e` the edge hold's force along `e`, `F_r` the pull along `t` (the
+//! tensions' difference). Coulomb: `friction <= mu N` while the node sticks, `= mu N` (to 1e-9
+//! relative) while the rope slides through it; with friction off (`mu = 0`) both friction and the
+//! slip flag read exactly 0. The line joint's own reaction differs by the weight and inertia of
+//! the rope's lumped mass at the node (no contact force).
 
 use super::params::RopeBlockParams;
 use super::runner::RopeBlockSim;
@@ -37,9 +50,10 @@ use crate::integrator::Settings;
 use crate::math::Vec3;
 use crate::rope::SlipMode;
 
-/// Static equilibrium with the rope sliding freely over every contact node (equal tensions on
-/// both sides, as when a sling is loaded slowly), then every node sticking where it is.
-/// `weight` [N] scales the force tolerance.
+/// Static equilibrium with the rope sliding freely over every contact node and every node
+/// sliding freely along its edge (equal tensions on both sides and no load along the edge, as
+/// when a sling is loaded slowly), then every node sticking where it is: each node starts inside
+/// its Coulomb cone (no friction at all) and at rest. `weight` [N] scales the force tolerance.
 pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
     let base = sim.map.rope_memory;
     let n = sim.map.rope.n_contacts();
@@ -47,11 +61,15 @@ pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
     for c in 0..n {
         let o = base + sim.map.rope.contact_memory_offset(c);
         let m = &mut sim.sim.state.memory;
-        saved.push((m[o + 1], m[o + 2], m[o + 6]));
-        // frictionless sliding: no share along the rope, no cone to re-stick in
+        saved.push((m[o + 1], m[o + 2], m[o + 6], m[o + 4]));
+        // frictionless sliding: no share along the rope, no cone to re-stick in, and along the
+        // edge a slide against no force (the hold's spring would keep the node at its rigging
+        // point: the turn-over started with 1.28 mu N on its edge, and slid off at once)
         m[o + 1] = SlipMode::SlipForward.code();
         m[o + 2] = 0.0;
         m[o + 6] = 0.0;
+        m[o + 5] = 1.0;
+        m[o + 4] = 0.0;
     }
     sim.sim.restart().map_err(|e| e.0)?;
     statics::solve(sim, 1e-9 * weight, 300)?;
@@ -63,12 +81,19 @@ pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
         &sim.sim.state.v.clone(),
         &mut sim.sim.state.memory,
     );
-    for (c, (mode, share, mu)) in saved.into_iter().enumerate() {
+    // each hold sticks where its node came to rest, carrying nothing
+    let anchors = sim.hold_anchors(0.0);
+    for (c, (mode, share, mu, cap)) in saved.into_iter().enumerate() {
         let o = base + sim.map.rope.contact_memory_offset(c);
         let m = &mut sim.sim.state.memory;
         m[o + 1] = mode;
         m[o + 2] = share;
         m[o + 6] = mu;
+        m[o + 5] = 0.0;
+        m[o + 4] = cap;
+        if let Some(u0) = anchors[c] {
+            m[o + 3] = u0;
+        }
     }
     sim.sim.restart().map_err(|e| e.0)
 }
@@ -270,7 +295,6 @@ impl RopeBlockScene {
             out.extend([a, b, u, angle]);
         }
         let reports: Vec<NodeReport> = sim.contact_reports();
-        let modes = sim.slip_modes();
         out.push(reports.len() as f64);
         for i in 0..self.params.contact_outputs {
             match reports.get(i) {
@@ -286,7 +310,7 @@ impl RopeBlockScene {
                         c.y,
                         c.z,
                         r.rope as f64,
-                        modes[r.slot].code(),
+                        r.slip_code(),
                     ]);
                 }
                 None => out.extend([0.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0]),
