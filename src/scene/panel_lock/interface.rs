@@ -17,7 +17,7 @@
 //! (tests/panel_lock_interface.rs checks both).
 
 use super::build::Layout;
-use crate::dae::System;
+use crate::dae::{RangeSpace, System};
 use crate::integrator::init::index1_solution;
 use crate::integrator::kkt::Kkt;
 use crate::integrator::{SolverError, StepAction, StepHook};
@@ -101,10 +101,13 @@ pub struct InterfacePeaks {
     /// Largest `|force|` [N] and `|torque|` [N m] so far.
     pub force: f64,
     pub torque: f64,
-    /// Solver of the index-1 multipliers at step ends whose state does not carry them
-    /// (scratch: no influence on results beyond round-off).
+    /// Solvers of the index-1 multipliers at step ends: the range-space method (`O(n)` in the
+    /// bodies of the chain), the LU of the full matrix where it fails (scratch: no influence on
+    /// results beyond round-off).
+    range_space: RangeSpace,
     kkt: Kkt,
     rhs: Vec<f64>,
+    vdot: Vec<f64>,
     forces: Vec<f64>,
 }
 
@@ -123,18 +126,27 @@ impl InterfacePeaks {
         layout: &Layout,
         state: &State,
     ) -> Result<(), SolverError> {
-        let nv = sys.n_v();
-        index1_solution(
-            sys,
-            &mut self.kkt,
-            state.t,
-            &state.q,
-            &state.v,
+        let (nv, nc) = (sys.n_v(), sys.n_c());
+        self.vdot.resize(nv, 0.0);
+        self.rhs.resize(nc, 0.0);
+        let (t, q, v) = (state.t, &state.q, &state.v);
+        let solved = sys.index1_range_space(
+            t,
+            q,
+            v,
+            &mut self.range_space,
+            &mut self.vdot,
             &mut self.rhs,
-        )?;
-        let solution = std::mem::take(&mut self.rhs);
-        let w = interface_wrench(sys, layout, state, &solution[nv..], &mut self.forces);
-        self.rhs = solution;
+        );
+        let lambda = match solved {
+            Ok(()) => std::mem::take(&mut self.rhs),
+            Err(_) => {
+                index1_solution(sys, &mut self.kkt, t, q, v, &mut self.rhs)?;
+                self.rhs.split_off(nv)
+            }
+        };
+        let w = interface_wrench(sys, layout, state, &lambda, &mut self.forces);
+        self.rhs = lambda;
         self.note(&w);
         Ok(())
     }
