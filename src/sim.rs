@@ -315,22 +315,19 @@ impl Simulation {
         }
         let s = &self.state;
         let mut vdot = vec![0.0; self.system.n_v()];
-        let mut lambda = vec![0.0; self.system.n_c()];
-        let range_space = self.system.index1_range_space(
+        let mut lambda = Vec::new();
+        integrator::init::index1_motion(
+            &mut self.system,
+            &mut self.range_space,
+            &mut self.kkt,
             s.t,
             &s.q,
             &s.v,
-            &mut self.range_space,
             &mut vdot,
             &mut lambda,
-        );
-        if range_space.is_ok() {
-            return Ok(lambda);
-        }
-        // a massless body or dependent rows: the LU of the full matrix
-        let mut probe = self.state.clone();
-        integrator::init::accelerations(&mut self.system, &mut self.kkt, &mut probe)?;
-        Ok(probe.lambda)
+            &mut Vec::new(),
+        )?;
+        Ok(lambda)
     }
 
     /// Accelerations `vdot` and multipliers `lambda` of the index-1 system

@@ -188,6 +188,33 @@ pub fn index1_solution(
     lin.solve(out).map_err(SolverError)
 }
 
+/// `v_dot` and `lambda` of the index-1 system at `(t, q, v)` into `vdot` (length `n_v`) and
+/// `lambda` (resized to `n_c`): by the range-space method with `ws`, and where that fails (a
+/// massless body, dependent rows) by the LU of the full matrix with `lin`, `scratch` its
+/// right-hand side. No allocation once the buffers have their lengths.
+#[allow(clippy::too_many_arguments)]
+pub fn index1_motion(
+    sys: &mut System,
+    ws: &mut crate::dae::RangeSpace,
+    lin: &mut Kkt,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    vdot: &mut [f64],
+    lambda: &mut Vec<f64>,
+    scratch: &mut Vec<f64>,
+) -> Result<(), SolverError> {
+    let (nv, nc) = (sys.n_v(), sys.n_c());
+    lambda.resize(nc, 0.0);
+    if sys.index1_range_space(t, q, v, ws, vdot, lambda).is_ok() {
+        return Ok(());
+    }
+    index1_solution(sys, lin, t, q, v, scratch)?;
+    vdot.copy_from_slice(&scratch[..nv]);
+    lambda.copy_from_slice(&scratch[nv..]);
+    Ok(())
+}
+
 /// Makes `state` consistent: positions, speeds, accelerations and multipliers.
 pub fn make_consistent(
     sys: &mut System,

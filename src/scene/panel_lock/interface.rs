@@ -18,7 +18,7 @@
 
 use super::build::Layout;
 use crate::dae::{RangeSpace, System};
-use crate::integrator::init::index1_solution;
+use crate::integrator::init::index1_motion;
 use crate::integrator::kkt::Kkt;
 use crate::integrator::{SolverError, StepAction, StepHook};
 use crate::math::Vec3;
@@ -108,6 +108,7 @@ pub struct InterfacePeaks {
     kkt: Kkt,
     rhs: Vec<f64>,
     vdot: Vec<f64>,
+    lambda: Vec<f64>,
     forces: Vec<f64>,
 }
 
@@ -126,27 +127,21 @@ impl InterfacePeaks {
         layout: &Layout,
         state: &State,
     ) -> Result<(), SolverError> {
-        let (nv, nc) = (sys.n_v(), sys.n_c());
-        self.vdot.resize(nv, 0.0);
-        self.rhs.resize(nc, 0.0);
-        let (t, q, v) = (state.t, &state.q, &state.v);
-        let solved = sys.index1_range_space(
-            t,
-            q,
-            v,
+        self.vdot.resize(sys.n_v(), 0.0);
+        let mut lambda = std::mem::take(&mut self.lambda);
+        index1_motion(
+            sys,
             &mut self.range_space,
+            &mut self.kkt,
+            state.t,
+            &state.q,
+            &state.v,
             &mut self.vdot,
+            &mut lambda,
             &mut self.rhs,
-        );
-        let lambda = match solved {
-            Ok(()) => std::mem::take(&mut self.rhs),
-            Err(_) => {
-                index1_solution(sys, &mut self.kkt, t, q, v, &mut self.rhs)?;
-                self.rhs.split_off(nv)
-            }
-        };
+        )?;
         let w = interface_wrench(sys, layout, state, &lambda, &mut self.forces);
-        self.rhs = lambda;
+        self.lambda = lambda;
         self.note(&w);
         Ok(())
     }

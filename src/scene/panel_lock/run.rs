@@ -77,33 +77,52 @@ impl PanelLock {
     }
 
     /// The root interface wrench at the current state ([`super::interface`]), with the
-    /// index-1 multipliers.
+    /// index-1 multipliers (accurate whatever the last step size).
     pub fn root_wrench(&mut self) -> Result<super::interface::Wrench, SolverError> {
         let lambda = self.sim.consistent_multipliers()?;
+        Ok(self.root_wrench_with(&lambda))
+    }
+
+    /// [`PanelLock::root_wrench`], with the integrator's multipliers where the index-1 solve
+    /// fails (outputs are always written).
+    fn root_wrench_or_integrators(&mut self) -> super::interface::Wrench {
+        let lambda = self
+            .sim
+            .consistent_multipliers()
+            .unwrap_or_else(|_| self.sim.state.lambda.clone());
+        self.root_wrench_with(&lambda)
+    }
+
+    /// The root interface wrench at the current state with multipliers `lambda`.
+    fn root_wrench_with(&mut self, lambda: &[f64]) -> super::interface::Wrench {
         let mut scratch = Vec::new();
-        Ok(interface_wrench(
+        interface_wrench(
             &mut self.sim.system,
             &self.layout,
             &self.sim.state,
-            &lambda,
+            lambda,
             &mut scratch,
-        ))
+        )
     }
 
     /// Sets the root-hinge motor torque [N m] (positive deploys). The interface peaks take the
     /// wrench with a changed torque (the load from this instant on).
     pub fn set_motor_torque(&mut self, tau: f64) -> Result<(), String> {
-        let before = self.sim.system.inputs[self.layout.motor_input];
-        self.sim.set_input(self.layout.motor_input, tau)?;
-        if before.to_bits() == tau.to_bits() {
-            return Ok(());
-        }
-        self.note_root_wrench()
+        self.set_input_noting_peaks(self.layout.motor_input, tau)
     }
 
-    /// Takes the root interface wrench at the current state into the peaks (after an input
-    /// changed it).
-    pub fn note_root_wrench(&mut self) -> Result<(), String> {
+    /// Sets model input `index` to `value`; when that changes it, the interface peaks take the
+    /// wrench with the new value (the load from this instant on).
+    pub(super) fn set_input_noting_peaks(
+        &mut self,
+        index: usize,
+        value: f64,
+    ) -> Result<(), String> {
+        let before = self.sim.system.inputs.get(index).copied();
+        self.sim.set_input(index, value)?;
+        if before.map(f64::to_bits) == Some(value.to_bits()) {
+            return Ok(());
+        }
         let now = self.root_wrench().map_err(|e| e.0)?;
         self.interface_peaks.note(&now);
         Ok(())
@@ -194,19 +213,8 @@ impl PanelLock {
                 hinges[k].peak_force = m[6];
             }
         }
-        // index-1 multipliers: accurate whatever the last step size; a failed solve leaves
-        // the integrator's
-        let lambda = sim
-            .consistent_multipliers()
-            .unwrap_or_else(|_| sim.state.lambda.clone());
-        let mut scratch = Vec::new();
-        let root = interface_wrench(
-            &mut sim.system,
-            &self.layout,
-            &sim.state,
-            &lambda,
-            &mut scratch,
-        );
+        let root = self.root_wrench_or_integrators();
+        let sim = &mut self.sim;
         let st = &sim.state;
         let outer = *sim
             .system

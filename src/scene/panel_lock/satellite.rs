@@ -85,14 +85,7 @@ impl PanelLock {
             return Err(format!("{name} must be finite, got {value}"));
         }
         match self.layout.satellite_inputs {
-            Some(idx) => {
-                let before = self.sim.system.inputs[idx[j]];
-                self.sim.set_input(idx[j], value)?;
-                if before.to_bits() == value.to_bits() {
-                    return Ok(());
-                }
-                self.note_root_wrench()
-            }
+            Some(idx) => self.set_input_noting_peaks(idx[j], value),
             None if value == 0.0 => Ok(()),
             None => Err(format!(
                 "{name} = {value} acts on the satellite, but free_satellite is off (the satellite is fixed to the inertial frame and takes no loads): switch free_satellite on, or leave the satellite loads at 0"
