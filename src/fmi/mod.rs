@@ -29,6 +29,7 @@ pub mod instance;
 pub mod intermediate;
 pub mod logger;
 pub mod machine;
+pub mod metadata;
 pub mod model_description;
 pub mod model_description3;
 pub mod package;

@@ -23,11 +23,11 @@ use quick_xml::Writer;
 use quick_xml::events::{BytesDecl, BytesEnd, BytesStart, BytesText, Event};
 
 use super::logger::CATEGORIES;
+use super::metadata;
 use super::units::{self, BASE_NAMES};
 use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, Variability};
 
-/// Name written to `generationTool`.
-pub const GENERATION_TOOL: &str = concat!("mbcosim ", env!("CARGO_PKG_VERSION"));
+pub use super::metadata::GENERATION_TOOL;
 
 /// A real number as `xs:double` text: shortest round-trip form, no trailing `.0`.
 pub fn fmt_real(v: f64) -> String {
@@ -228,18 +228,19 @@ fn write_document(
 ) -> io::Result<()> {
     x.w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None)))?;
     let s = |v: &str| v.to_string();
-    x.start(
-        "fmiModelDescription",
-        &[
-            ("fmiVersion", s("2.0")),
-            ("modelName", s(info.identifier)),
-            ("guid", s(info.guid)),
-            ("description", s(info.description)),
-            ("generationTool", s(GENERATION_TOOL)),
-            ("variableNamingConvention", s("structured")),
-            ("numberOfEventIndicators", s("0")),
-        ],
-    )?;
+    let mut root = vec![
+        ("fmiVersion", s("2.0")),
+        ("modelName", s(info.identifier)),
+        ("guid", s(info.guid)),
+        ("description", s(info.description)),
+    ];
+    root.extend(metadata::attributes());
+    root.extend([
+        ("generationTool", s(GENERATION_TOOL)),
+        ("variableNamingConvention", s("structured")),
+        ("numberOfEventIndicators", s("0")),
+    ]);
+    x.start("fmiModelDescription", &root)?;
     x.empty(
         "CoSimulation",
         &[

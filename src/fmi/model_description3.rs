@@ -142,17 +142,18 @@ fn write_document(
     let s = |v: &str| v.to_string();
     let view = &View3::new(info).map_err(io::Error::other)?;
     x.w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None)))?;
-    x.start(
-        "fmiModelDescription",
-        &[
-            ("fmiVersion", s("3.0")),
-            ("modelName", s(info.identifier)),
-            ("instantiationToken", s(info.guid)),
-            ("description", s(info.description)),
-            ("generationTool", s(GENERATION_TOOL)),
-            ("variableNamingConvention", s("structured")),
-        ],
-    )?;
+    let mut root = vec![
+        ("fmiVersion", s("3.0")),
+        ("modelName", s(info.identifier)),
+        ("instantiationToken", s(info.guid)),
+        ("description", s(info.description)),
+    ];
+    root.extend(super::metadata::attributes());
+    root.extend([
+        ("generationTool", s(GENERATION_TOOL)),
+        ("variableNamingConvention", s("structured")),
+    ]);
+    x.start("fmiModelDescription", &root)?;
     x.empty(
         "CoSimulation",
         &[

@@ -8,11 +8,14 @@
 //! binaries/linux64/<Identifier>.so  the crate's cdylib, renamed (no `lib` prefix)
 //!                                   (FMI 3.0: binaries/x86_64-linux/<Identifier>.so)
 //! documentation/index.html          generated from the variable table
+//! documentation/licenses/license.txt the licence (the repository's LICENSE)
 //! resources/scene.toml               the default scene (parameters), read at instantiation
 //! resources/...                     the model's data files, when it has any
 //! ```
 //!
-//! The archive is reproducible: entries in a fixed order with a fixed 1980-01-01 timestamp.
+//! The archive is reproducible: entries in a fixed order with a fixed 1980-01-01 timestamp, and
+//! the description's `generationDateAndTime` is the time the caller passes (the commit time,
+//! [`super::metadata`]), never the clock.
 //! Packing refuses a checked-in description that differs from the one the table produces, so a
 //! stale GUID or variable list can never ship.
 
@@ -23,7 +26,7 @@ use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
 
-use super::{documentation, model_description, model_description3};
+use super::{documentation, metadata, model_description, model_description3};
 use crate::scene::ModelEntry;
 
 /// Where the checked-in description of `identifier` lives under `dir` (`modelDescription/`).
@@ -52,13 +55,16 @@ pub fn checked_description(entry: &ModelEntry, descriptions: &Path) -> Result<St
 }
 
 /// Writes `<out_dir>/<Identifier>.fmu` for `entry` with `cdylib` as its binary; returns its path.
+/// `generated_at` (an `xs:dateTime`, the commit time) becomes the description's
+/// `generationDateAndTime`; `None` leaves the attribute out.
 pub fn pack(
     entry: &ModelEntry,
     cdylib: &Path,
     descriptions: &Path,
     out_dir: &Path,
+    generated_at: Option<&str>,
 ) -> Result<PathBuf, String> {
-    let xml = checked_description(entry, descriptions)?;
+    let xml = stamped(checked_description(entry, descriptions)?, generated_at)?;
     let page = documentation::index_html((entry.info)());
     write_fmu(entry, cdylib, xml, page, "linux64", out_dir)
 }
@@ -86,16 +92,26 @@ pub fn checked_description3(entry: &ModelEntry, descriptions: &Path) -> Result<S
 }
 
 /// Writes the FMI 3.0 FMU `<out_dir>/<Identifier>.fmu` for `entry` (the same library, under the
-/// FMI 3.0 platform tuple `binaries/x86_64-linux/`); returns its path.
+/// FMI 3.0 platform tuple `binaries/x86_64-linux/`); returns its path. `generated_at` as for
+/// [`pack`].
 pub fn pack3(
     entry: &ModelEntry,
     cdylib: &Path,
     descriptions: &Path,
     out_dir: &Path,
+    generated_at: Option<&str>,
 ) -> Result<PathBuf, String> {
-    let xml = checked_description3(entry, descriptions)?;
+    let xml = stamped(checked_description3(entry, descriptions)?, generated_at)?;
     let page = documentation::index_html3((entry.info)());
     write_fmu(entry, cdylib, xml, page, "x86_64-linux", out_dir)
+}
+
+/// `xml` with `generationDateAndTime` when a time is given.
+fn stamped(xml: String, generated_at: Option<&str>) -> Result<String, String> {
+    match generated_at {
+        Some(when) => metadata::stamp_generation_time(&xml, when),
+        None => Ok(xml),
+    }
 }
 
 fn write_fmu(
@@ -128,6 +144,11 @@ fn write_fmu(
             0o755,
         ),
         ("documentation/index.html".into(), page.into_bytes(), 0o644),
+        (
+            metadata::LICENSE_ENTRY.into(),
+            metadata::LICENSE_TEXT.as_bytes().to_vec(),
+            0o644,
+        ),
         (
             format!("resources/{}", crate::scene::scene_file::FMU_SCENE),
             crate::scene::scene_file::render(info).into_bytes(),
@@ -176,7 +197,7 @@ mod tests {
         let entry = ModelEntry::new(pid::info, pid::create).with_resources(RES);
 
         fs::write(description_path(&descr, "PidController"), "<stale/>").unwrap();
-        let e = pack(&entry, &lib, &descr, &dir).unwrap_err();
+        let e = pack(&entry, &lib, &descr, &dir, None).unwrap_err();
         assert!(e.contains(REGENERATE), "{e}");
 
         fs::write(
@@ -184,13 +205,15 @@ mod tests {
             model_description::write(pid::info()).unwrap(),
         )
         .unwrap();
-        let fmu = pack(&entry, &lib, &descr, &dir).unwrap();
+        let when = "2026-12-07T05:30:45Z";
+        let fmu = pack(&entry, &lib, &descr, &dir, Some(when)).unwrap();
         let mut z = zip::ZipArchive::new(fs::File::open(&fmu).unwrap()).unwrap();
         let names: Vec<String> = z.file_names().map(|n| n.unwrap().into_owned()).collect();
         for n in [
             "modelDescription.xml",
             "binaries/linux64/PidController.so",
             "documentation/index.html",
+            metadata::LICENSE_ENTRY,
             "resources/data/table.csv",
         ] {
             assert!(names.iter().any(|x| x == n), "{n} in {names:?}");
@@ -202,7 +225,22 @@ mod tests {
             .unwrap();
         assert_eq!(so, b"\x7fELF fake");
         let first = fs::read(&fmu).unwrap();
-        let again = pack(&entry, &lib, &descr, &dir).unwrap();
+        let mut xml = String::new();
+        z.by_name("modelDescription.xml")
+            .unwrap()
+            .read_to_string(&mut xml)
+            .unwrap();
+        assert!(
+            xml.contains(&format!("generationDateAndTime=\"{when}\"")),
+            "{xml}"
+        );
+        let mut license = String::new();
+        z.by_name(metadata::LICENSE_ENTRY)
+            .unwrap()
+            .read_to_string(&mut license)
+            .unwrap();
+        assert!(license.starts_with("MIT License"), "{license}");
+        let again = pack(&entry, &lib, &descr, &dir, Some(when)).unwrap();
         assert_eq!(fs::read(again).unwrap(), first, "reproducible archive");
         fs::remove_dir_all(&dir).unwrap();
     }

@@ -30,8 +30,8 @@ pub fn packed(identifier: &str, version: Fmi, tag: &str) -> PathBuf {
     let entry = scene::find_by_identifier(identifier).unwrap();
     let md = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("modelDescription");
     match version {
-        Fmi::V2 => package::pack(&entry, &lib, &md, &out),
-        Fmi::V3 => package::pack3(&entry, &lib, &md, &out),
+        Fmi::V2 => package::pack(&entry, &lib, &md, &out, None),
+        Fmi::V3 => package::pack3(&entry, &lib, &md, &out, None),
     }
     .unwrap()
 }

@@ -45,7 +45,10 @@ def test_archive_layout_and_exports(fmu):
     with zipfile.ZipFile(fmu.path) as z:
         names = set(z.namelist())
         assert {"modelDescription.xml", f"binaries/linux64/{fmu.id}.so", "documentation/index.html"} <= names
-        assert z.read("modelDescription.xml") == (ROOT / "modelDescription" / f"{fmu.id}.xml").read_bytes()
+        packed = z.read("modelDescription.xml").decode()
+        stamp = f' generationDateAndTime="{commit_time()}"'
+        assert stamp in packed, packed[:800]
+        assert packed.replace(stamp, "", 1) == (ROOT / "modelDescription" / f"{fmu.id}.xml").read_text()
         html = z.read("documentation/index.html").decode()
         for v in fmu.md.modelVariables:
             assert f"<code>{v.name}</code>" in html
@@ -70,3 +73,32 @@ def test_capabilities_are_declared(fmu):
     assert {c.name for c in fmu.md.logCategories} >= {"logStatusWarning", "logStatusError", "logStatusFatal",
                                                   "logEvents", "logSolver"}
     assert sys.platform.startswith("linux")
+
+
+def commit_time():
+    """The checkout's last commit time as the xs:dateTime the pack writes (UTC, `Z`), computed by
+    git and Python's calendar, not by the Rust code that stamps it."""
+    import datetime
+    seconds = int(subprocess.run(["git", "-C", str(ROOT), "log", "-1", "--format=%ct"],
+                                 capture_output=True, text=True, check=True).stdout)
+    return datetime.datetime.fromtimestamp(seconds, datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
+def test_licence_and_metadata_in_every_fmu():
+    """Every FMU (FMI 2.0 and 3.0) carries the repository's LICENSE under
+    documentation/licenses/ and its description names author, version (the crate's), copyright,
+    licence, tool and the commit time (issue #44 item 5)."""
+    import re
+    import xml.etree.ElementTree as ET
+    licence = (ROOT / "LICENSE").read_text()
+    version = re.search(r'^version = "([^"]+)"', (ROOT / "Cargo.toml").read_text(), re.M).group(1)
+    paths = sorted(DIST.glob("*.fmu")) + sorted((DIST / "fmi3").glob("*.fmu"))
+    assert len(paths) >= 6, paths
+    for path in paths:
+        with zipfile.ZipFile(path) as z:
+            assert z.read("documentation/licenses/license.txt").decode() == licence, path
+            root = ET.fromstring(z.read("modelDescription.xml"))
+        a = root.attrib
+        assert a["version"] == version and a["generationTool"] == f"mbcosim {version}", (path, a)
+        assert a["author"] and "Copyright" in a["copyright"] and a["license"].startswith("MIT"), (path, a)
+        assert a["generationDateAndTime"] == commit_time(), (path, a)

@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use mbcosim::fmi::{model_description, model_description3, package};
+use mbcosim::fmi::{metadata, model_description, model_description3, package};
 use mbcosim::scene::{self, native, scene_file};
 
 /// True when `dir` is the root of the mbcosim source tree.
@@ -96,15 +96,55 @@ fn pack_all(what: &str, dist: &Path) -> Result<Vec<PathBuf>, String> {
     let repo = repo_root(what)?;
     let lib = fresh_cdylib(&repo, dist)?;
     let descriptions = repo.join("modelDescription");
+    let when = generation_time(&repo)?;
+    let when = when.as_deref();
     let mut packed = Vec::new();
     for e in scene::registry() {
-        packed.push(package::pack(&e, &lib, &descriptions, dist)?);
+        packed.push(package::pack(&e, &lib, &descriptions, dist, when)?);
     }
     // FMI 3.0 FMUs of the same models, from the same library (docs/fmi3.md)
     for e in scene::registry() {
-        packed.push(package::pack3(&e, &lib, &descriptions, &dist.join("fmi3"))?);
+        packed.push(package::pack3(
+            &e,
+            &lib,
+            &descriptions,
+            &dist.join("fmi3"),
+            when,
+        )?);
     }
     Ok(packed)
+}
+
+/// The FMUs' `generationDateAndTime`: `SOURCE_DATE_EPOCH` [s] when set (the reproducible-builds
+/// convention), else the time of the checkout's last commit, so two packs of one commit are
+/// byte-identical. Outside a git checkout without `SOURCE_DATE_EPOCH` the attribute is left out,
+/// with a note on stderr.
+fn generation_time(repo: &Path) -> Result<Option<String>, String> {
+    let seconds = match std::env::var("SOURCE_DATE_EPOCH") {
+        Ok(v) => v.trim().parse::<i64>().map_err(|e| {
+            format!("SOURCE_DATE_EPOCH={v:?} is not a whole number of seconds: {e}")
+        })?,
+        Err(_) => {
+            let out = Command::new("git")
+                .arg("-C")
+                .arg(repo)
+                .args(["log", "-1", "--format=%ct"])
+                .output();
+            match out {
+                Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout)
+                    .trim()
+                    .parse::<i64>()
+                    .map_err(|e| format!("git log gave no commit time: {e}"))?,
+                _ => {
+                    eprintln!(
+                        "note: no commit time (not a git checkout, SOURCE_DATE_EPOCH unset): the FMUs carry no generationDateAndTime"
+                    );
+                    return Ok(None);
+                }
+            }
+        }
+    };
+    metadata::utc_date_time(seconds).map(Some)
 }
 
 #[derive(clap::Args)]
