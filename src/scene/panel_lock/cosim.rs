@@ -2,6 +2,7 @@
 
 use super::array::{HingeTable, PanelTable};
 use super::array_file::read_array;
+use super::params::DEFAULT_FLEX_MODES;
 use super::ports::*;
 use super::{PanelLock, PanelLockParams};
 use crate::integrator::Stats;
@@ -59,6 +60,7 @@ impl PanelLockModel {
     /// The scene parameters from the current port values.
     pub fn params(&self) -> Result<PanelLockParams, ModelError> {
         let gravity_on = self.ports.get_boolean(bvr::GRAVITY_ON)?;
+        let flexible_panels = self.ports.get_boolean(bvr::FLEXIBLE_PANELS)?;
         let mut p = PanelLockParams {
             n_panels: self.ports.get_integer(ivr::N_PANELS)? as usize,
             integrator: integrator_of(self.ports.get_integer(ivr::INTEGRATOR)?),
@@ -67,8 +69,11 @@ impl PanelLockModel {
             cable_loop: self.ports.get_boolean(bvr::CABLE_LOOP)?,
             free_satellite: self.ports.get_boolean(bvr::FREE_SATELLITE)?,
             gravity: gravity_on.then_some(9.81),
-            flexible_panels: self.ports.get_boolean(bvr::FLEXIBLE_PANELS)?,
-            n_modes: self.ports.get_integer(ivr::N_MODES)?.max(0) as usize,
+            flexible_panels,
+            n_modes: match self.ports.get_integer(ivr::N_MODES)?.max(0) as usize {
+                0 if flexible_panels => DEFAULT_FLEX_MODES,
+                n => n,
+            },
             load_frame: load_frame_of(self.ports.get_integer(ivr::LOAD_FRAME)?),
             hinge_tables: self.tables.0.clone(),
             panel_tables: self.tables.1.clone(),

@@ -215,6 +215,11 @@ pub const DEFAULT_PANEL_E: f64 = 3.0e9;
 /// Cam radius of the paper configuration [m] ([`PanelLockParams::flexible`]).
 pub const PAPER_CAM_RADIUS: f64 = 0.05;
 
+/// Modes per flexible panel when the FMU's `n_modes` is left at 0 with `flexible_panels` on:
+/// the paper configuration's count ([`PanelLockParams::flexible`] as docs/panel_lock_defaults.md
+/// measured it), so that switching flexible panels on alone gives a working scene.
+pub const DEFAULT_FLEX_MODES: usize = 10;
+
 impl PanelLockParams {
     /// The paper configuration: the default array with flexible panels of `n_modes`
     /// Craig-Bampton modes each and zero-backlash latches (groove width = pin diameter) on a

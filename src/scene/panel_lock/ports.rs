@@ -753,7 +753,7 @@ pub fn info() -> &'static ModelInfo {
             ports.push(PortSpec::boolean_parameter(name, vr, Variability::Fixed, start, desc));
         }
         ports.push(integer("load_frame", ivr::LOAD_FRAME, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "LoadFrame", items: LOAD_FRAMES, start: Some(load_frame_code(d.load_frame)) }, "Frame of the satellite_force_* and satellite_torque_* inputs: world or satellite body axes."));
-        ports.push(integer("n_modes", ivr::N_MODES, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_modes as i32), min: Some(0), max: Some(400) }, "Craig-Bampton modes per flexible panel (structure); must be 0 with rigid panels."));
+        ports.push(integer("n_modes", ivr::N_MODES, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_modes as i32), min: Some(0), max: Some(400) }, "Craig-Bampton modes per flexible panel (structure); 0 with flexible panels takes 10, the paper configuration's count; must be 0 with rigid panels."));
         for (i, p) in REAL_PARAMS.iter().enumerate() {
             let mut spec = PortSpec::real_parameter(p.name, i as ValueRef, Variability::Fixed, (p.get)(&d), p.unit, p.description);
             // the range the validation accepts (tests/declared_ranges.rs keeps them equal)
