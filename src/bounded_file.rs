@@ -1,7 +1,7 @@
 //! Bounded reading of the data files the FMUs and the CLI read: the scene file `scene.toml`,
 //! block meshes (OBJ, STL) and modal-body text files (issue #48, docs/bounded_inputs.md).
 //!
-//! Every such read goes through [`read_bytes`] or [`read_text`], which
+//! Every such read goes through [`read_bytes`], [`read_text`] or [`read_head`], which
 //! 1. look at what the path names, following symbolic links, and refuse anything but a regular
 //!    file: a FIFO (reading one blocks until a writer comes, forever inside `fmi2Instantiate`),
 //!    a device (`/dev/zero` and `/dev/urandom` never end), a socket, a folder; a symbolic-link
@@ -71,6 +71,15 @@ pub fn human_bytes(n: u64) -> String {
 
 /// The bytes of the regular file at `path`, at most `kind.max_bytes` of them (module doc).
 pub fn read_bytes(path: &Path, kind: &FileKind) -> Result<Vec<u8>, ReadError> {
+    let (file, len) = open_checked(path, kind)?;
+    read_capped(file, len, path, kind).map_err(|message| ReadError {
+        missing: false,
+        message,
+    })
+}
+
+/// Steps 1-3 of the module doc: the open file and its size.
+fn open_checked(path: &Path, kind: &FileKind) -> Result<(File, u64), ReadError> {
     let shown = path.display();
     let refuse = |message: String| ReadError {
         missing: false,
@@ -89,7 +98,22 @@ pub fn read_bytes(path: &Path, kind: &FileKind) -> Result<Vec<u8>, ReadError> {
         .map_err(|e| refuse(format!("cannot read {} {shown}: {e}", kind.what)))?;
     check_regular(&opened, path, kind).map_err(refuse)?;
     check_size(opened.len(), path, kind).map_err(refuse)?;
-    read_capped(file, opened.len(), path, kind).map_err(refuse)
+    Ok((file, opened.len()))
+}
+
+/// The first `n` bytes (fewer if the file is shorter) of the regular file at `path`, with every
+/// check of [`read_bytes`] on the whole file: a format whose header gives counts can refuse
+/// them before the whole file is read.
+pub fn read_head(path: &Path, kind: &FileKind, n: u64) -> Result<Vec<u8>, ReadError> {
+    let (file, _) = open_checked(path, kind)?;
+    let mut bytes = Vec::new();
+    file.take(n.min(kind.max_bytes))
+        .read_to_end(&mut bytes)
+        .map_err(|e| ReadError {
+            missing: false,
+            message: format!("cannot read {} {}: {e}", kind.what, path.display()),
+        })?;
+    Ok(bytes)
 }
 
 /// The text of the regular file at `path` (UTF-8), at most `kind.max_bytes` long.

@@ -235,3 +235,29 @@ fn child_reads_the_locked_file() {
     let p = std::env::var_os(LOCKED).expect("started by the parent test");
     println!("{}", refused(Path::new(&p), SMALL));
 }
+
+#[test]
+fn a_head_is_read_with_the_checks_of_the_whole_file() {
+    let dir = scratch("head");
+    let p = dir.join("mesh.stl");
+    std::fs::write(&p, b"0123456789").unwrap();
+    assert_eq!(read_head(&p, &SMALL, 4).unwrap(), b"0123");
+    assert_eq!(read_head(&p, &SMALL, 84).unwrap(), b"0123456789");
+    File::options()
+        .write(true)
+        .open(&p)
+        .unwrap()
+        .set_len(101)
+        .unwrap();
+    assert!(
+        read_head(&p, &SMALL, 4)
+            .unwrap_err()
+            .message
+            .contains("TEST_CAP")
+    );
+    let e = read_head(Path::new("/dev/zero"), &SMALL, 4)
+        .unwrap_err()
+        .message;
+    assert!(e.contains("character device"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -162,9 +162,7 @@ fn stl_binary(b: &[u8]) -> Result<Vec<[Vec3; 3]>, String> {
             b.len()
         ));
     }
-    let n = u32::from_le_bytes([b[80], b[81], b[82], b[83]]) as usize;
-    over(n, MAX_MESH_TRIANGLES, "triangles", "MAX_MESH_TRIANGLES")
-        .map_err(|e| format!("binary STL header: {n} triangles: {e}"))?;
+    let n = check_binary_count(b)?;
     let need = 84 + 50 * n;
     if b.len() < need {
         return Err(format!(
@@ -182,6 +180,15 @@ fn stl_binary(b: &[u8]) -> Result<Vec<[Vec3; 3]>, String> {
             })
         })
         .collect())
+}
+
+/// The triangle count in the header of the binary STL `b` (at least 84 bytes), or `Err` when it
+/// is over [`MAX_MESH_TRIANGLES`].
+fn check_binary_count(b: &[u8]) -> Result<usize, String> {
+    let n = u32::from_le_bytes([b[80], b[81], b[82], b[83]]) as usize;
+    over(n, MAX_MESH_TRIANGLES, "triangles", "MAX_MESH_TRIANGLES")
+        .map_err(|e| format!("binary STL header: {n} triangles: {e}"))?;
+    Ok(n)
 }
 
 /// Merges coincident corners and builds the mesh.
@@ -223,12 +230,19 @@ fn weld(corners: &[[Vec3; 3]], scale: f64) -> Result<ShellMesh, String> {
 /// Reads an OBJ or STL file (chosen by extension, case-insensitive), through
 /// [`bounded_file`] (a regular file of at most [`MESH_FILE_BYTES`]).
 pub fn load(path: &std::path::Path, scale: f64) -> Result<ShellMesh, String> {
-    let bytes = bounded_file::read_bytes(path, &MESH_FILE)?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
+    if ext == "stl" {
+        // a binary STL's triangle count is refused from its header, before the file is read
+        let head = bounded_file::read_head(path, &MESH_FILE, 84)?;
+        if head.len() == 84 && !head.starts_with(b"solid") {
+            check_binary_count(&head).map_err(|e| format!("mesh '{}': {e}", path.display()))?;
+        }
+    }
+    let bytes = bounded_file::read_bytes(path, &MESH_FILE)?;
     match ext.as_str() {
         "obj" => parse_obj(
             std::str::from_utf8(&bytes)
