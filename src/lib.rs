@@ -27,6 +27,7 @@
 //! Units are SI throughout. Nothing outside `fmi` knows that FMI exists.
 #![deny(unsafe_code)]
 
+pub mod bounded_file;
 pub mod contact;
 pub mod dae;
 pub mod effect;

@@ -49,6 +49,7 @@ use super::body::{ModalBodyData, ModalBodyParts};
 use super::error::FlexError;
 use super::invariants::Invariants;
 use super::reduce::modal_damping;
+use crate::bounded_file::{self, FileKind};
 use crate::math::{Mat3, Vec3};
 
 /// Magic word of the first record.
@@ -146,10 +147,28 @@ pub fn write_file(body: &ModalBodyData, path: &std::path::Path) -> Result<(), Fl
         .map_err(|e| FlexError::InvalidInput(format!("cannot write {}: {e}", path.display())))
 }
 
-/// Reads a body from the file `path` (see [`from_text`]).
+/// Largest modal-body file read: 256 MiB holds 1,000 modes with their invariants (the `P`
+/// block alone is 1,000,000 records) or 100,000 nodes of 20 modes (docs/bounded_inputs.md).
+pub const MODAL_FILE_BYTES: u64 = 256 * 1024 * 1024;
+
+/// A modal-body file, for [`bounded_file`].
+pub const MODAL_FILE: FileKind = FileKind {
+    what: "modal body file",
+    max_bytes: MODAL_FILE_BYTES,
+    cap_name: "MODAL_FILE_BYTES",
+};
+
+/// Most modes a body may have: `MODE_COUNT` sizes the matrices before their rows are read.
+pub const MAX_MODES: usize = 1_000;
+
+/// Most nodes a body may have: `NODE_COUNT` sizes the node tables before they are read.
+pub const MAX_NODES: usize = 1_000_000;
+
+/// Reads a body from the file `path` (see [`from_text`]), through [`bounded_file`] (a regular
+/// file of at most [`MODAL_FILE_BYTES`]).
 pub fn read_file(path: &std::path::Path) -> Result<ModalBodyData, FlexError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| FlexError::InvalidInput(format!("cannot read {}: {e}", path.display())))?;
+    let text = bounded_file::read_text(path, &MODAL_FILE)
+        .map_err(|e| FlexError::InvalidInput(e.message))?;
     from_text(&text)
 }
 
@@ -342,7 +361,23 @@ pub fn from_text(text: &str) -> Result<ModalBodyData, FlexError> {
     if nodes == 0 {
         return parse_err(count_line, "NODE_COUNT must be at least 1");
     }
+    if nodes > MAX_NODES {
+        return parse_err(
+            count_line,
+            format!(
+                "NODE_COUNT {nodes} is over the cap of {MAX_NODES} nodes (MAX_NODES; docs/bounded_inputs.md)"
+            ),
+        );
+    }
     let n = rd.count("MODE_COUNT")?;
+    if n > MAX_MODES {
+        return parse_err(
+            rd.records[rd.pos - 1].line,
+            format!(
+                "MODE_COUNT {n} is over the cap of {MAX_MODES} modes (MAX_MODES; docs/bounded_inputs.md)"
+            ),
+        );
+    }
     let n_att = rd.count("ATTACHMENT_COUNT")?;
     let (freq_line, rest) = rd.keyword("FREQUENCIES_HZ", "FREQUENCIES_HZ f_1 ... f_n")?;
     let freqs = numbers(freq_line, &rest, n, "FREQUENCIES_HZ")?;

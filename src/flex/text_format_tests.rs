@@ -244,3 +244,31 @@ fn semantic_errors_after_parsing_are_reported() {
         "{e}"
     );
 }
+
+#[test]
+fn counts_past_their_caps_are_refused_before_anything_is_sized_by_them() {
+    use super::text_format::{MAX_MODES, MAX_NODES};
+    let head = |nodes: usize, modes: usize| {
+        format!(
+            "MBCOSIM_MODAL_BODY 1\nUNITS SI\nNODE_COUNT {nodes}\nMODE_COUNT {modes}\nATTACHMENT_COUNT 0\n"
+        )
+    };
+    // a NODE_COUNT of 2^60 used to size a vector before one node was read (an abort, not an Err)
+    let e = from_text(&head(1 << 60, 1)).unwrap_err().to_string();
+    assert!(e.contains("MAX_NODES") && e.contains("line 3"), "{e}");
+    let e = from_text(&head(MAX_NODES + 1, 1)).unwrap_err().to_string();
+    assert!(e.contains(&format!("cap of {MAX_NODES} nodes")), "{e}");
+    let e = from_text(&head(1, MAX_MODES + 1)).unwrap_err().to_string();
+    assert!(e.contains("MAX_MODES") && e.contains("line 4"), "{e}");
+}
+
+#[test]
+fn a_modal_file_that_is_a_device_is_refused_by_the_bounded_reader() {
+    let e = read_file(std::path::Path::new("/dev/zero"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("modal body file /dev/zero") && e.contains("character device"),
+        "{e}"
+    );
+}

@@ -22,6 +22,8 @@
 use std::path::{Path, PathBuf};
 
 use super::instance::Outcome;
+use crate::bounded_file;
+use crate::scene::scene_file;
 
 /// What the importer's resource location gives.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -259,41 +261,15 @@ fn existing_folder(
 }
 
 /// The text of the scene file at `path`; `None` when there is none; otherwise why it cannot be
-/// read (a symbolic-link loop or a dangling link, permissions, not a regular file, not UTF-8).
+/// read: a symbolic-link loop or a dangling link, permissions, not a regular file (a FIFO, a
+/// device, a folder), larger than [`scene_file::SCENE_FILE_BYTES`], not UTF-8. Read through
+/// [`bounded_file`], which neither blocks nor reads past the cap.
 pub fn read_scene_text(path: &Path) -> Result<Option<String>, String> {
-    let shown = path.display();
-    match std::fs::symlink_metadata(path) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(format!("cannot read {shown}: {e}")),
-        Ok(_) => {}
+    match bounded_file::read_text(path, &scene_file::SCENE_FILE) {
+        Ok(text) => Ok(Some(text)),
+        Err(e) if e.missing => Ok(None),
+        Err(e) => Err(e.message),
     }
-    let meta = std::fs::metadata(path).map_err(|e| {
-        if e.kind() == std::io::ErrorKind::NotFound {
-            let target = std::fs::read_link(path)
-                .map(|t| t.display().to_string())
-                .unwrap_or_else(|_| "?".into());
-            format!("cannot read {shown}: it is a symbolic link to {target}, which does not exist")
-        } else {
-            format!("cannot read {shown}: {e}")
-        }
-    })?;
-    if !meta.is_file() {
-        let kind = if meta.is_dir() {
-            "a folder"
-        } else {
-            "a special file"
-        };
-        return Err(format!(
-            "{shown} is not a regular file (it is {kind}); the scene file must be a TOML text file"
-        ));
-    }
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {shown}: {e}"))?;
-    String::from_utf8(bytes).map(Some).map_err(|e| {
-        format!(
-            "{shown} is not valid UTF-8 text (bad byte at offset {}); save it as UTF-8",
-            e.utf8_error().valid_up_to()
-        )
-    })
 }
 
 #[cfg(test)]

@@ -40,9 +40,30 @@ use toml::de::{DeString, DeTable, DeValue};
 
 use super::CoSimModel;
 use super::port::{Causality, ModelInfo, PortSpec, PortType};
+use crate::bounded_file::{self, FileKind};
 
 /// Name of the scene file inside an FMU's `resources/` folder.
 pub const FMU_SCENE: &str = "scene.toml";
+
+/// Largest scene file read: the default scenes are 3-7 kB and a rig of 64 slings about 20 kB;
+/// 4 MiB leaves room for comments and generated files, and parses in well under a second
+/// (docs/bounded_inputs.md).
+pub const SCENE_FILE_BYTES: u64 = 4 * 1024 * 1024;
+
+/// A scene file, for [`bounded_file`].
+pub const SCENE_FILE: FileKind = FileKind {
+    what: "scene file",
+    max_bytes: SCENE_FILE_BYTES,
+    cap_name: "SCENE_FILE_BYTES",
+};
+
+/// Most keys and array values a scene file may hold, counted over every table: a model has at
+/// most a few hundred parameters and a rig of 64 slings some 1,000 keys (docs/bounded_inputs.md).
+pub const MAX_SCENE_KEYS: usize = 10_000;
+
+/// Most tables (`[block]`, each `[[lug]]`, `[[sling]]`, ...) a scene file may hold: a rig has at
+/// most 4 hooks, 64 slings and 256 lugs, a panel array 6 panels and 7 hinges.
+pub const MAX_SCENE_TABLES: usize = 1_000;
 
 /// A value written in a scene file.
 #[derive(Debug, Clone, PartialEq)]
@@ -110,11 +131,19 @@ pub struct SceneFile {
 /// the crate's wording; then the document is checked against the scene layout, in file order.
 /// No input makes this panic: it runs inside `fmi2Instantiate`.
 pub fn parse(text: &str, origin: &str) -> Result<SceneFile, String> {
-    let src = Source { text, origin };
+    let src = Source::new(text, origin);
+    if text.len() as u64 > SCENE_FILE_BYTES {
+        return Err(format!(
+            "{origin}: the scene has {} bytes, over the cap of {} on a scene file (SCENE_FILE_BYTES; docs/bounded_inputs.md)",
+            text.len(),
+            bounded_file::human_bytes(SCENE_FILE_BYTES)
+        ));
+    }
     let (doc, errors) = DeTable::parse_recoverable(text);
     if !errors.is_empty() {
         return Err(src.syntax_error(doc.get_ref(), &errors));
     }
+    check_counts(doc.get_ref(), origin)?;
     let mut file = SceneFile::default();
     for (key, value) in in_file_order(doc.get_ref()) {
         let pos = key.span().start;
@@ -185,6 +214,39 @@ pub fn parse(text: &str, origin: &str) -> Result<SceneFile, String> {
     Ok(file)
 }
 
+/// `Err` naming the cap when `doc` holds more tables than [`MAX_SCENE_TABLES`] or more keys
+/// (array values included) than [`MAX_SCENE_KEYS`]; counted before anything else
+/// looks at the keys, so the work after the TOML parse is bounded.
+fn check_counts(doc: &DeTable<'_>, origin: &str) -> Result<(), String> {
+    let (mut keys, mut tables) = (doc.len(), 0usize);
+    let mut stack: Vec<&DeValue<'_>> = doc.values().map(|v| v.get_ref()).collect();
+    while let Some(v) = stack.pop() {
+        match v {
+            DeValue::Table(t) => {
+                tables += 1;
+                keys += t.len();
+                stack.extend(t.values().map(|v| v.get_ref()));
+            }
+            DeValue::Array(a) => {
+                keys += a.len();
+                stack.extend(a.iter().map(|v| v.get_ref()));
+            }
+            _ => {}
+        }
+    }
+    if tables > MAX_SCENE_TABLES {
+        return Err(format!(
+            "{origin}: the scene has {tables} tables, over the cap of {MAX_SCENE_TABLES} in a scene file (MAX_SCENE_TABLES; docs/bounded_inputs.md)"
+        ));
+    }
+    if keys > MAX_SCENE_KEYS {
+        return Err(format!(
+            "{origin}: the scene has {keys} keys and array values, over the cap of {MAX_SCENE_KEYS} in a scene file (MAX_SCENE_KEYS; docs/bounded_inputs.md)"
+        ));
+    }
+    Ok(())
+}
+
 type Key<'i> = Spanned<DeString<'i>>;
 type Val<'i> = Spanned<DeValue<'i>>;
 
@@ -236,17 +298,29 @@ fn a_type(v: &DeValue<'_>) -> &'static str {
 struct Source<'a> {
     text: &'a str,
     origin: &'a str,
+    /// Byte offsets of the newlines, so a line number costs a binary search (counting the
+    /// newlines before each key made 80,000 keys quadratic: minutes inside `fmi2Instantiate`).
+    newlines: Vec<usize>,
 }
 
-impl Source<'_> {
+impl<'a> Source<'a> {
+    fn new(text: &'a str, origin: &'a str) -> Self {
+        let newlines = text
+            .bytes()
+            .enumerate()
+            .filter(|&(_, c)| c == b'\n')
+            .map(|(i, _)| i)
+            .collect();
+        Source {
+            text,
+            origin,
+            newlines,
+        }
+    }
+
     /// The 1-based line of byte offset `pos`.
     fn line(&self, pos: usize) -> usize {
-        let bytes = self.text.as_bytes();
-        let end = pos.min(bytes.len());
-        bytes
-            .get(..end)
-            .map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count())
-            + 1
+        self.newlines.partition_point(|&n| n < pos) + 1
     }
 
     /// Byte range of the line holding `pos`, without its newline.
@@ -762,13 +836,18 @@ fn quote(s: &str) -> String {
     out
 }
 
-/// Reads and applies the scene file at `path`.
+/// Reads (through [`bounded_file`], capped at [`SCENE_FILE_BYTES`]) and applies the scene file
+/// at `path`.
 pub fn apply_file(model: &mut dyn CoSimModel, path: &std::path::Path) -> Result<usize, String> {
     let origin = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {origin}: {e}"))?;
+    let text = bounded_file::read_text(path, &SCENE_FILE)?;
     apply(model, &parse(&text, &origin)?, &origin)
 }
 
 #[cfg(test)]
 #[path = "scene_file_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "scene_file_limits_tests.rs"]
+mod limits_tests;

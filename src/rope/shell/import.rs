@@ -6,8 +6,38 @@
 //! Lengths are taken as metres, multiplied by `scale`.
 
 use super::{DEFAULT_MIN_EDGE_ANGLE, ShellMesh};
+use crate::bounded_file::{self, FileKind};
 use crate::math::Vec3;
 use std::collections::HashMap;
+
+/// Largest mesh file read: 256 MiB holds a binary STL of 5.3 million triangles, an OBJ of about
+/// 4 million (docs/bounded_inputs.md).
+pub const MESH_FILE_BYTES: u64 = 256 * 1024 * 1024;
+
+/// A mesh file, for [`bounded_file`].
+pub const MESH_FILE: FileKind = FileKind {
+    what: "mesh file",
+    max_bytes: MESH_FILE_BYTES,
+    cap_name: "MESH_FILE_BYTES",
+};
+
+/// Most triangles a mesh may have (after fan triangulation of OBJ polygons): a block's shell
+/// plate is a few thousand; a scanned hull some million (docs/bounded_inputs.md).
+pub const MAX_MESH_TRIANGLES: usize = 4_000_000;
+
+/// Most vertices an OBJ mesh may list.
+pub const MAX_MESH_VERTICES: usize = 4_000_000;
+
+/// `Err` naming the cap when `n` more `what` than `cap` were read.
+fn over(n: usize, cap: usize, what: &str, cap_name: &str) -> Result<(), String> {
+    if n > cap {
+        Err(format!(
+            "more than {cap} {what}, the cap on a mesh ({cap_name}; docs/bounded_inputs.md)"
+        ))
+    } else {
+        Ok(())
+    }
+}
 
 /// Parses OBJ text into a shell mesh (lengths multiplied by `scale`).
 pub fn parse_obj(text: &str, scale: f64) -> Result<ShellMesh, String> {
@@ -27,6 +57,8 @@ pub fn parse_obj(text: &str, scale: f64) -> Result<ShellMesh, String> {
                     return Err(format!("OBJ line {}: a vertex needs 3 coordinates", ln + 1));
                 }
                 v.push(Vec3::new(c[0], c[1], c[2]) * scale);
+                over(v.len(), MAX_MESH_VERTICES, "vertices", "MAX_MESH_VERTICES")
+                    .map_err(|e| format!("OBJ line {}: {e}", ln + 1))?;
             }
             Some("f") => {
                 let mut idx = Vec::new();
@@ -51,6 +83,13 @@ pub fn parse_obj(text: &str, scale: f64) -> Result<ShellMesh, String> {
                         ln + 1
                     ));
                 }
+                over(
+                    t.len() + idx.len() - 2,
+                    MAX_MESH_TRIANGLES,
+                    "triangles",
+                    "MAX_MESH_TRIANGLES",
+                )
+                .map_err(|e| format!("OBJ line {}: {e}", ln + 1))?;
                 for k in 1..idx.len() - 1 {
                     t.push([idx[0], idx[k], idx[k + 1]]);
                 }
@@ -100,6 +139,13 @@ fn stl_ascii(text: &str) -> Result<Vec<[Vec3; 3]>, String> {
             if cur.len() == 3 {
                 tris.push([cur[0], cur[1], cur[2]]);
                 cur.clear();
+                over(
+                    tris.len(),
+                    MAX_MESH_TRIANGLES,
+                    "triangles",
+                    "MAX_MESH_TRIANGLES",
+                )
+                .map_err(|e| format!("STL line {}: {e}", ln + 1))?;
             }
         }
     }
@@ -116,7 +162,7 @@ fn stl_binary(b: &[u8]) -> Result<Vec<[Vec3; 3]>, String> {
             b.len()
         ));
     }
-    let n = u32::from_le_bytes([b[80], b[81], b[82], b[83]]) as usize;
+    let n = check_binary_count(b)?;
     let need = 84 + 50 * n;
     if b.len() < need {
         return Err(format!(
@@ -134,6 +180,15 @@ fn stl_binary(b: &[u8]) -> Result<Vec<[Vec3; 3]>, String> {
             })
         })
         .collect())
+}
+
+/// The triangle count in the header of the binary STL `b` (at least 84 bytes), or `Err` when it
+/// is over [`MAX_MESH_TRIANGLES`].
+fn check_binary_count(b: &[u8]) -> Result<usize, String> {
+    let n = u32::from_le_bytes([b[80], b[81], b[82], b[83]]) as usize;
+    over(n, MAX_MESH_TRIANGLES, "triangles", "MAX_MESH_TRIANGLES")
+        .map_err(|e| format!("binary STL header: {n} triangles: {e}"))?;
+    Ok(n)
 }
 
 /// Merges coincident corners and builds the mesh.
@@ -172,15 +227,22 @@ fn weld(corners: &[[Vec3; 3]], scale: f64) -> Result<ShellMesh, String> {
     ShellMesh::new(v, t, DEFAULT_MIN_EDGE_ANGLE)
 }
 
-/// Reads an OBJ or STL file (chosen by extension, case-insensitive).
+/// Reads an OBJ or STL file (chosen by extension, case-insensitive), through
+/// [`bounded_file`] (a regular file of at most [`MESH_FILE_BYTES`]).
 pub fn load(path: &std::path::Path, scale: f64) -> Result<ShellMesh, String> {
-    let bytes =
-        std::fs::read(path).map_err(|e| format!("cannot read mesh '{}': {e}", path.display()))?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .unwrap_or("")
         .to_ascii_lowercase();
+    if ext == "stl" {
+        // a binary STL's triangle count is refused from its header, before the file is read
+        let head = bounded_file::read_head(path, &MESH_FILE, 84)?;
+        if head.len() == 84 && !head.starts_with(b"solid") {
+            check_binary_count(&head).map_err(|e| format!("mesh '{}': {e}", path.display()))?;
+        }
+    }
+    let bytes = bounded_file::read_bytes(path, &MESH_FILE)?;
     match ext.as_str() {
         "obj" => parse_obj(
             std::str::from_utf8(&bytes)
@@ -195,3 +257,7 @@ pub fn load(path: &std::path::Path, scale: f64) -> Result<ShellMesh, String> {
     }
     .map_err(|e| format!("mesh '{}': {e}", path.display()))
 }
+
+#[cfg(test)]
+#[path = "import_limits_tests.rs"]
+mod limits_tests;

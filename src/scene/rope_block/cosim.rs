@@ -34,6 +34,7 @@ use super::rig_file::{RigOverride, read_rig};
 use super::scene::solver_settings;
 use super::{RopeBlockParams, RopeBlockScene};
 use crate::math::Vec3;
+use crate::rope::shell::import::MESH_FILE;
 use crate::scene::bytes::{ByteReader, ByteWriter, checksum64};
 use crate::scene::clock::Clock;
 use crate::scene::panel_lock::ports::integrator_of;
@@ -707,8 +708,8 @@ fn mesh_digest_of(p: &RopeBlockParams) -> Result<Option<u64>, ModelError> {
     let Some(file) = p.mesh_file() else {
         return Ok(None);
     };
-    let bytes = std::fs::read(file)
-        .map_err(|e| ModelError::InvalidValue(format!("cannot read mesh_file `{file}`: {e}")))?;
+    let bytes = crate::bounded_file::read_bytes(Path::new(file), &MESH_FILE)
+        .map_err(|e| ModelError::InvalidValue(format!("mesh_file `{file}`: {e}")))?;
     Ok(Some(checksum64(&bytes)))
 }
 

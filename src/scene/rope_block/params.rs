@@ -216,6 +216,16 @@ impl RopeBlockParams {
                 self.segments
             ));
         }
+        let total = self.segments.saturating_mul(self.rig.slings.len());
+        if total > MAX_ROPE_SEGMENTS {
+            return Err(format!(
+                "{} slings of {} segments are {total} rope segments, over the cap of \
+                 {MAX_ROPE_SEGMENTS} in a scene (MAX_ROPE_SEGMENTS; docs/bounded_inputs.md): \
+                 use fewer segments per sling",
+                self.rig.slings.len(),
+                self.segments
+            ));
+        }
         if self.integrator == IntegratorKind::Dopri5 && self.segments > MAX_DOPRI5_SEGMENTS {
             return Err(format!(
                 "integrator = dopri5 with segments = {} per sling: the explicit integrator is \
@@ -511,3 +521,8 @@ pub const MAX_HOOK_RAMP: f64 = 60.0;
 /// Most segments per sling [`RopeBlockParams::validate`] accepts with DOPRI5 (at 32 one 0.05 s
 /// step of the default scene costs ~0.7 s CPU; the cost grows ~ segments^3.5).
 pub const MAX_DOPRI5_SEGMENTS: usize = 32;
+
+/// Most rope segments a scene may have over all its slings: 64 slings (the rig's cap) of 400
+/// segments (the FMU's largest `segments`); the scene is built and settled at initialization,
+/// and its cost grows with this total (docs/bounded_inputs.md).
+pub const MAX_ROPE_SEGMENTS: usize = 25_600;

@@ -23,6 +23,15 @@ pub const UNIT_QUATERNION_TOLERANCE: f64 = 1e-9;
 /// Most hooks a rig may have.
 pub const MAX_RIG_HOOKS: usize = 4;
 
+/// Most slings a rig may have: heavy lifts use 2-8 per hook, so 16 per hook on 4 hooks
+/// (docs/bounded_inputs.md). Each sling is checked against the block when the scene is read,
+/// inside `fmi2Instantiate`.
+pub const MAX_RIG_SLINGS: usize = 64;
+
+/// Most lugs a rig may have (lugs no sling uses are allowed: a block's lug plan); each is checked
+/// against the block's shell when the scene is read.
+pub const MAX_RIG_LUGS: usize = 256;
+
 /// The block's shell geometry.
 #[derive(Debug, Clone, PartialEq)]
 pub enum BlockGeometry {
@@ -217,6 +226,18 @@ impl Rig {
         }
         if self.slings.is_empty() {
             return Err("at least one sling is needed".into());
+        }
+        if self.slings.len() > MAX_RIG_SLINGS {
+            return Err(format!(
+                "a rig has at most {MAX_RIG_SLINGS} slings (MAX_RIG_SLINGS; docs/bounded_inputs.md), got {}",
+                self.slings.len()
+            ));
+        }
+        if self.lugs.len() > MAX_RIG_LUGS {
+            return Err(format!(
+                "a rig has at most {MAX_RIG_LUGS} lugs (MAX_RIG_LUGS; docs/bounded_inputs.md), got {}",
+                self.lugs.len()
+            ));
         }
         for (k, h) in self.hooks.iter().enumerate() {
             if !h.position.iter().all(|x| x.is_finite()) {

@@ -33,8 +33,8 @@
 
 use super::params::Route;
 use super::rig::{
-    BlockGeometry, BlockPose, BlockRig, Lug, Plate, Rig, RigHook, RigSling,
-    UNIT_QUATERNION_TOLERANCE,
+    BlockGeometry, BlockPose, BlockRig, Lug, MAX_RIG_HOOKS, MAX_RIG_LUGS, MAX_RIG_SLINGS, Plate,
+    Rig, RigHook, RigSling, UNIT_QUATERNION_TOLERANCE,
 };
 use crate::math::{Mat3, Quat, Vec3};
 use crate::rope::shell::parametric::BlockShape;
@@ -77,6 +77,30 @@ pub fn read_rig(
 ) -> Result<RigOverride, String> {
     let mut rig = RigOverride::default();
     for t in tables {
+        let (count, cap, cap_name) = match t.name.as_str() {
+            "lug" => (
+                rig.lugs.as_ref().map_or(0, Vec::len),
+                MAX_RIG_LUGS,
+                "MAX_RIG_LUGS",
+            ),
+            "sling" => (
+                rig.slings.as_ref().map_or(0, Vec::len),
+                MAX_RIG_SLINGS,
+                "MAX_RIG_SLINGS",
+            ),
+            "hook" => (
+                rig.hooks.as_ref().map_or(0, Vec::len),
+                MAX_RIG_HOOKS,
+                "MAX_RIG_HOOKS",
+            ),
+            _ => (0, 1, ""),
+        };
+        if count == cap {
+            return Err(format!(
+                "{origin}:{}: [[{}]] {count} is one too many: a rig has at most {cap} (the cap {cap_name}; docs/bounded_inputs.md)",
+                t.line, t.name
+            ));
+        }
         let mut r = Reader {
             t,
             origin,
