@@ -117,15 +117,24 @@ class Model:
         self.inputs = [v for v in self.md.modelVariables if v.causality == "input" and v.type == "Real"]
         de = self.md.defaultExperiment
         self.h = float(de.stepSize) if de and de.stepSize else 0.01
-        self.bases = []  # (name, bytes, fields)
-        for name, values, steps, terminate in BASE_STATES[identifier]:
-            data = self.base_state(values, steps, terminate)
-            path = pathlib.Path(workdir) / f"{identifier}.{name}.state"
-            path.write_bytes(data)
-            out = subprocess.run([mbcosim, "state-fields", str(path), "--resources", os.path.join(self.unzip, "resources")],
-                                 capture_output=True, text=True, check=True)
-            spans = [json.loads(line) for line in out.stdout.splitlines()]
-            self.bases.append((name, data, group_fields(spans)))
+        self.workdir, self.mbcosim = workdir, mbcosim
+        self._bases = None
+
+    @property
+    def bases(self):
+        """(name, bytes, fields) of each base state, made when first asked for (the forge and
+        calls kinds need them; main asks before the workers fork, a replay only if it needs them)."""
+        if self._bases is None:
+            self._bases = []
+            for name, values, steps, terminate in BASE_STATES[self.id]:
+                data = self.base_state(values, steps, terminate)
+                path = pathlib.Path(self.workdir) / f"{self.id}.{name}.state"
+                path.write_bytes(data)
+                out = subprocess.run([self.mbcosim, "state-fields", str(path), "--resources",
+                                      os.path.join(self.unzip, "resources")], capture_output=True, text=True, check=True)
+                spans = [json.loads(line) for line in out.stdout.splitlines()]
+                self._bases.append((name, data, group_fields(spans)))
+        return self._bases
 
     def new(self, logging_on=False):
         inst = R.Instance(self.lib, self.md.guid, logging_on=logging_on)
@@ -505,7 +514,10 @@ def main():
             models = [Model(a.dist, mid, work, a.bin) for mid in a.models.split(",")]
         if "files" in kinds:
             for m in models:
-                prepare_files(m, work)
+                prepare_files(m, work, eager=not a.inline)
+        if not a.inline and {"forge", "calls"} & set(kinds):
+            for m in models:
+                m.bases  # noqa: B018 - made once, before the workers fork
         job = Job(models, kinds, a.seed)
         if a.values is not None:
             m = models[0]
@@ -533,8 +545,8 @@ def main():
             summary = {"seed": a.seed, "fmi": a.fmi, "kinds": kinds,
                        **run_all(job, a.first, a.count, a.workers, a.cpu_limit, replay_cmd, a.progress)}
             fields = summary.pop("_fields")
-            all_fields = {f"{m.id}/{b}/{k}:{f['what']}/{f['kind']}" for m in models for (b, _, fs) in
-                          getattr(m, "bases", []) for k, f in enumerate(fs)}
+            all_fields = {f"{m.id}/{b}/{k}:{f['what']}/{f['kind']}" for m in models if getattr(m, "_bases", None)
+                          for (b, _, fs) in m.bases for k, f in enumerate(fs)}
             summary.update(fields_visited=len(fields & all_fields), fields_total=len(all_fields),
                            fields_missed=sorted(all_fields - fields)[:20])
     text = json.dumps(summary, indent=1)

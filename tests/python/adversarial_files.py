@@ -64,14 +64,19 @@ def sparse(head):
     return make
 
 
-def text(t):
-    return lambda p: p.write_text(t)
+def text(build):
+    """Writes the text `build()` gives (built when the variant is made)."""
+    return lambda p: p.write_text(build())
 
 
 def scene_variants(default):
     """(name, how scene.toml is made) for every model."""
-    unknown = default + "".join(f"unknown_key_{k:05d} = 1\n" for k in range(80_000))
-    long_keys = default + "".join(f"{'k' * 990}{k:010d} = 1\n" for k in range(20_000))
+    def unknown():
+        return default + "".join(f"unknown_key_{k:05d} = 1\n" for k in range(80_000))
+
+    def long_keys():
+        return default + "".join(f"{'k' * 990}{k:010d} = 1\n" for k in range(20_000))
+
     return [
         ("scene.toml FIFO", fifo),
         ("scene.toml -> /dev/zero", link("/dev/zero")),
@@ -88,40 +93,56 @@ def rope_variants(default):
     """RopeBlock's rig tables and mesh files: (name, how scene.toml is made, mesh file maker or None,
     route) with route "scene" (the mesh named in scene.toml) or "param" (mesh_file set by the
     importer)."""
-    slings = default + "".join("[[sling]]\nlug = 0\nhook = 0\nlength = 23.1\n" for _ in range(2_000))
-    lugs = default + "".join("[[lug]]\nposition = [7.5, 7.3, 7.0]\n" for _ in range(100_000))
+    def slings():
+        return default + "".join("[[sling]]\nlug = 0\nhook = 0\nlength = 23.1\n" for _ in range(2_000))
+
+    def lugs():
+        return default + "".join("[[lug]]\nposition = [7.5, 7.3, 7.0]\n" for _ in range(100_000))
+
     meshes = [("FIFO", fifo), ("-> /dev/zero", link("/dev/zero")), ("-> /dev/urandom", link("/dev/urandom")),
               ("directory", directory), ("symlink loop", loop),
               ("oversized (300 MB)", sparse(b"# an OBJ file\nv 0 0 0\n"))]
     out = [("scene.toml 2,000 [[sling]]", text(slings), None, "scene"),
            ("scene.toml 100,000 [[lug]]", text(lugs), None, "scene")]
     for name, make in meshes:
-        out.append((f"[block] mesh {name}", text(default + '\n[block]\nmesh = "block.obj"\nmass = 250e3\n'),
-                    make, "scene"))
-        out.append((f"scene mesh_file {name}", text(replace_line(default, "mesh_file", 'mesh_file = "block.obj"')),
-                    make, "scene"))
+        block = text(lambda: default + '\n[block]\nmesh = "block.obj"\nmass = 250e3\n')
+        in_scene = text(lambda: replace_line(default, "mesh_file", 'mesh_file = "block.obj"'))
+        out.append((f"[block] mesh {name}", block, make, "scene"))
+        out.append((f"scene mesh_file {name}", in_scene, make, "scene"))
         out.append((f"fmi2SetString mesh_file {name}", None, make, "param"))
     out.append(("fmi2SetString mesh_file of 10 MB", None, None, "long"))
     return out
 
 
-def prepare(m, workdir):
-    """Makes every variant's resources folder for model `m`; sets m.file_variants."""
+def prepare(m, workdir, eager=True):
+    """Sets m.file_variants for model `m`: (name, resources folder, route, maker) each; `eager`
+    makes every folder now (before the workers fork), else each is made when first used (a
+    replay needs one)."""
     src = pathlib.Path(m.unzip, "resources")
-    default = (src / "scene.toml").read_text()
-    variants = [(name, make, None, "scene") for name, make in scene_variants(default)]
-    if m.id == "RopeBlock":
-        variants += rope_variants(default)
     m.file_variants = []
-    for k, (name, make_scene, make_mesh, route) in enumerate(variants):
+    for k, name, make_scene, make_mesh, route in specs(m.id, (src / "scene.toml").read_text()):
         res = pathlib.Path(workdir, f"files-{m.id}-{k}")
-        shutil.copytree(src, res)
-        if make_scene is not None:
-            (res / "scene.toml").unlink()
-            make_scene(res / "scene.toml")
-        if make_mesh is not None:
-            make_mesh(res / "block.obj")
-        m.file_variants.append((name, res, route))
+
+        def make(res=res, make_scene=make_scene, make_mesh=make_mesh):
+            shutil.copytree(src, res)
+            if make_scene is not None:
+                (res / "scene.toml").unlink()
+                make_scene(res / "scene.toml")
+            if make_mesh is not None:
+                make_mesh(res / "block.obj")
+
+        m.file_variants.append((name, res, route, make))
+        if eager:
+            make()
+
+
+def specs(model, default):
+    """(k, name, scene maker, mesh maker, route) of every variant of `model` (cheap: the texts are
+    built by the makers)."""
+    variants = [(name, make, None, "scene") for name, make in scene_variants(default)]
+    if model == "RopeBlock":
+        variants += rope_variants(default)
+    return [(k, *v) for k, v in enumerate(variants)]
 
 
 def vm_size():
@@ -133,7 +154,9 @@ def vm_size():
 
 
 def files(m, rng, index):
-    name, res, route = m.file_variants[index % len(m.file_variants)]
+    name, res, route, make = m.file_variants[index % len(m.file_variants)]
+    if not res.exists():
+        make()
     ANNOUNCE[0](f"files {m.id}: {name}")
     run = Run(m)
     soft, hard = resource.getrlimit(resource.RLIMIT_AS)

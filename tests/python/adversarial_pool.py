@@ -222,7 +222,8 @@ def run_all(job, first, count, workers, cpu_limit, replay_cmd, progress=None):
                     _, st = os.waitpid(wk.pid, 0)
                     code = os.waitstatus_to_exitcode(st)
                     if wk.current is not None:
-                        tally.lost(wk.current, wk.meta, "crash", f"{wk.case}: {wk.stderr_tail()} (exit {code})", wk.field)
+                        tally.lost(wk.current, {**wk.meta, "case": wk.case}, "crash",
+                                   f"{wk.case}: {wk.stderr_tail()} (exit {code})", wk.field)
                         replacement = rest_of(wk)
                     elif code != 0:
                         raise RuntimeError(f"worker failed (exit {code}): {wk.stderr_tail()}")
