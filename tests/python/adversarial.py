@@ -1,11 +1,14 @@
-"""Adversarial harness (issue #25): forged FMU states, parameter envelopes, random call sequences.
+"""Adversarial harness (issues #25, #48): forged FMU states, parameter envelopes, random call
+sequences, callback re-entry, serialize/deserialize continuation and data files (FMI 2.0); random
+call sequences and callback re-entry (FMI 3.0).
 
-usage: adversarial.py --dist DIR --bin MBCOSIM --seed S --count N [--workers 2] [--cpu-limit 10]
-                      [--models A,B] [--kinds forge,envelope,calls] [--inline] [--json FILE]
+usage: adversarial.py --dist DIR --bin MBCOSIM --seed S --count N [--fmi 2|3] [--workers 2]
+                      [--cpu-limit 10] [--models A,B] [--kinds K1,K2] [--inline [--stream]] [--json FILE]
 
 Sequence `i` of seed `S` is reproducible on its own: its model is models[i % len(models)], its
-kind and everything random in it come from random.Random(f"{S}:{i}"), so
-`--seed S --first i --count 1 --inline` replays it. Three kinds:
+kind (drawn with KIND_WEIGHTS among the kinds asked for) and everything random in it come from
+random.Random(f"{S}:{i}"), so `--seed S --kinds K --first i --count 1 --inline` replays it.
+FMI 2.0 kinds (this file: forge, envelope, calls; one module each for the others):
 
 - forge: a base state of the model (taken at a few life-cycle points, docs/adversarial_harness.md)
   with one field mutated (every field of the serialized format, as listed by
@@ -19,16 +22,23 @@ kind and everything random in it come from random.Random(f"{S}:{i}"), so
   envelope values at once; then initialization and a few steps. Expected: completes with finite
   outputs, or fails with a logged message naming a parameter that was set.
 - calls: random call sequences in the manner of fuzz_worker.py, mixed with forged states.
+- reentry (adversarial_reentry.py), continuation (adversarial_continuation.py), files
+  (adversarial_files.py).
 
-Invariants checked after every call: a valid status; Discard/Error/Fatal with a logged message
-of that status; and whenever a call returns OK or Warning on an initialized instance, every Real
-output finite (read back with fmi2GetReal).
+FMI 3.0 kinds (`--fmi 3`, models from DIST/fmi3): calls3 (adversarial_fmi3.py, fuzz3_worker's
+sequences) and reentry3 (adversarial_reentry.py).
 
-Sequences run in forked workers (`--workers` at a time) with a watchdog: a worker whose current
-sequence uses more than `--cpu-limit` CPU seconds (or 10x that in wall time) is killed and the
-sequence counted as a hang; a worker that dies is a crash; both restart at the next sequence.
-Prints (and writes with --json) the counts: tried, crashes, hangs, nan_with_ok,
-refused_with_message, completed, plus the violations found and the fields visited.
+Invariants checked after every call (adversarial_run.Run): a valid status; Discard/Error/Fatal
+with a logged message of that status; and whenever a call returns OK or Warning on an
+initialized instance, every Real output finite (read back with fmi2GetReal).
+
+Sequences run in forked workers (`--workers` at a time) under a CPU watchdog (adversarial_pool.py):
+a sequence over the CPU bound, blocked in the kernel, or over 10x the bound in wall time is
+killed and replayed at the end alone in a fresh process; it is a hang only if the replay is
+over the CPU bound or blocked again. A worker that dies is a crash. Prints (and writes with
+--json) the counts: tried, crashes, hangs, nan_with_ok, refused_with_message, completed,
+other_violations, slow_wall_only, the largest CPU time of a refused or completed sequence, every
+replay, the violations found and the fields visited.
 """
 
 import argparse
