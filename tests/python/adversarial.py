@@ -1,11 +1,14 @@
-"""Adversarial harness (issue #25): forged FMU states, parameter envelopes, random call sequences.
+"""Adversarial harness (issues #25, #48): forged FMU states, parameter envelopes, random call
+sequences, callback re-entry, serialize/deserialize continuation and data files (FMI 2.0); random
+call sequences and callback re-entry (FMI 3.0).
 
-usage: adversarial.py --dist DIR --bin MBCOSIM --seed S --count N [--workers 2] [--cpu-limit 10]
-                      [--models A,B] [--kinds forge,envelope,calls] [--inline] [--json FILE]
+usage: adversarial.py --dist DIR --bin MBCOSIM --seed S --count N [--fmi 2|3] [--workers 2]
+                      [--cpu-limit 10] [--models A,B] [--kinds K1,K2] [--inline [--stream]] [--json FILE]
 
 Sequence `i` of seed `S` is reproducible on its own: its model is models[i % len(models)], its
-kind and everything random in it come from random.Random(f"{S}:{i}"), so
-`--seed S --first i --count 1 --inline` replays it. Three kinds:
+kind (drawn with KIND_WEIGHTS among the kinds asked for) and everything random in it come from
+random.Random(f"{S}:{i}"), so `--seed S --kinds K --first i --count 1 --inline` replays it.
+FMI 2.0 kinds (this file: forge, envelope, calls; one module each for the others):
 
 - forge: a base state of the model (taken at a few life-cycle points, docs/adversarial_harness.md)
   with one field mutated (every field of the serialized format, as listed by
@@ -19,16 +22,23 @@ kind and everything random in it come from random.Random(f"{S}:{i}"), so
   envelope values at once; then initialization and a few steps. Expected: completes with finite
   outputs, or fails with a logged message naming a parameter that was set.
 - calls: random call sequences in the manner of fuzz_worker.py, mixed with forged states.
+- reentry (adversarial_reentry.py), continuation (adversarial_continuation.py), files
+  (adversarial_files.py).
 
-Invariants checked after every call: a valid status; Discard/Error/Fatal with a logged message
-of that status; and whenever a call returns OK or Warning on an initialized instance, every Real
-output finite (read back with fmi2GetReal).
+FMI 3.0 kinds (`--fmi 3`, models from DIST/fmi3): calls3 (adversarial_fmi3.py, fuzz3_worker's
+sequences) and reentry3 (adversarial_reentry.py).
 
-Sequences run in forked workers (`--workers` at a time) with a watchdog: a worker whose current
-sequence uses more than `--cpu-limit` CPU seconds (or 10x that in wall time) is killed and the
-sequence counted as a hang; a worker that dies is a crash; both restart at the next sequence.
-Prints (and writes with --json) the counts: tried, crashes, hangs, nan_with_ok,
-refused_with_message, completed, plus the violations found and the fields visited.
+Invariants checked after every call (adversarial_run.Run): a valid status; Discard/Error/Fatal
+with a logged message of that status; and whenever a call returns OK or Warning on an
+initialized instance, every Real output finite (read back with fmi2GetReal).
+
+Sequences run in forked workers (`--workers` at a time) under a CPU watchdog (adversarial_pool.py):
+a sequence over the CPU bound, blocked in the kernel, or over 10x the bound in wall time is
+killed and replayed at the end alone in a fresh process; it is a hang only if the replay is
+over the CPU bound or blocked again. A worker that dies is a crash. Prints (and writes with
+--json) the counts: tried, crashes, hangs, nan_with_ok, refused_with_message, completed,
+other_violations, slow_wall_only, the largest CPU time of a refused or completed sequence, every
+replay, the violations found and the fields visited.
 """
 
 import argparse
@@ -38,21 +48,30 @@ import os
 import pathlib
 import random
 import re
-import select
-import signal
 import struct
 import subprocess
 import sys
 import tempfile
-import time
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import fmi2raw as R
+from adversarial_run import ANNOUNCE, TALLIES, Run, count_class, counts_line  # noqa: F401 - re-exported
+from adversarial_continuation import continuation
+from adversarial_files import files
+from adversarial_files import prepare as prepare_files
+from adversarial_fmi3 import Model3, calls3
+from adversarial_pool import run_all, stream
+from adversarial_reentry import reentry, reentry3
 from fmpy import extract, read_model_description
 
 MODELS = ["PidController", "PanelLock", "RopeBlock"]
-KINDS = ["forge", "envelope", "calls"]
-KIND_WEIGHTS = [0.45, 0.35, 0.20]
+# The kinds of each FMI version, and their weights when several are asked for. The first three
+# keep the draws of the runs before issue #48: `--kinds forge,envelope,calls` replays them.
+KIND_WEIGHTS = {"forge": 0.45, "envelope": 0.35, "calls": 0.20,
+                "reentry": 0.04, "continuation": 0.04, "files": 0.003,
+                "calls3": 0.9, "reentry3": 0.1}
+KINDS = ["forge", "envelope", "calls", "reentry", "continuation", "files"]
+KINDS3 = ["calls3", "reentry3"]
 STATE_CODES = ["instantiated", "initializationMode", "stepComplete", "stepFailed", "terminated", "error", "fatal"]
 BIG = 1e300  # the envelope's bound where the description gives none
 
@@ -76,7 +95,13 @@ BASE_STATES = {
 # and nothing else. Each entry has a reproducer and a test that it still fails
 # (test_known_failures_still_fail), so a fix shows up and the entry goes.
 KNOWN_FAILURES = [
-    # none open. Seed 25 case 5393 (DOPRI5 on the two-hook turn-over, rope_damping 1e9 N s) hung
+    # RopeBlock with BDF: a state serialized and deserialized (into the same or a fresh instance)
+    # continues other than the live state from its first step on (last bits of the hook load,
+    # sling tensions), at 12 and 40 segments; generalized-alpha, DOPRI5 and the other models are
+    # bit-equal. Found by the `continuation` kind (issue #48 item 1 is fixed for the case of
+    # tests/rope_state_serialized.rs, not for these). Also seed 25 cases 3737 and 3980.
+    {"model": "RopeBlock", "cls": "continuation-differs", "pattern": r"^bdf segments=\d+, serialized", "case": 41},
+    # Before issue #48 none was open. Seed 25 case 5393 (DOPRI5 on the two-hook turn-over, rope_damping 1e9 N s) hung
     # for 12-16 s CPU before its refusal; DOPRI5's stiffness watch now refuses it after 100 steps
     # at the stability boundary, in well under a second (docs/adversarial_harness.md)
 ]
@@ -85,21 +110,14 @@ def known_failure(model, cls, text):
     return any(k["model"] == model and k["cls"] == cls and re.search(k["pattern"], text) for k in KNOWN_FAILURES)
 
 
-def count_class(cls):
-    """The summary count a violation class adds to."""
-    return {"nan-with-ok": "nan_with_ok", "crash": "crashes", "hang": "hangs"}.get(cls, "other_violations")
-
-
-def counts_line(s):
-    return ", ".join(f"{k} {s[k]}" for k in ("tried", "crashes", "hangs", "nan_with_ok", "refused_with_message",
-                                             "completed", "other_violations"))
-
-
 class Model:
     """One unpacked FMU: its library, variables, base states and their field maps."""
 
+    fmi = 2
+
     def __init__(self, dist, identifier, workdir, mbcosim):
         self.id = identifier
+        self.baseline = BASELINE.get(identifier, {})
         self.unzip = str(extract(str(pathlib.Path(dist) / f"{identifier}.fmu"), unzipdir=str(pathlib.Path(workdir) / identifier)))
         self.md = read_model_description(os.path.join(self.unzip, "modelDescription.xml"))
         self.lib = R.Library(self.unzip, identifier)
@@ -109,15 +127,24 @@ class Model:
         self.inputs = [v for v in self.md.modelVariables if v.causality == "input" and v.type == "Real"]
         de = self.md.defaultExperiment
         self.h = float(de.stepSize) if de and de.stepSize else 0.01
-        self.bases = []  # (name, bytes, fields)
-        for name, values, steps, terminate in BASE_STATES[identifier]:
-            data = self.base_state(values, steps, terminate)
-            path = pathlib.Path(workdir) / f"{identifier}.{name}.state"
-            path.write_bytes(data)
-            out = subprocess.run([mbcosim, "state-fields", str(path), "--resources", os.path.join(self.unzip, "resources")],
-                                 capture_output=True, text=True, check=True)
-            spans = [json.loads(line) for line in out.stdout.splitlines()]
-            self.bases.append((name, data, group_fields(spans)))
+        self.workdir, self.mbcosim = workdir, mbcosim
+        self._bases = None
+
+    @property
+    def bases(self):
+        """(name, bytes, fields) of each base state, made when first asked for (the forge and
+        calls kinds need them; main asks before the workers fork, a replay only if it needs them)."""
+        if self._bases is None:
+            self._bases = []
+            for name, values, steps, terminate in BASE_STATES[self.id]:
+                data = self.base_state(values, steps, terminate)
+                path = pathlib.Path(self.workdir) / f"{self.id}.{name}.state"
+                path.write_bytes(data)
+                out = subprocess.run([self.mbcosim, "state-fields", str(path), "--resources",
+                                      os.path.join(self.unzip, "resources")], capture_output=True, text=True, check=True)
+                spans = [json.loads(line) for line in out.stdout.splitlines()]
+                self._bases.append((name, data, group_fields(spans)))
+        return self._bases
 
     def new(self, logging_on=False):
         inst = R.Instance(self.lib, self.md.guid, logging_on=logging_on)
@@ -240,58 +267,6 @@ def flip(rng, old):
     b = bytearray(old)
     b[rng.randrange(len(b))] ^= 1 << rng.randrange(8)
     return bytes(b)
-
-
-class Run:
-    """One sequence's checks: every call goes through `call`."""
-
-    def __init__(self, model):
-        self.m = model
-        self.violations = []
-        self.refused = False  # a clean refusal (Error/Discard with a logged message) happened
-        self.calls = 0
-        self.text = ""
-        self.trail = None  # a list: every call is announced to the watchdog (call sequences)
-
-    def call(self, inst, what, fn, *args, initialized=False):
-        if self.trail is not None:
-            self.trail.append(what)
-            ANNOUNCE[0]("calls " + " | ".join(self.trail[-15:]))
-        before = len(inst.log)
-        out = fn(*args)
-        status = out[0] if isinstance(out, tuple) else out
-        self.calls += 1
-        if status not in (R.OK, R.WARNING, R.DISCARD, R.ERROR, R.FATAL):
-            self.violations.append(("invalid-status", f"{what}: status {status}"))
-        elif status >= R.DISCARD:
-            msgs = [m for (s, _, m) in inst.log[before:] if s == status]
-            if not msgs:
-                self.violations.append(("no-message", f"{what}: {R.STATUS_NAMES[status]} without a logged message"))
-            elif status == R.FATAL:
-                self.violations.append(("fatal", f"{what}: Fatal: {msgs[0][:300]}"))
-            else:
-                self.refused = True
-        elif initialized:
-            self.check_outputs(inst, what)
-        return out
-
-    def check_outputs(self, inst, what):
-        before = len(inst.log)
-        s, values = inst.get_real(self.m.outputs)
-        self.calls += 1
-        if s == R.OK:
-            bad = [f"{n}={x}" for n, x in zip(self.output_names(), values) if not math.isfinite(x)]
-            if bad:
-                self.violations.append(("nan-with-ok", f"{what} returned OK with outputs {', '.join(bad[:4])}"))
-        elif s >= R.DISCARD and not any(st == s for (st, _, _) in inst.log[before:]):
-            self.violations.append(("no-message", f"fmi2GetReal after {what}: {R.STATUS_NAMES[s]} without a message"))
-
-    def output_names(self):
-        by_vr = {v.valueReference: v.name for v in self.m.md.modelVariables if v.type == "Real"}
-        return [by_vr[vr] for vr in self.m.outputs]
-
-    def messages(self, inst):
-        return [m for (s, _, m) in inst.log if s >= R.DISCARD]
 
 
 def forge(m, rng, index):
@@ -488,176 +463,36 @@ def calls(m, rng, index):
     return run, {"calls": run.calls}
 
 
-RUNNERS = {"forge": forge, "envelope": envelope, "calls": calls}
-# Tells the watchdog what the current sequence is doing (a forked worker sets it), so that a
-# hang or a crash is reported with its case.
-ANNOUNCE = [lambda text, field=None: None]
+RUNNERS = {"forge": forge, "envelope": envelope, "calls": calls, "reentry": reentry, "continuation": continuation,
+           "files": files, "calls3": calls3, "reentry3": reentry3}
+
+
+class Job:
+    """Sequences of `kinds` on `models` under `seed`: what a worker runs (adversarial_pool)."""
+
+    def __init__(self, models, kinds, seed):
+        self.models, self.kinds, self.seed = models, kinds, seed
+
+    def draw(self, index):
+        """(rng, model, kind) of sequence `index`: the rng has drawn the kind."""
+        rng = random.Random(f"{self.seed}:{index}")
+        m = self.models[index % len(self.models)]
+        kind = rng.choices(self.kinds, weights=[KIND_WEIGHTS[k] for k in self.kinds])[0]
+        return rng, m, kind
+
+    def describe(self, index):
+        _, m, kind = self.draw(index)
+        return {"model": m.id, "kind": kind}
+
+    def sequence(self, index):
+        rng, m, kind = self.draw(index)
+        run, info = RUNNERS[kind](m, rng, index // len(self.models))  # the index among this model's sequences
+        outcome = "violation" if run.violations else "refused" if run.refused else "completed"
+        return {"i": index, "model": m.id, "kind": kind, "outcome": outcome, "violations": run.violations, **info}
 
 
 def sequence(models, kinds, seed, index):
-    rng = random.Random(f"{seed}:{index}")
-    m = models[index % len(models)]
-    kind = rng.choices(kinds, weights=[KIND_WEIGHTS[KINDS.index(k)] for k in kinds])[0]
-    run, info = RUNNERS[kind](m, rng, index // len(models))  # the index among this model's sequences
-    outcome = "violation" if run.violations else "refused" if run.refused else "completed"
-    return {"i": index, "model": m.id, "kind": kind, "outcome": outcome, "violations": run.violations, **info}
-
-
-# ---------------------------------------------------------------------------------------------
-# Forked workers with a watchdog
-
-
-def cpu_seconds(pid):
-    """User + system CPU time of a live process [s] (/proc/<pid>/stat)."""
-    try:
-        with open(f"/proc/{pid}/stat") as f:
-            fields = f.read().rsplit(")", 1)[1].split()
-        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-    except (OSError, IndexError, ValueError):
-        return 0.0
-
-
-class Worker:
-    """A forked child running sequences `indices` in order; reports one JSON line each."""
-
-    def __init__(self, models, kinds, seed, indices, errdir):
-        self.indices = list(indices)
-        self.pos = 0
-        self.errfile = tempfile.TemporaryFile(dir=errdir)
-        r, w = os.pipe()
-        sys.stdout.flush()
-        sys.stderr.flush()
-        pid = os.fork()
-        if pid == 0:  # child
-            os.close(r)
-            os.dup2(self.errfile.fileno(), 2)
-            out = os.fdopen(w, "w", buffering=1)
-            ANNOUNCE[0] = lambda text, field=None: out.write(json.dumps({"doing": text[:600], "field": field}) + "\n")
-            code = 0
-            try:
-                for i in self.indices:
-                    out.write(json.dumps({"start": i}) + "\n")
-                    try:
-                        res = sequence(models, kinds, seed, i)
-                    except Exception as e:  # noqa: BLE001 - a bug of the harness: a finding, go on
-                        res = {"i": i, "model": models[i % len(models)].id, "kind": "?", "outcome": "violation",
-                               "violations": [("harness-error", repr(e))]}
-                    out.write(json.dumps(res) + "\n")
-            except BaseException as e:  # noqa: BLE001 - a harness error, reported as such
-                out.write(json.dumps({"harness_error": repr(e)}) + "\n")
-                code = 3
-            out.flush()
-            os._exit(code)
-        os.close(w)
-        self.pid = pid
-        self.pipe = os.fdopen(r, "r")
-        self.buf = ""
-        self.current = None
-        self.case = ""
-        self.field = None
-        self.cpu0 = self.wall0 = 0.0
-
-    def lines(self):
-        chunk = os.read(self.pipe.fileno(), 1 << 16).decode()
-        if not chunk:
-            return None
-        self.buf += chunk
-        *done, self.buf = self.buf.split("\n")
-        return [json.loads(x) for x in done if x]
-
-    def stderr_tail(self):
-        self.errfile.seek(0)
-        return self.errfile.read()[-1500:].decode(errors="replace")
-
-
-def run_all(models, kinds, seed, first, count, workers, cpu_limit, progress=None):
-    totals = {"tried": 0, "crashes": 0, "hangs": 0, "nan_with_ok": 0, "refused_with_message": 0, "completed": 0,
-              "other_violations": 0}
-    by_kind = {}
-    findings = []
-    fields = set()
-    pending = [list(range(first + w, first + count, workers)) for w in range(workers)]
-    errdir = tempfile.mkdtemp(prefix="adversarial-")
-    live = [Worker(models, kinds, seed, p, errdir) for p in pending if p]
-    t_start = time.time()
-
-    def record(res):
-        totals["tried"] += 1
-        k = by_kind.setdefault(f"{res['model']}/{res['kind']}", {"tried": 0, "refused": 0, "completed": 0, "violation": 0})
-        k["tried"] += 1
-        k[res["outcome"]] = k.get(res["outcome"], 0) + 1
-        if "field" in res:
-            fields.add(f"{res['model']}/{res['field']}")
-        if res["outcome"] == "refused":
-            totals["refused_with_message"] += 1
-        elif res["outcome"] == "completed":
-            totals["completed"] += 1
-        for cls in {cls for cls, _ in res["violations"]}:
-            totals[count_class(cls)] += 1
-        if res["violations"]:
-            findings.append({k: res[k] for k in res if k not in ("outcome",)})
-
-    def lost(wk, what):
-        i = wk.current
-        totals["tried"] += 1
-        totals["crashes" if what == "crash" else "hangs"] += 1
-        if wk.field:  # a forged field whose run hung or crashed was visited too
-            fields.add(f"{models[i % len(models)].id}/{wk.field}")
-        findings.append({"i": i, "model": models[i % len(models)].id, "case": wk.case,
-                         "violations": [[what, f"{wk.case}: {wk.stderr_tail()}"]]})
-        rest = wk.indices[wk.indices.index(i) + 1:]
-        return Worker(models, kinds, seed, rest, errdir) if rest else None
-
-    while live:
-        ready, _, _ = select.select([w.pipe for w in live], [], [], 0.5)
-        nxt = []
-        for wk in live:
-            replacement = wk
-            if wk.pipe in ready:
-                lines = wk.lines()
-                if lines is None:  # EOF: finished or died
-                    _, st = os.waitpid(wk.pid, 0)
-                    code = os.waitstatus_to_exitcode(st)
-                    if wk.current is not None:
-                        replacement = lost(wk, "crash")
-                        findings[-1]["violations"][0][1] += f" (exit {code})"
-                    elif code != 0:
-                        raise RuntimeError(f"worker failed (exit {code}): {wk.stderr_tail()}")
-                    else:
-                        replacement = None
-                else:
-                    for msg in lines:
-                        if "doing" in msg:
-                            wk.case, wk.field = msg["doing"], msg["field"]
-                        elif "start" in msg:
-                            wk.current, wk.case, wk.field = msg["start"], "calls", None
-                            wk.cpu0, wk.wall0 = cpu_seconds(wk.pid), time.time()
-                        elif "harness_error" in msg:
-                            raise RuntimeError(f"harness error in sequence {wk.current}: {msg['harness_error']}")
-                        else:
-                            record(msg)
-                            wk.current = None
-                            if progress and totals["tried"] % progress == 0:
-                                print(f"[{time.time() - t_start:7.0f} s] {json.dumps(totals)}", file=sys.stderr, flush=True)
-            if replacement is wk and wk.current is not None:
-                over_cpu = cpu_seconds(wk.pid) - wk.cpu0 > cpu_limit
-                over_wall = time.time() - wk.wall0 > 10 * cpu_limit
-                if over_cpu or over_wall:
-                    os.kill(wk.pid, signal.SIGKILL)
-                    os.waitpid(wk.pid, 0)
-                    replacement = lost(wk, "hang")
-                    findings[-1]["violations"][0][1] = (f"{wk.case}: killed after {cpu_limit} s CPU"
-                                                        + (" (wall time)" if over_wall and not over_cpu else ""))
-            if replacement is not None:
-                nxt.append(replacement)
-        live = nxt
-    all_fields = {f"{m.id}/{b}/{k}:{f['what']}/{f['kind']}" for m in models for (b, _, fs) in m.bases
-                  for k, f in enumerate(fs)}
-    return {"seed": seed, "first": first, "count": count, "workers": workers, "cpu_limit": cpu_limit,
-            "seconds": round(time.time() - t_start, 1), **totals, "by_kind": by_kind,
-            "fields_visited": len(fields & all_fields), "fields_total": len(all_fields),
-            "fields_missed": sorted(all_fields - fields)[:20], "findings": findings[:200],
-            "finding_count": len(findings)}
+    return Job(models, kinds, seed).sequence(index)
 
 
 def main():
@@ -670,17 +505,30 @@ def main():
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--cpu-limit", type=float, default=10.0)
     ap.add_argument("--models", default=",".join(MODELS))
-    ap.add_argument("--kinds", default=",".join(KINDS))
+    ap.add_argument("--fmi", type=int, choices=(2, 3), default=2, help="the FMI version: 2 (dist/*.fmu) or 3 (dist/fmi3)")
+    ap.add_argument("--kinds", help=f"default: {','.join(KINDS)} (--fmi 2), {','.join(KINDS3)} (--fmi 3)")
     ap.add_argument("--inline", action="store_true", help="no fork: run in this process (replay, valgrind)")
+    ap.add_argument("--stream", action="store_true", help="with --inline: the workers' JSON lines on stdout (replay)")
     ap.add_argument("--progress", type=int, default=0, help="print the counts every N sequences")
     ap.add_argument("--json", help="write the summary here")
     ap.add_argument("--values", nargs="*", help="one envelope case instead: name=value ... of --models' model")
     ap.add_argument("--forge", nargs=3, metavar=("BASE", "FIELD", "VALUE"),
                     help="one forged state instead: base state number, f64 field name, value of its first item")
     a = ap.parse_args()
+    kinds = (a.kinds or ",".join(KINDS if a.fmi == 2 else KINDS3)).split(",")
+    assert all((k in KINDS3) == (a.fmi == 3) for k in kinds), f"kinds {kinds} are not all of FMI {a.fmi}"
     with tempfile.TemporaryDirectory(prefix="adversarial-fmus-") as work:
-        models = [Model(a.dist, mid, work, a.bin) for mid in a.models.split(",")]
-        kinds = a.kinds.split(",")
+        if a.fmi == 3:
+            models = [Model3(a.dist, mid, work) for mid in a.models.split(",")]
+        else:
+            models = [Model(a.dist, mid, work, a.bin) for mid in a.models.split(",")]
+        if "files" in kinds:
+            for m in models:
+                prepare_files(m, work, eager=not a.inline)
+        if not a.inline and {"forge", "calls"} & set(kinds):
+            for m in models:
+                m.bases  # noqa: B018 - made once, before the workers fork
+        job = Job(models, kinds, a.seed)
         if a.values is not None:
             m = models[0]
             chosen = {}
@@ -694,12 +542,23 @@ def main():
                        "messages": run.text}
         elif a.forge is not None:
             summary = forge_one(models[0], int(a.forge[0]), a.forge[1], float(a.forge[2]))
+        elif a.inline and a.stream:
+            sys.stdout.flush()
+            sys.exit(stream(job, range(a.first, a.first + a.count), sys.stdout))
         elif a.inline:
-            results = [sequence(models, kinds, a.seed, i) for i in range(a.first, a.first + a.count)]
+            results = [job.sequence(i) for i in range(a.first, a.first + a.count)]
             summary = {"tried": len(results), "results": results,
                        "violations": sum(len(r["violations"]) for r in results)}
         else:
-            summary = run_all(models, kinds, a.seed, a.first, a.count, a.workers, a.cpu_limit, a.progress)
+            replay_cmd = [sys.executable, str(pathlib.Path(__file__).resolve()), "--dist", a.dist, "--bin", a.bin,
+                          "--fmi", str(a.fmi), "--models", a.models, "--kinds", ",".join(kinds), "--seed", str(a.seed)]
+            summary = {"seed": a.seed, "fmi": a.fmi, "kinds": kinds,
+                       **run_all(job, a.first, a.count, a.workers, a.cpu_limit, replay_cmd, a.progress)}
+            fields = summary.pop("_fields")
+            all_fields = {f"{m.id}/{b}/{k}:{f['what']}/{f['kind']}" for m in models if getattr(m, "_bases", None)
+                          for (b, _, fs) in m.bases for k, f in enumerate(fs)}
+            summary.update(fields_visited=len(fields & all_fields), fields_total=len(all_fields),
+                           fields_missed=sorted(all_fields - fields)[:20])
     text = json.dumps(summary, indent=1)
     if a.json:
         pathlib.Path(a.json).write_text(text)

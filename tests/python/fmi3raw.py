@@ -71,7 +71,7 @@ class Instance:
 
     def __init__(self, lib, token=DEFAULT, name="inst", logging_on=False, logger=True,
                  resource_path=DEFAULT, event_mode_used=False, early_return_allowed=False,
-                 required_intermediate=()):
+                 required_intermediate=(), intermediate=None):
         self.lib = lib
         self.log = []
         self.early_return_allowed = early_return_allowed
@@ -81,7 +81,9 @@ class Instance:
 
         # kept referenced for as long as the instance lives (the FMU calls it)
         self._logger = fmi3LogMessageCallback(log_message) if logger else fmi3LogMessageCallback()
-        self._intermediate = fmi3IntermediateUpdateCallback()
+        # `intermediate`: a Python function of the callback's 8 arguments, or None (NULL)
+        self._intermediate = fmi3IntermediateUpdateCallback(intermediate) if intermediate else \
+            fmi3IntermediateUpdateCallback()
         required = arr(fmi3ValueReference, list(required_intermediate))
         encode = lambda s: None if s is None else s.encode()
         token = lib.token if token is DEFAULT else token

@@ -66,6 +66,7 @@ class Fuzzer:
         self.hist = {}
         self.events = {"completed steps": 0, "refused steps": 0, "states restored": 0, "states deserialized": 0}
         self.violations = []
+        self.trace = None  # called with `where` before every operation (the harness's watchdog)
 
     def violation(self, what):
         self.violations.append(f"sequence {self.seq}, {self.where}: {what}")
@@ -152,6 +153,8 @@ class Fuzzer:
                 op = 2
             before, prior = len(inst.log), shadow
             self.where = f"op{op} in {shadow}"
+            if self.trace:
+                self.trace(self.where)
             what, rule = f"op{op}", None
             if op == 0:
                 t0 = rng.choice([0.0, 0.0, 1.0, -2.0, math.nan])

@@ -16,22 +16,8 @@ import tempfile
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import fmi2raw as R2  # noqa: E402
 import fmi3raw as R3  # noqa: E402
+from callback_hook import Hook  # noqa: E402
 from fmpy import read_model_description  # noqa: E402
-
-
-class Hook(list):
-    """A message list that runs `action` after each message arrives (from inside the FMU's
-    logger call), once, and keeps what the action returned."""
-
-    def __init__(self, action):
-        super().__init__()
-        self.action, self.results = action, []
-
-    def append(self, m):
-        super().append(m)
-        if self.action is not None:
-            act, self.action = self.action, None
-            self.results.append(act())
 
 
 def lib2(unzip):

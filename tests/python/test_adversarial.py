@@ -1,9 +1,12 @@
 """The adversarial harness (adversarial.py, docs/adversarial_harness.md): a seeded slice of forged
-FMU states, parameter envelopes and random call sequences in forked workers with a watchdog,
-every field of the serialized state format forged, a valgrind memcheck run, and the regression
-tests of what the harness found.
+FMU states, parameter envelopes, random call sequences, callback re-entry and serialize/deserialize
+continuation (FMI 2.0), a slice of FMI 3.0 call sequences and re-entry, the data-file variants
+(with the file-reading defects still open on this branch), every field of the serialized state
+format forged, a valgrind memcheck run, and the regression tests of what the harness found.
+The watchdog's replay is tested on fake sequences in test_adversarial_pool.py.
 
-The benchmark (`bash benches/adversarial.sh`) runs the same harness at >= 100,000 sequences.
+The benchmark (`bash benches/adversarial.sh`) runs the same harness at 100,000 FMI 2.0 and
+10,000 FMI 3.0 sequences.
 """
 
 import json
@@ -23,8 +26,17 @@ import adversarial as A
 import fmi2raw as R
 
 SEED = 25
-SLICE = 6000  # ~20 s on 2 shared cores
+SLICE = 3000  # ~30 s on 2 shared cores under load (with the new kinds; 6,000 of the first three took ~20 s)
+SLICE3 = 1000  # ~15 s
 CPU_LIMIT = 5.0
+# The CI slice's kinds: all but `files` (below, on its own) until the bounded file reader is
+# merged (docs/adversarial_harness.md, "Data files")
+SLICE_KINDS = [k for k in A.KINDS if k != "files"]
+# valgrind's short set: no `continuation` (a RopeBlock run under memcheck doubled the test's time)
+VALGRIND_KINDS = ["forge", "envelope", "calls", "reentry"]
+# seed 25: PidController forge, PanelLock forge, RopeBlock reentry, PidController envelope,
+# PanelLock forge, RopeBlock forge (about 37 s CPU, most of it the set-up under memcheck)
+VALGRIND_COUNT = 6
 
 
 def mbcosim():
@@ -55,20 +67,78 @@ def models(tmp_path_factory):
     return {m: A.Model(DIST, m, work, mbcosim()) for m in A.MODELS}
 
 
-def test_seeded_slice_has_no_crash_hang_or_nan_with_ok(tmp_path, capsys):
-    s = harness(tmp_path, "--seed", SEED, "--count", SLICE, "--workers", 2, "--cpu-limit", CPU_LIMIT)
-    assert s["tried"] == SLICE
+def only_known(s):
     for key in ("crashes", "hangs", "nan_with_ok", "other_violations"):
-        known = sum(1 for f in s["findings"] for cls, text in f["violations"]
-                    if A.known_failure(f["model"], cls, text) and A.count_class(cls) == key)
+        # a sequence counts once per class (as the summary counts it)
+        known = sum(1 for f in s["findings"]
+                    if key in {A.count_class(cls) for cls, text in f["violations"]
+                               if A.known_failure(f["model"], cls, text)})
         assert s[key] == known, (key, unexpected(s)[:5])
     assert not unexpected(s), unexpected(s)[:5]
+
+
+def test_seeded_slice_has_no_crash_hang_or_nan_with_ok(tmp_path, capsys):
+    s = harness(tmp_path, "--seed", SEED, "--count", SLICE, "--workers", 2, "--cpu-limit", CPU_LIMIT,
+                "--kinds", ",".join(SLICE_KINDS))
+    assert s["tried"] == SLICE
+    only_known(s)
     # every model and kind ran, and the refusals are a real share (the checks are exercised)
     assert {k.split("/")[0] for k in s["by_kind"]} == set(A.MODELS)
-    assert {k.split("/")[1] for k in s["by_kind"]} == set(A.KINDS)
+    assert {k.split("/")[1] for k in s["by_kind"]} == set(SLICE_KINDS)
     assert s["refused_with_message"] > SLICE // 4 and s["completed"] > SLICE // 10, s
+    # the new kinds at a modest count: each re-entry fired and was refused; continuations compared
+    for model in A.MODELS:
+        assert s["by_kind"][f"{model}/reentry"]["refused"] >= 15, s["by_kind"]
+        assert s["by_kind"][f"{model}/continuation"]["tried"] >= 15, s["by_kind"]
+    assert s["max_cpu"]["seconds"] < CPU_LIMIT, s["max_cpu"]
     with capsys.disabled():
         print(f"\n[adversarial slice] {A.counts_line(s)} in {s['seconds']} s")
+
+
+def test_fmi3_slice_has_no_crash_hang_or_nan_with_ok(tmp_path, capsys):
+    """FMI 3.0 call sequences (fuzz3_worker's generator and invariants) and re-entry from the
+    logger and the intermediate-update callback, counted like the FMI 2.0 slice."""
+    for m in A.MODELS:
+        packed(m)
+        assert (DIST / "fmi3" / f"{m}.fmu").exists(), "pack the FMI 3.0 FMUs too (mbcosim pack)"
+    s = harness(tmp_path, "--fmi", 3, "--seed", SEED, "--count", SLICE3, "--workers", 2, "--cpu-limit", CPU_LIMIT)
+    assert s["tried"] == SLICE3
+    only_known(s)
+    assert {k.split("/")[1] for k in s["by_kind"]} == set(A.KINDS3)
+    assert all(s["by_kind"][f"{m}/reentry3"]["refused"] >= 5 for m in A.MODELS), s["by_kind"]
+    with capsys.disabled():
+        print(f"\n[adversarial slice, FMI 3.0] {A.counts_line(s)} in {s['seconds']} s")
+
+
+# The data-file variants of RopeBlock's first FILE_VARIANTS (adversarial_files.py: scene.toml as
+# a FIFO, /dev/zero, /dev/urandom, a directory, a link loop, oversized, 80,000 unknown keys,
+# 20,000 long keys, 2,000 slings, 100,000 lugs, a FIFO as [block] mesh and as mesh_file), at the
+# issue's bound of 1 s CPU. OPEN_FILE_DEFECTS are the file-reading defects of issue #48 item 3 that
+# the bounded reader (another branch) fixes: until it is merged they must show as hangs after the
+# replay, or as a crash or an unbounded read (the 300 MB scene: the reader asks for 2.1 GB, which
+# the harness's address-space limit refuses, or it reaches the CPU bound first), so the check is
+# seen to fail; once merged, this test fails on them and the set must be emptied and `files`
+# joins SLICE_KINDS.
+FILE_VARIANTS = 12
+FILE_CPU_LIMIT = 1.0
+OPEN_FILE_DEFECTS = {
+    "scene.toml oversized (300 MB)", "scene.toml 80,000 unknown keys", "scene.toml 20,000 long keys",
+    "scene.toml 2,000 [[sling]]", "scene.toml 100,000 [[lug]]", "[block] mesh FIFO", "scene mesh_file FIFO",
+}
+
+
+def test_data_file_variants_are_refused_or_show_the_open_defects(tmp_path, capsys):
+    s = harness(tmp_path, "--kinds", "files", "--models", "RopeBlock", "--seed", SEED, "--count", FILE_VARIANTS,
+                "--workers", 2, "--cpu-limit", FILE_CPU_LIMIT)
+    assert s["tried"] == FILE_VARIANTS
+    failed = {f["case"].split(": ", 1)[-1]: [cls for cls, _ in f["violations"]] for f in s["findings"]}
+    assert set(failed) == OPEN_FILE_DEFECTS, (sorted(set(failed) - OPEN_FILE_DEFECTS),
+                                              sorted(OPEN_FILE_DEFECTS - set(failed)), failed)
+    # the FIFOs wait without CPU: seen as blocked, and counted as hangs after the replay
+    assert all(failed[k] == ["hang"] for k in OPEN_FILE_DEFECTS if "FIFO" in k), failed
+    assert s["refused_with_message"] == FILE_VARIANTS - len(OPEN_FILE_DEFECTS), s
+    with capsys.disabled():
+        print(f"\n[adversarial files] {A.counts_line(s)} in {s['seconds']} s")
 
 
 @pytest.mark.parametrize("known", A.KNOWN_FAILURES, ids=lambda k: f"{k['model']}-{k['case']}")
@@ -76,7 +146,7 @@ def test_known_failures_still_fail(known, tmp_path):
     """Each accepted finding is reproduced alone (seed SEED, its case): when it stops failing
     this test fails, and the entry must go from KNOWN_FAILURES."""
     s = harness(tmp_path, "--seed", SEED, "--first", known["case"], "--count", 1, "--workers", 1,
-                "--cpu-limit", CPU_LIMIT)
+                "--cpu-limit", CPU_LIMIT, "--kinds", ",".join(SLICE_KINDS))
     found = [(cls, text) for f in s["findings"] for cls, text in f["violations"]]
     assert found and all(A.known_failure(known["model"], cls, text) for cls, text in found), found
 
@@ -143,7 +213,7 @@ def valgrind_records(text):
 
 
 def test_valgrind_memcheck_of_a_short_sequence_set(tmp_path, capsys):
-    """A short inline sequence set (every model, forged states, envelopes, call sequences)
+    """A short inline sequence set (every model, forged states, envelopes, a callback re-entry)
     under valgrind memcheck with origin tracking and full leak checking. It fails on any error
     or definite leak with a frame in the FMU's library (the error's stack, the origin of an
     uninitialised value or the allocation of a leaked block). Noise of the interpreter is
@@ -157,13 +227,15 @@ def test_valgrind_memcheck_of_a_short_sequence_set(tmp_path, capsys):
     cmd = [valgrind, "--tool=memcheck", "--track-origins=yes", "--leak-check=full", "--show-leak-kinds=definite",
            "--num-callers=30", f"--suppressions={HERE / 'valgrind.supp'}", f"--log-file={log}",
            sys.executable, str(HERE / "adversarial.py"), "--dist", str(DIST), "--bin", mbcosim(),
-           "--seed", SEED, "--count", 9, "--inline", "--json", str(tmp_path / "s.json")]
+           "--seed", SEED, "--count", VALGRIND_COUNT, "--inline", "--kinds", ",".join(VALGRIND_KINDS),
+           "--json", str(tmp_path / "s.json")]
     r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=600, env=env)
     assert r.returncode == 0, r.stderr[-3000:]
     text = log.read_text()
     assert "ERROR SUMMARY" in text, text[-3000:]
     s = json.loads((tmp_path / "s.json").read_text())
-    assert s["tried"] == 9 and {x["model"] for x in s["results"]} == set(A.MODELS)
+    assert s["tried"] == VALGRIND_COUNT and {x["model"] for x in s["results"]} == set(A.MODELS)
+    assert "reentry" in {x["kind"] for x in s["results"]}, [x["kind"] for x in s["results"]]
     assert s["violations"] == 0, [x for x in s["results"] if x["violations"]]
     records = valgrind_records(text)
     ours = [rec for rec in records if any("/binaries/linux64/" in line or "mbcosim" in line for line in rec)]
