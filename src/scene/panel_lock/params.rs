@@ -281,6 +281,12 @@ impl PanelLockParams {
                 "panel_youngs_modulus must be finite and > 0, got {e}"
             ));
         }
+        envelope(
+            "panel_youngs_modulus",
+            e,
+            Self::default().panel_youngs_modulus,
+            true,
+        )?;
         if !(self.modal_damping_ratio.is_finite() && (0.0..1.0).contains(&self.modal_damping_ratio))
         {
             return Err(format!(
@@ -689,11 +695,12 @@ pub fn declared_range(name: &str) -> Option<DeclaredRange> {
             open: [false, true],
         },
         "atol" => closed(Some(crate::integrator::MIN_ATOL), None),
-        "panel_youngs_modulus" => DeclaredRange {
-            min: Some(0.0),
-            max: None,
-            open: [true, false],
-        },
+        // three decades either side, like the other stiffnesses: a subnormal modulus made the
+        // plate's bending rigidity underflow to 0 (adversarial seed 25 #853)
+        "panel_youngs_modulus" => closed(
+            Some(d.panel_youngs_modulus / k),
+            Some(d.panel_youngs_modulus * k),
+        ),
         "panel_poisson" => DeclaredRange {
             min: Some(-1.0),
             max: Some(0.5),
