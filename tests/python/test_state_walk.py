@@ -66,8 +66,9 @@ def _hoist(t):
 
 
 # Runs with inputs changing (issue #48 item 1): model -> configurations (label, parameters,
-# inputs u(t), stop time [s], integrators refused with the configuration). Every integrator item
-# of the model's enumeration runs that is not refused.
+# inputs u(t), stop time [s], integrators refused with the configuration[, communication step
+# [s], else the DefaultExperiment's]). Every integrator item of the model's enumeration runs
+# that is not refused.
 WALKS = {
     "PanelLock": [
         # the motor torque changes at every step, with a jump at 1 s; latches engage on the way
@@ -87,6 +88,12 @@ WALKS = {
         ("turnover", {"scenario": 1, "segments": 8, "mu": 0.3},
          {"hook0_vz": _hoist, "hook1_vz": lambda t: -0.3 if t >= 1.0 - 1e-9 else 0.0,
           "hook0_payout_rate": lambda t: 0.05 if t >= 2.0 - 1e-9 else 0.0}, 3.0, {}),
+        # the turn-over rolled on by lowering hook 1 (10 segments, 0.25 s steps): contact nodes
+        # are inserted and removed (3 rebuilds) at 17-18 s, the states around them restored
+        ("turnover-rebuilds", {"scenario": 1, "segments": 10},
+         {"hook1_vz": lambda t: -1.0, "hook0_vz": lambda t: 0.1 if 5.0 <= t < 10.0 else 0.0}, 20.0,
+         {"dopri5": "explicit steps on 10-segment slings take 16 s for the 20 s run alone (DOPRI5 "
+                    "runs the other two RopeBlock configurations)"}, 0.25),
     ],
     "PidController": [
         # setpoint steps, measurement oscillating: the output saturates and the anti-windup acts
@@ -139,8 +146,8 @@ class Walk:
     """The original run: the serialized state at every t_k, outputs after every step."""
 
     def __init__(self, path, unzip, integrator_value, label, config=None):
-        """`config`: None (the DefaultExperiment without inputs) or (name, parameters, inputs
-        u(t) by name, stop time) from WALKS."""
+        """`config`: None (the DefaultExperiment without inputs) or a WALKS entry (name,
+        parameters, inputs u(t) by name, stop time, refused integrators[, communication step])."""
         self.label = label if config is None else f"{label}, {config[0]}"
         self.md = read_model_description(str(path))
         self.id = self.md.coSimulation.modelIdentifier
@@ -154,8 +161,9 @@ class Walk:
         self.values = dict(VALUES.get(self.id, {}))
         signals = {}
         if config is not None:
-            _, self.values, signals, self.stop = config
+            _, self.values, signals, self.stop = config[:4]
             self.values = dict(self.values)
+            self.h = config[5] if len(config) > 5 else self.h
             self.n = round((self.stop - self.start) / self.h)
             self.times = [self.start + k * self.h for k in range(self.n)]
         if integrator_value is not None:
@@ -260,11 +268,11 @@ def _walk_cases():
         integ = next((v for v in md.modelVariables if v.name == "integrator"), None)
         items = [(None, None)] if integ is None else [(i.name, int(i.value)) for i in integ.declaredType.items]
         for config in WALKS.get(md.coSimulation.modelIdentifier, []):
-            name, values, signals, stop, refused = config
+            name, refused = config[0], config[4]
             for label, value in items:
                 if label in refused:
                     continue
-                cases.append(pytest.param(path, label, value, config[:4],
+                cases.append(pytest.param(path, label, value, config,
                                           id=f"{path.stem}-{name}-{label or 'none'}"))
     return cases
 
