@@ -386,6 +386,17 @@ impl Simulation {
         self.integrator.memory()
     }
 
+    /// The integrator's monitors as plain numbers (for serialization, see
+    /// [`Integrator::monitors`]).
+    pub fn integrator_monitors(&self) -> Vec<f64> {
+        self.integrator.monitors()
+    }
+
+    /// Restores what [`Simulation::integrator_monitors`] returned (after [`Simulation::restore`]).
+    pub fn restore_integrator_monitors(&mut self, m: &[f64]) -> Result<(), String> {
+        self.integrator.restore_monitors(m)
+    }
+
     /// Restores state and integrator history saved from a simulation of the same model.
     pub fn restore(&mut self, state: State, memory: &[f64]) -> Result<(), String> {
         if state.q.len() != self.system.n_q() || state.v.len() != self.system.n_v() {

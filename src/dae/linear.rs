@@ -69,6 +69,12 @@ pub struct LinearSolver {
     dense: DenseLu,
     backend: Backend,
     factored: bool,
+    /// The split LU of the current pattern failed once: the LU of the whole matrix serves this
+    /// pattern from then on (what a serialized state must carry, [`LinearSolver::whole_lu`]).
+    whole: bool,
+    /// A restored state's solver served its pattern with the whole LU: the next pattern built
+    /// does too.
+    restored_whole: bool,
     pub stats: LinearStats,
 }
 
@@ -99,6 +105,8 @@ impl Clone for LinearSolver {
             dense: self.dense.clone(),
             backend: self.backend.clone(),
             factored: self.factored,
+            whole: self.whole,
+            restored_whole: self.restored_whole,
             stats: self.stats,
         }
     }
@@ -137,8 +145,24 @@ impl LinearSolver {
             dense: DenseLu::default(),
             backend: Backend::None,
             factored: false,
+            whole: false,
+            restored_whole: false,
             stats: LinearStats::default(),
         }
+    }
+
+    /// Whether the current pattern is solved by the LU of the whole matrix because its split
+    /// LU failed once (a history the results depend on: the two round differently).
+    pub fn whole_lu(&self) -> bool {
+        self.whole
+    }
+
+    /// Restores [`LinearSolver::whole_lu`] of a saved solver: the pattern is analysed again at
+    /// the next factorization, with the whole LU when `whole`.
+    pub fn restore_whole_lu(&mut self, whole: bool) {
+        self.restored_whole = whole;
+        self.whole = false;
+        self.pattern_n = usize::MAX;
     }
 
     /// Starts assembling an `n x n` matrix (auxiliary unknowns are added after it).
@@ -226,10 +250,13 @@ impl LinearSolver {
         self.pattern_n = n;
         self.stats.symbolic_analyses += 1;
         let fill = self.row_idx.len() as f64 / (n * n).max(1) as f64;
+        let whole = std::mem::take(&mut self.restored_whole);
+        self.whole = false;
         if n <= DENSE_LIMIT || (n <= DENSE_FILLED_LIMIT && fill >= DENSE_FILL) {
             self.backend = Backend::Dense;
         } else {
-            self.backend = self.sparse_backend(true)?;
+            self.backend = self.sparse_backend(!whole)?;
+            self.whole = whole;
         }
         Ok(())
     }
@@ -290,6 +317,7 @@ impl LinearSolver {
                 lu.factor(&self.csc_vals)?;
             }
             self.backend = whole;
+            self.whole = true;
         }
         self.factored = true;
         Ok(())

@@ -422,6 +422,65 @@ impl System {
         self.frozen_accepted = false;
     }
 
+    /// The frozen decisions as plain numbers into `out` (cleared): 0 when none are frozen (the
+    /// effects decide at every evaluation; what an earlier freeze left is not used), else 1
+    /// and per force effect its count and values; nothing for systems whose effects take no
+    /// decisions. A Newton matrix depends on them (see `JacobianPoint`).
+    pub fn frozen_record(&self, out: &mut Vec<f64>) {
+        out.clear();
+        if !self.decides {
+            return;
+        }
+        if !self.frozen_on {
+            out.push(0.0);
+            return;
+        }
+        out.push(1.0);
+        for f in &self.frozen {
+            out.push(f.len() as f64);
+            out.extend_from_slice(f);
+        }
+    }
+
+    /// Sets the frozen decisions [`System::frozen_record`] wrote; `false` (and nothing changed)
+    /// when `record` is empty or does not fit this system's effects.
+    pub fn set_frozen_record(&mut self, record: &[f64]) -> bool {
+        let Some((&on, mut rest)) = record.split_first() else {
+            return false;
+        };
+        if !self.decides || !(on == 0.0 || on == 1.0) {
+            return false;
+        }
+        if on == 0.0 {
+            if !rest.is_empty() {
+                return false;
+            }
+            self.frozen_on = false;
+            return true;
+        }
+        let mut parts = Vec::with_capacity(self.frozen.len());
+        for _ in 0..self.frozen.len() {
+            let Some((&n, tail)) = rest.split_first() else {
+                return false;
+            };
+            if !(n >= 0.0 && n.fract() == 0.0 && n <= tail.len() as f64) {
+                return false;
+            }
+            let (values, tail) = tail.split_at(n as usize);
+            parts.push(values);
+            rest = tail;
+        }
+        if !rest.is_empty() {
+            return false;
+        }
+        for (f, values) in self.frozen.iter_mut().zip(parts) {
+            f.clear();
+            f.extend_from_slice(values);
+        }
+        self.frozen_on = true;
+        true
+    }
+
     /// Ends [`System::freeze_decisions`]: the effects decide at every evaluation again.
     /// Leaves the record of [`System::thaw_accepted`] alone (a step's own thaw follows it).
     pub fn thaw(&mut self) {

@@ -489,7 +489,7 @@ impl Bdf {
                     }),
                     None => assemble(sys, lin, t1, &self.q1, &self.v, a0),
                 }
-                if JacobianPoint::keep_or_record(
+                let new = JacobianPoint::keep_or_record(
                     &mut self.jac_point,
                     restored,
                     sys,
@@ -497,7 +497,8 @@ impl Bdf {
                     &self.q1,
                     &self.v,
                     a0,
-                ) {
+                );
+                if new {
                     self.stats.jacobians += 1;
                     self.stats.factorizations += 1;
                 }
@@ -510,9 +511,19 @@ impl Bdf {
                     });
                 }
                 self.jac_valid = true;
-                let nv = sys.n_v();
-                self.rank
-                    .observe_factorization(sys, &self.lin, (2 * nv, 2), t1, &mut self.stats);
+                // a restored matrix was observed when it was first formed: the restored monitors
+                // hold that observation (observing again would read the rows evaluated last, at
+                // this step's point, not the matrix's)
+                if new {
+                    let nv = sys.n_v();
+                    self.rank.observe_factorization(
+                        sys,
+                        &self.lin,
+                        (2 * nv, 2),
+                        t1,
+                        &mut self.stats,
+                    );
+                }
             }
             if self.lin.solve(&mut self.rhs[..n]).is_err() {
                 self.jac_valid = false;
@@ -1234,5 +1245,22 @@ impl Integrator for Bdf {
         self.jac_valid = false;
         self.jac_point = None;
         Ok(())
+    }
+
+    fn monitors(&self) -> Vec<f64> {
+        let point = match (&self.jac_point, self.jac_valid) {
+            (Some(p), true) => Some(p),
+            _ => self.pending.as_ref(),
+        };
+        super::write_monitors(&[&self.rank, &self.rows], &self.lin, point)
+    }
+
+    fn restore_monitors(&mut self, m: &[f64]) -> Result<(), String> {
+        super::read_monitors(
+            m,
+            &mut [&mut self.rank, &mut self.rows],
+            &mut self.lin,
+            self.pending.as_mut(),
+        )
     }
 }

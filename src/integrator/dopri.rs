@@ -750,6 +750,14 @@ impl Integrator for Dopri5 {
         self.h = h;
         Ok(())
     }
+
+    fn monitors(&self) -> Vec<f64> {
+        super::write_monitors(&[&self.rank], self.lin.lu(), None)
+    }
+
+    fn restore_monitors(&mut self, m: &[f64]) -> Result<(), String> {
+        super::read_monitors(m, &mut [&mut self.rank], self.lin.lu_mut(), None)
+    }
 }
 
 #[cfg(test)]

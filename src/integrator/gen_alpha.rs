@@ -464,7 +464,7 @@ impl GenAlpha {
                         sys.add_constraint_blocks(lin, nv, 0, 1.0, Some((0, nv, 1.0)));
                     }
                 }
-                if JacobianPoint::keep_or_record(
+                let new = JacobianPoint::keep_or_record(
                     &mut self.jac_point,
                     restored,
                     sys,
@@ -472,7 +472,8 @@ impl GenAlpha {
                     &self.q1,
                     &self.v1,
                     h,
-                ) {
+                );
+                if new {
                     self.stats.jacobians += 1;
                     self.stats.factorizations += 1;
                 }
@@ -482,8 +483,12 @@ impl GenAlpha {
                 }
                 self.jac_valid = true;
                 self.jac_h = hm;
-                self.rank
-                    .observe(sys, &self.lin, nv, 1, t1, &mut self.stats);
+                // a restored matrix was observed when it was first formed (the restored
+                // monitors hold that observation)
+                if new {
+                    self.rank
+                        .observe(sys, &self.lin, nv, 1, t1, &mut self.stats);
+                }
             }
             if let Err(e) = self.lin.solve(&mut self.rhs) {
                 self.jac_valid = false;
@@ -972,5 +977,22 @@ impl Integrator for GenAlpha {
         self.jac_valid = false;
         self.jac_point = None;
         Ok(())
+    }
+
+    fn monitors(&self) -> Vec<f64> {
+        let point = match (&self.jac_point, self.jac_valid) {
+            (Some(p), true) => Some(p),
+            _ => self.pending.as_ref(),
+        };
+        super::write_monitors(&[&self.rank], &self.lin, point)
+    }
+
+    fn restore_monitors(&mut self, m: &[f64]) -> Result<(), String> {
+        super::read_monitors(
+            m,
+            &mut [&mut self.rank],
+            &mut self.lin,
+            self.pending.as_mut(),
+        )
     }
 }

@@ -55,6 +55,16 @@ impl Kkt {
         Self::default()
     }
 
+    /// The LU of the full matrix (its history for serialized states: [`LinearSolver::whole_lu`]).
+    pub fn lu(&self) -> &LinearSolver {
+        &self.lu
+    }
+
+    /// The LU of the full matrix, to restore its history.
+    pub fn lu_mut(&mut self) -> &mut LinearSolver {
+        &mut self.lu
+    }
+
     /// Factorizes `[M G^T; G -c I]` at `(t, q, v)`; the constraint rows must be evaluated there.
     pub fn factor(
         &mut self,

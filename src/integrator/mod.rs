@@ -446,6 +446,74 @@ pub trait Integrator: Send + std::fmt::Debug {
 
     /// Restores what [`Integrator::memory`] returned.
     fn restore_memory(&mut self, m: &[f64]) -> Result<(), String>;
+
+    /// The state of the integrator's monitors that steers its numbers (the rank monitor's
+    /// baseline and last observation: the round-off floors of the error and Newton tests scale
+    /// with it), as plain numbers; empty for integrators without one. Serialized beside
+    /// [`Integrator::memory`] so that a restored integrator continues bit for bit.
+    fn monitors(&self) -> Vec<f64> {
+        Vec::new()
+    }
+
+    /// Restores what [`Integrator::monitors`] returned (after [`Integrator::restore_memory`]).
+    fn restore_monitors(&mut self, m: &[f64]) -> Result<(), String> {
+        if m.is_empty() {
+            Ok(())
+        } else {
+            Err("integrator monitors given to an integrator without monitors".into())
+        }
+    }
+}
+
+/// The monitors of an integrator as [`Integrator::monitors`] lays them out: each rank monitor
+/// ([`rank::RankMonitor::write`]), whether the Newton solver serves its pattern with the whole
+/// LU ([`LinearSolver::whole_lu`]: 1, else 0), and the frozen decisions of the Newton matrix
+/// point that [`Integrator::memory`] wrote (count, values; 0 without a point).
+pub(crate) fn write_monitors(
+    monitors: &[&rank::RankMonitor],
+    lin: &crate::dae::linear::LinearSolver,
+    point: Option<&JacobianPoint>,
+) -> Vec<f64> {
+    let mut m = Vec::new();
+    for monitor in monitors {
+        monitor.write(&mut m);
+    }
+    m.push(if lin.whole_lu() { 1.0 } else { 0.0 });
+    let frozen = point.map_or(&[][..], |p| &p.frozen[..]);
+    m.push(frozen.len() as f64);
+    m.extend_from_slice(frozen);
+    m
+}
+
+/// Reads what [`write_monitors`] wrote into `monitors`, `lin` and the restored matrix point
+/// `point`; an empty `m` (a state written before the monitors were) leaves them as they are:
+/// they start afresh.
+pub(crate) fn read_monitors(
+    m: &[f64],
+    monitors: &mut [&mut rank::RankMonitor],
+    lin: &mut crate::dae::linear::LinearSolver,
+    point: Option<&mut JacobianPoint>,
+) -> Result<(), String> {
+    if m.is_empty() {
+        return Ok(());
+    }
+    let bad = || "integrator monitors: truncated or corrupt".to_string();
+    let mut at = 0;
+    for monitor in monitors.iter_mut() {
+        at += monitor.read(&m[at..])?;
+    }
+    let (&whole, rest) = m[at..].split_first().ok_or_else(bad)?;
+    let (&n, frozen) = rest.split_first().ok_or_else(bad)?;
+    if !(whole == 0.0 || whole == 1.0) || n != frozen.len() as f64 {
+        return Err(bad());
+    }
+    lin.restore_whole_lu(whole == 1.0);
+    if let Some(p) = point {
+        p.frozen = frozen.to_vec();
+    } else if !frozen.is_empty() {
+        return Err(bad());
+    }
+    Ok(())
 }
 
 /// Creates an integrator of the given kind.
@@ -489,6 +557,10 @@ pub(crate) struct JacobianPoint {
     pub memory: Vec<f64>,
     /// The integrator's coefficient the matrix depends on (step size or BDF leading coefficient).
     pub coefficient: f64,
+    /// The effects' frozen decisions when the matrix was formed ([`System::frozen_record`]; a
+    /// rope's slip modes enter its stiffness); empty: not known (states written before they
+    /// were), the current ones serve.
+    pub frozen: Vec<f64>,
 }
 
 impl JacobianPoint {
@@ -501,6 +573,11 @@ impl JacobianPoint {
             inputs: sys.inputs.clone(),
             memory: sys.memory.clone(),
             coefficient,
+            frozen: {
+                let mut f = Vec::new();
+                sys.frozen_record(&mut f);
+                f
+            },
         }
     }
 
@@ -521,6 +598,7 @@ impl JacobianPoint {
                 p.v.clone_from_slice_or_vec(v);
                 p.inputs.clone_from_slice_or_vec(&sys.inputs);
                 p.memory.clone_from_slice_or_vec(&sys.memory);
+                sys.frozen_record(&mut p.frozen);
             }
             None => *slot = Some(Self::record(sys, t, q, v, coefficient)),
         }
@@ -599,6 +677,7 @@ impl JacobianPoint {
                 inputs,
                 memory,
                 coefficient: m[5],
+                frozen: Vec::new(),
             },
             total,
         ))
@@ -614,7 +693,13 @@ impl JacobianPoint {
         if self.memory.len() == memory.len() {
             sys.memory.copy_from_slice(&self.memory);
         }
+        let mut frozen = Vec::new();
+        sys.frozen_record(&mut frozen);
+        let set = sys.set_frozen_record(&self.frozen);
         let r = f(sys);
+        if set {
+            sys.set_frozen_record(&frozen);
+        }
         sys.inputs = inputs;
         sys.memory = memory;
         r

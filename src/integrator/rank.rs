@@ -65,6 +65,49 @@ pub struct RankMonitor {
 }
 
 impl RankMonitor {
+    /// Appends what steers the integrator's numbers to a flat vector (for serialized states):
+    /// the baseline's length and values, the smallest ratio and the pivot scale of the last
+    /// observation, whether inside a passage, and the weakest row (-1: none). The joints already
+    /// reported and the last passage only shape messages and are not written (a restored run
+    /// may report a passage again).
+    pub fn write(&self, m: &mut Vec<f64>) {
+        m.push(self.baseline.len() as f64);
+        m.extend_from_slice(&self.baseline);
+        m.extend([
+            self.smallest,
+            self.scale,
+            if self.inside { 1.0 } else { 0.0 },
+            self.weakest.map_or(-1.0, |w| w as f64),
+        ]);
+    }
+
+    /// Reads what [`RankMonitor::write`] appended, from `m[0]`; returns the count used.
+    pub fn read(&mut self, m: &[f64]) -> Result<usize, String> {
+        let bad = || "integrator monitor: truncated or corrupt rank monitor".to_string();
+        let n = *m.first().ok_or_else(bad)?;
+        if !(n.is_finite() && n >= 0.0 && n.fract() == 0.0 && n <= m.len() as f64) {
+            return Err(bad());
+        }
+        let n = n as usize;
+        let rest = m.get(1 + n..5 + n).ok_or_else(bad)?;
+        let (smallest, scale, inside, weakest) = (rest[0], rest[1], rest[2], rest[3]);
+        let whole = |x: f64| x.is_finite() && x.fract() == 0.0;
+        if smallest.is_nan()
+            || !(scale.is_finite() && scale >= 0.0)
+            || !(inside == 0.0 || inside == 1.0)
+            || !(whole(weakest) && (-1.0..=1e9).contains(&weakest))
+            || m[1..1 + n].iter().any(|b| !b.is_finite())
+        {
+            return Err(bad());
+        }
+        self.baseline = m[1..1 + n].to_vec();
+        self.smallest = smallest;
+        self.scale = scale;
+        self.inside = inside == 1.0;
+        self.weakest = (weakest >= 0.0).then_some(weakest as usize);
+        Ok(5 + n)
+    }
+
     /// Forgets the baseline (a new system or a restart with another structure).
     pub fn reset(&mut self) {
         self.baseline.clear();
@@ -293,4 +336,37 @@ fn joint_names(sys: &System, joints: &[usize]) -> String {
         .map(|j| format!("'{}'", j.name))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::RankMonitor;
+
+    #[test]
+    fn written_monitor_reads_back_and_corrupt_values_are_refused() {
+        let m = RankMonitor {
+            baseline: vec![1.0, 0.5],
+            smallest: 0.25,
+            scale: 3.0,
+            inside: true,
+            weakest: Some(1),
+            ..RankMonitor::default()
+        };
+        let mut v = Vec::new();
+        m.write(&mut v);
+        v.push(42.0); // what follows is left alone
+        let mut r = RankMonitor::default();
+        assert_eq!(r.read(&v), Ok(v.len() - 1));
+        assert_eq!(
+            (r.baseline.clone(), r.smallest, r.scale, r.inside, r.weakest),
+            (vec![1.0, 0.5], 0.25, 3.0, true, Some(1))
+        );
+        assert_eq!(r.conditioning_amplification(), 4.0);
+        for (i, bad) in [(0, 9.0), (0, -1.0), (4, -1.0), (5, 0.5), (6, 2.5)] {
+            let mut w = v.clone();
+            w[i] = bad;
+            assert!(RankMonitor::default().read(&w).is_err(), "{i} = {bad}");
+        }
+        assert!(RankMonitor::default().read(&v[..4]).is_err());
+    }
 }

@@ -337,6 +337,18 @@ def test_array_misuse_gives_fmi3_error_with_a_message(tmp_path):
 
 
 def test_state_round_trip_and_second_process(fmu3, tmp_path):
+    """fmi3Get/SetFMUState, fmi3Serialize/DeserializeFMUState in the same and a second process,
+    with the scenario's inputs changing, for every item of the model's `integrator`
+    enumeration (the FMI 2.0 walk, test_state_walk.py, checks every communication point)."""
+    integ = fmu3.vars.get("integrator")
+    items = [None] if integ is None else [int(i.value) for i in integ.declaredType.items]
+    base = dict(fmu3.values)
+    for item in items:
+        fmu3.values = base if item is None else {**base, "integrator": item}
+        _state_round_trip(fmu3, tmp_path, f"integrator {item}")
+
+
+def _state_round_trip(fmu3, tmp_path, label):
     stop, h = SHORT[fmu3.id]
     n = max(2, int(round(stop / h / 3)))
     s = fmu3.slave()
@@ -346,18 +358,18 @@ def test_state_round_trip_and_second_process(fmu3, tmp_path):
     t0 = n * h
     first = fmu3.run(s, t0, n, h)
     s.setFMUState(state)
-    assert fmu3.run(s, t0, n, h) == first, "get/set FMU state round trip"
+    assert fmu3.run(s, t0, n, h) == first, f"{label}: get/set FMU state round trip"
     blob = s.serializeFMUState(state)
     restored = s.deserializeFMUState(blob)
     s.setFMUState(restored)
-    assert fmu3.run(s, t0, n, h) == first, "serialize -> deserialize in the same process"
+    assert fmu3.run(s, t0, n, h) == first, f"{label}: serialize -> deserialize in the same process"
     (tmp_path / "state.bin").write_bytes(blob)
     out = subprocess.run(
         [sys.executable, str(HERE / "fmi3_worker.py"), str(fmu3.path), fmu3.unzip,
          str(tmp_path / "state.bin"), repr(t0), str(n), repr(h)],
         capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
-    assert json.loads(out.stdout) == first, "deserialized in a second process"
+    assert json.loads(out.stdout) == first, f"{label}: deserialized in a second process"
     s.freeFMUState(state)
     s.freeFMUState(restored)
     s.terminate()

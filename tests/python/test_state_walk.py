@@ -17,11 +17,24 @@ bit those of the original run at t_k + h. A failure names the FMU, the integrato
 This is the test that catches a state refused or continued differently after some time of a run
 (PanelLock with BDF refused its own state after ~7.6 s of its default run).
 
+The second test (issue #48 item 1) walks the runs of WALKS, with inputs changing and the
+configurations the default experiments miss (flexible panels with modes, both RopeBlock rigs with
+contact nodes created, sliding and released, the controller), over every integrator the
+configuration offers. The state at t_k is taken before point k's inputs are set; every restore
+sets them again before its step. Besides (a) and (b) it checks
+
+  (c) the original instance itself: a second run of it where every state is serialized,
+      deserialized and set into the same instance before its step, the whole output sequence and
+      every state's bytes equal to the uninterrupted run's;
+  (d) in the second process, one fresh instance restores the state at mid-run and runs to the
+      end: every output equal to the uninterrupted run's.
+
 Cost: RopeBlock runs with 20 segments per sling (as in conftest.SCENARIOS); every other case runs
 the whole DefaultExperiment (see STOP_TIMES for any shortened one and why).
 """
 
 import json
+import math
 import pathlib
 import pickle
 import struct
@@ -34,7 +47,7 @@ from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
 from conftest import HERE, fmu_paths
-from state_walk_worker import Outputs, restore_and_step
+from state_walk_worker import Outputs, restore, restore_and_step, set_inputs
 
 # Parameters other than the integrator (default parameters otherwise).
 VALUES = {"RopeBlock": {"segments": 20}}
@@ -46,6 +59,49 @@ STOP_TIMES = {}
 
 # Shown per point in a failure message; the rest are counted.
 MAX_REPORTED = 5
+
+
+def _hoist(t):
+    return 0.3 if t >= 0.5 - 1e-9 else 0.0
+
+
+# Runs with inputs changing (issue #48 item 1): model -> configurations (label, parameters,
+# inputs u(t), stop time [s], integrators refused with the configuration[, communication step
+# [s], else the DefaultExperiment's]). Every integrator item of the model's enumeration runs
+# that is not refused.
+WALKS = {
+    "PanelLock": [
+        # the motor torque changes at every step, with a jump at 1 s; latches engage on the way
+        ("rigid", {}, {"root_motor_torque": lambda t: (0.05 if t < 1.0 else -0.02) + 0.01 * math.sin(5.0 * t)},
+         2.0, {}),
+        # modal panels (2 Craig-Bampton modes each); dopri5_tree takes rigid panels only
+        ("flexible", {"flexible_panels": True, "n_modes": 2},
+         {"root_motor_torque": lambda t: (0.05 if t < 1.0 else -0.02) + 0.01 * math.sin(5.0 * t)},
+         1.0, {"dopri5_tree": "joint coordinates take rigid panels only"}),
+    ],
+    "RopeBlock": [
+        # the lift, slings over the deck edges: hoisted from 0.5 s, hook moved sideways from 1.5 s
+        # (the slings slide along the edges), 8 segments per sling (DOPRI5 takes coarse slings only)
+        ("lift", {"segments": 8},
+         {"hook0_vz": _hoist, "hook0_vx": lambda t: 0.4 if t >= 1.5 - 1e-9 else 0.0}, 3.0, {}),
+        # the turn-over: hook 1's slings around the bottom edge, lowered while hook 0 hoists
+        ("turnover", {"scenario": 1, "segments": 8, "mu": 0.3},
+         {"hook0_vz": _hoist, "hook1_vz": lambda t: -0.3 if t >= 1.0 - 1e-9 else 0.0,
+          "hook0_payout_rate": lambda t: 0.05 if t >= 2.0 - 1e-9 else 0.0}, 3.0, {}),
+        # the turn-over rolled on by lowering hook 1 (10 segments, 0.25 s steps): contact nodes
+        # are inserted and removed (3 rebuilds) at 17-18 s, the states around them restored
+        ("turnover-rebuilds", {"scenario": 1, "segments": 10},
+         {"hook1_vz": lambda t: -1.0, "hook0_vz": lambda t: 0.1 if 5.0 <= t < 10.0 else 0.0}, 20.0,
+         {"dopri5": "explicit steps on 10-segment slings take 16 s for the 20 s run alone (DOPRI5 "
+                    "runs the other two RopeBlock configurations)"}, 0.25),
+    ],
+    "PidController": [
+        # setpoint steps, measurement oscillating: the output saturates and the anti-windup acts
+        ("changing", {"kp": 2.0, "ki": 1.5, "kd": 0.1, "Tf": 0.05, "u_min": -1.5, "u_max": 1.5, "Tt": 0.05},
+         {"setpoint": lambda t: 1.0 if t < 0.5 else -2.0,
+          "measurement": lambda t: 0.8 * math.sin(3.0 * t) + 0.3}, 1.0, {}),
+    ],
+}
 
 
 def _cases():
@@ -89,8 +145,10 @@ def _differences(outputs, got, want, limit=4):
 class Walk:
     """The original run: the serialized state at every t_k, outputs after every step."""
 
-    def __init__(self, path, unzip, integrator_value, label):
-        self.label = label
+    def __init__(self, path, unzip, integrator_value, label, config=None):
+        """`config`: None (the DefaultExperiment without inputs) or a WALKS entry (name,
+        parameters, inputs u(t) by name, stop time, refused integrators[, communication step])."""
+        self.label = label if config is None else f"{label}, {config[0]}"
         self.md = read_model_description(str(path))
         self.id = self.md.coSimulation.modelIdentifier
         self.outputs = Outputs(self.md)
@@ -101,8 +159,19 @@ class Walk:
         # the points as fmpy's simulate_fmu computes them
         self.times = [self.start + k * self.h for k in range(self.n)]
         self.values = dict(VALUES.get(self.id, {}))
+        signals = {}
+        if config is not None:
+            _, self.values, signals, self.stop = config[:4]
+            self.values = dict(self.values)
+            self.h = config[5] if len(config) > 5 else self.h
+            self.n = round((self.stop - self.start) / self.h)
+            self.times = [self.start + k * self.h for k in range(self.n)]
         if integrator_value is not None:
             self.values["integrator"] = integrator_value
+        self.vars = {v.name: v for v in self.md.modelVariables}
+        # the inputs set before the step from t_k, as (value reference, value)
+        self.inputs = [[(self.vars[name].valueReference, float(f(t))) for name, f in signals.items()]
+                       for t in self.times]
         self.path, self.unzip = path, unzip
 
     def slave(self, name):
@@ -110,24 +179,61 @@ class Walk:
         s.instantiate()
         return s
 
-    def record(self):
-        s = self.slave("walk-original")
-        s.setupExperiment(startTime=self.start, stopTime=float(self.md.defaultExperiment.stopTime))
-        vars_ = {v.name: v for v in self.md.modelVariables}
+    def started(self, name):
+        """A new instance with the run's parameters, initialized at the start time."""
+        s = self.slave(name)
+        s.setupExperiment(startTime=self.start, stopTime=self.stop)
         for name, value in self.values.items():
-            s.setInteger([vars_[name].valueReference], [int(value)])
+            v = self.vars[name]
+            if v.type == "Real":
+                s.setReal([v.valueReference], [float(value)])
+            elif v.type == "Boolean":
+                s.setBoolean([v.valueReference], [bool(value)])
+            else:
+                s.setInteger([v.valueReference], [int(value)])
         s.enterInitializationMode()
         s.exitInitializationMode()
+        return s
+
+    def record(self):
+        s = self.started("walk-original")
         self.initial = self.outputs.read(s)
         self.states, self.after = [], []
-        for t in self.times:
+        for t, inputs in zip(self.times, self.inputs):
             state = s.getFMUstate()
             self.states.append(s.serializeFMUstate(state))
             s.freeFMUstate(state)
+            set_inputs(s, inputs)
             s.doStep(currentCommunicationPoint=t, communicationStepSize=self.h)
             self.after.append(self.outputs.read(s))
         s.terminate()
         s.freeInstance()
+
+    def cycled(self):
+        """(c): the run again, every state serialized, deserialized and set into the same
+        instance before its step; failures (k, why) where the outputs after the step or the
+        state's bytes differ from the uninterrupted run's."""
+        s = self.started("walk-cycled")
+        failures = []
+        for k, (t, inputs) in enumerate(zip(self.times, self.inputs)):
+            state = s.getFMUstate()
+            data = s.serializeFMUstate(state)
+            s.freeFMUstate(state)
+            restore(s, data)
+            set_inputs(s, inputs)
+            s.doStep(currentCommunicationPoint=t, communicationStepSize=self.h)
+            got = self.outputs.read(s)
+            if data != self.states[k]:
+                first = next(i for i, (a, b) in enumerate(zip(data, self.states[k])) if a != b) \
+                    if len(data) == len(self.states[k]) else None
+                failures.append((k, f"state bytes differ from the uninterrupted run's (lengths {len(data)} "
+                                    f"and {len(self.states[k])}, first differing byte {first})"))
+            elif got != self.after[k]:
+                failures.append((k, f"outputs after doStep to t_k + h differ: "
+                                    f"{_differences(self.outputs, got, self.after[k])}"))
+        s.terminate()
+        s.freeInstance()
+        return failures
 
     def at(self, k):
         """Outputs at t_k (what a restore of state k must show before stepping)."""
@@ -155,11 +261,25 @@ class Walk:
         return "\n".join(lines)
 
 
-@pytest.mark.parametrize("path, integrator, value", _cases())
-def test_every_state_of_the_default_experiment_restores_and_continues_bit_for_bit(
-        path, integrator, value, tmp_path_factory, tmp_path):
-    unzip = _unzip(path, tmp_path_factory)
-    walk = Walk(path, unzip, value, integrator or "none")
+def _walk_cases():
+    cases = []
+    for path in fmu_paths():
+        md = read_model_description(str(path))
+        integ = next((v for v in md.modelVariables if v.name == "integrator"), None)
+        items = [(None, None)] if integ is None else [(i.name, int(i.value)) for i in integ.declaredType.items]
+        for config in WALKS.get(md.coSimulation.modelIdentifier, []):
+            name, refused = config[0], config[4]
+            for label, value in items:
+                if label in refused:
+                    continue
+                cases.append(pytest.param(path, label, value, config,
+                                          id=f"{path.stem}-{name}-{label or 'none'}"))
+    return cases
+
+
+def _check(walk, tmp_path, extended=False):
+    """Records `walk`, restores every state in (a) and (b), with `extended` also (c) and (d);
+    asserts that every continuation is bit for bit the original run's."""
     clock = time.perf_counter()
     walk.record()
     recorded = time.perf_counter() - clock
@@ -168,8 +288,9 @@ def test_every_state_of_the_default_experiment_restores_and_continues_bit_for_bi
 
     # (b) starts first and runs beside (a): a second process, every state from a file
     walk_file = tmp_path / "walk.pickle"
-    walk_file.write_bytes(pickle.dumps(dict(fmu=str(path), unzip=unzip, times=walk.times, h=walk.h,
-                                            states=walk.states)))
+    k0 = walk.n // 2 if extended else None
+    walk_file.write_bytes(pickle.dumps(dict(fmu=str(walk.path), unzip=walk.unzip, times=walk.times, h=walk.h,
+                                            states=walk.states, inputs=walk.inputs, continue_from=k0)))
     worker = subprocess.Popen([sys.executable, str(HERE / "state_walk_worker.py"), str(walk_file)],
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
@@ -178,7 +299,8 @@ def test_every_state_of_the_default_experiment_restores_and_continues_bit_for_bi
         failures, compared = [], 0
         for k in reversed(range(walk.n)):
             try:
-                restored, stepped = restore_and_step(fresh, walk.outputs, walk.states[k], walk.times[k], walk.h)
+                restored, stepped = restore_and_step(fresh, walk.outputs, walk.states[k], walk.times[k], walk.h,
+                                                     walk.inputs[k])
                 why = walk.check(k, restored, stepped)
             except Exception as e:  # noqa: BLE001 - collected per point
                 why = f"{type(e).__name__}: {e}"
@@ -187,8 +309,11 @@ def test_every_state_of_the_default_experiment_restores_and_continues_bit_for_bi
                 failures.append((k, why))
         fresh.freeInstance()
         failures.sort()
-        in_process = walk.verdict("fresh instance, same process (last point to first)", failures, compared)
+        problems = [walk.verdict("fresh instance, same process (last point to first)", failures, compared)]
         assert compared == walk.n
+        if extended:
+            problems.append(walk.verdict("the same instance, every state serialized, deserialized and set "
+                                         "before its step", walk.cycled(), walk.n))
 
         out, err = worker.communicate(timeout=600)
     finally:
@@ -197,6 +322,14 @@ def test_every_state_of_the_default_experiment_restores_and_continues_bit_for_bi
             worker.wait()
     assert worker.returncode == 0, f"{walk.id} integrator={walk.label}: worker failed:\n{err[-3000:]}"
     lines = [json.loads(line) for line in out.splitlines()]
+    if extended:
+        continued = lines.pop()["continued"]
+        bad = [(k0 + j, f"outputs after doStep to t_k + h differ: {_differences(walk.outputs, got, walk.after[k0 + j])}")
+               for j, got in enumerate(continued) if got != walk.after[k0 + j]]
+        if len(continued) != walk.n - k0:
+            bad.append((k0, f"{len(continued)} steps continued, not {walk.n - k0}"))
+        problems.append(walk.verdict(f"second process, state {k0} restored once and run to the end", bad,
+                                     walk.n - k0))
     assert [line["k"] for line in lines] == list(range(walk.n)), "the worker answered for every point"
     failures = []
     for line in lines:
@@ -204,9 +337,22 @@ def test_every_state_of_the_default_experiment_restores_and_continues_bit_for_bi
         why = line["error"] if "error" in line else walk.check(k, line["restored"], line["stepped"])
         if why:
             failures.append((k, why))
-    second = walk.verdict("fresh instance, second process (first point to last)", failures, len(lines))
+    problems.append(walk.verdict("fresh instance, second process (first point to last)", failures, len(lines)))
     total = time.perf_counter() - clock
     print(f"{walk.id} integrator={walk.label}: {walk.n} points to {walk.stop} s, "
           f"record {recorded:.1f} s, total {total:.1f} s")
-    problems = [p for p in (in_process, second) if p]
+    problems = [p for p in problems if p]
     assert not problems, "\n".join(problems)
+
+
+@pytest.mark.parametrize("path, integrator, value", _cases())
+def test_every_state_of_the_default_experiment_restores_and_continues_bit_for_bit(
+        path, integrator, value, tmp_path_factory, tmp_path):
+    _check(Walk(path, _unzip(path, tmp_path_factory), value, integrator or "none"), tmp_path)
+
+
+@pytest.mark.parametrize("path, integrator, value, config", _walk_cases())
+def test_every_state_of_a_run_with_changing_inputs_continues_bit_for_bit_everywhere(
+        path, integrator, value, config, tmp_path_factory, tmp_path):
+    _check(Walk(path, _unzip(path, tmp_path_factory), value, integrator or "none", config), tmp_path,
+           extended=True)

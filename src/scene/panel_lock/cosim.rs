@@ -19,8 +19,10 @@ use crate::state::State;
 /// Version of the serialized FMU state (2: the clock, start time and elapsed time, in
 /// place of the time, and the solver counters; version 1 states start at 0 s and count from 0;
 /// 3: the digest of the array's per-hinge and per-panel values, checked on restore; 4: the
-/// root interface peaks, after the counters).
-const STATE_FORMAT: u32 = 4;
+/// root interface peaks, after the counters; 5: the integrator's monitors
+/// ([`crate::integrator::Integrator::monitors`]), after the peaks; older states restore with the
+/// rank baseline taken afresh).
+const STATE_FORMAT: u32 = 5;
 
 /// A new PanelLock instance at default parameters.
 pub fn create() -> Box<dyn CoSimModel> {
@@ -323,6 +325,7 @@ impl CoSimModel for PanelLockModel {
                 w.f64s(&s.sim.stats().to_numbers());
                 w.f64(s.interface_peaks.force);
                 w.f64(s.interface_peaks.torque);
+                w.f64s(&s.sim.integrator_monitors());
             }
         }
         w.into_bytes()
@@ -416,6 +419,13 @@ impl CoSimModel for PanelLockModel {
                 let now = scene.root_wrench().map_err(|e| ModelError::BadState(e.0))?;
                 scene.interface_peaks = Default::default();
                 scene.interface_peaks.note(&now);
+            }
+            if version >= 5 {
+                let monitors = r.f64s("integrator monitors")?;
+                scene
+                    .sim
+                    .restore_integrator_monitors(&monitors)
+                    .map_err(ModelError::BadState)?;
             }
             restored.scene = Some(scene);
         }

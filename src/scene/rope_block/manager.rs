@@ -312,7 +312,15 @@ impl Manager<'_> {
             let seg = rep.segments;
             let slide = st.memory[o + 5];
             if slide == 0.0 {
-                st.memory[o + 4] = mu * n.max(0.0);
+                // the capacity a sticking node would slide at: not used by any force while it
+                // sticks, so no memory change; the system gets it too, so that the memory a
+                // Newton matrix is recorded with is the state's (a restored state's system is
+                // made from the state: without this, a restored run records other bytes)
+                let cap = mu * n.max(0.0);
+                st.memory[o + 4] = cap;
+                if let Some(m) = sys.memory.get_mut(o + 4) {
+                    *m = cap;
+                }
             }
             let decision =
                 edge_friction(mu, n, rep.pull.along_rope, rep.hold_force, slide, rep.u_dot);

@@ -378,6 +378,7 @@ pub fn write_sim(w: &mut ByteWriter, s: &RopeBlockSim) {
     w.f64(s.energy_reference.unwrap_or(f64::NAN));
     w.u64(s.max_rebuilds_per_call);
     w.f64(s.hook_ramp);
+    w.f64s(&s.sim.integrator_monitors());
 }
 
 /// The effect memory as this version lays it out: the rope effect's memory starts at `offset`
@@ -453,6 +454,13 @@ pub fn read_sim(
     };
     let max_rebuilds_per_call = r.u64("rebuild bound")?;
     let hook_ramp = r.finite_f64("hook ramp")?;
+    // before version 6 the monitors were not written: a restored integrator takes its rank
+    // baseline afresh (as those versions did)
+    let monitors = if version >= 6 {
+        r.f64s("integrator monitors")?
+    } else {
+        Vec::new()
+    };
     let (model, map) = build(&structure).map_err(ModelError::BadState)?;
     let mut state = state;
     state.memory = widen_hook_memory(
@@ -471,6 +479,8 @@ pub fn read_sim(
     }
     sim.system.inputs = inputs;
     sim.restore(state, &memory).map_err(ModelError::BadState)?;
+    sim.restore_integrator_monitors(&monitors)
+        .map_err(ModelError::BadState)?;
     Ok(RopeBlockSim {
         structure,
         sim,
