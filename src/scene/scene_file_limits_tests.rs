@@ -17,20 +17,28 @@ fn a_scene_past_the_byte_cap_is_refused_by_parse_as_well() {
 }
 
 #[test]
-fn eighty_thousand_unknown_keys_are_refused_by_the_key_cap() {
+fn fifteen_thousand_unknown_keys_are_refused_by_the_key_cap() {
+    // under the text's bound (20,000 `=` and `,`), over the parsed count's cap
     let mut text = String::from("[parameters]\n");
-    for k in 0..80_000 {
+    for k in 0..15_000 {
         text.push_str(&format!("unknown_{k} = 1\n"));
     }
     let e = refused(&text);
     assert!(
-        // the 80,000 and `parameters`
-        e.contains("80001 keys") && e.contains("MAX_SCENE_KEYS") && e.contains("10000"),
+        // the 15,000 and `parameters`
+        e.contains("15001 keys") && e.contains("MAX_SCENE_KEYS") && e.contains("10000"),
         "{e}"
     );
-    // array values count too: one key holding 20,000 numbers
-    let big = format!("[block]\nbox = [{}]\n", vec!["1.0"; 20_000].join(", "));
-    assert!(refused(&big).contains("MAX_SCENE_KEYS"));
+    // array values count too: one key holding 12,000 numbers
+    let big = format!("[block]\nbox = [{}]\n", vec!["1.0"; 12_000].join(", "));
+    assert!(refused(&big).contains("12002 keys and array values"));
+    // 80,000 keys: refused from the text already
+    let many = "unknown = 1\n".repeat(80_000);
+    let e = refused(&many);
+    assert!(
+        e.contains("80000 `=` and `,`") && e.contains("MAX_SCENE_KEYS"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -57,7 +65,8 @@ fn more_tables_than_the_cap_are_refused() {
     let text = "[[lug]]\nposition = [1.0, 2.0, 3.0]\n".repeat(MAX_SCENE_TABLES + 1);
     let e = refused(&text);
     assert!(
-        e.contains(&format!("{} tables", MAX_SCENE_TABLES + 1)) && e.contains("MAX_SCENE_TABLES"),
+        e.contains(&format!("{} table headers", MAX_SCENE_TABLES + 1))
+            && e.contains("MAX_SCENE_TABLES"),
         "{e}"
     );
 }
@@ -124,4 +133,20 @@ fn rope_segments_past_the_total_cap_are_refused_naming_it() {
         e.contains("MAX_ROPE_SEGMENTS") && e.contains(&MAX_ROPE_SEGMENTS.to_string()),
         "{e}"
     );
+}
+
+#[test]
+fn too_many_tables_or_values_are_refused_before_the_parse() {
+    // 100,000 `[[lug]]` tables in 3.7 MB (under the byte cap): refused from the text, before
+    // the parser builds its tree (it grew the resident memory by 230 MB)
+    let lugs = "[[lug]]\nposition = [7.5, 7.3, 7.0]\n".repeat(100_000);
+    let e = refused(&lugs);
+    assert!(
+        e.contains("100000 table headers") && e.contains("MAX_SCENE_TABLES"),
+        "{e}"
+    );
+    // one array of 30,000 values on one line
+    let values = format!("x = [{}]\n", vec!["1"; 30_000].join(","));
+    let e = refused(&values);
+    assert!(e.contains("MAX_SCENE_KEYS") && e.contains("`,`"), "{e}");
 }

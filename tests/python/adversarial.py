@@ -95,12 +95,9 @@ BASE_STATES = {
 # and nothing else. Each entry has a reproducer and a test that it still fails
 # (test_known_failures_still_fail), so a fix shows up and the entry goes.
 KNOWN_FAILURES = [
-    # RopeBlock with BDF: a state serialized and deserialized (into the same or a fresh instance)
-    # continues other than the live state from its first step on (last bits of the hook load,
-    # sling tensions), at 12 and 40 segments; generalized-alpha, DOPRI5 and the other models are
-    # bit-equal. Found by the `continuation` kind (issue #48 item 1 is fixed for the case of
-    # tests/rope_state_serialized.rs, not for these). Also seed 25 cases 3737 and 3980.
-    {"model": "RopeBlock", "cls": "continuation-differs", "pattern": r"^bdf segments=\d+, serialized", "case": 41},
+    # (RopeBlock with BDF, a deserialized state continuing other than the live one - seed 25
+    # cases 41, 3737, 3980 and seed 48 case 1553 of the `continuation` kind - was fixed with the
+    # integrator history the state now carries, docs/state_serialization.md.)
     # Before issue #48 none was open. Seed 25 case 5393 (DOPRI5 on the two-hook turn-over, rope_damping 1e9 N s) hung
     # for 12-16 s CPU before its refusal; DOPRI5's stiffness watch now refuses it after 100 steps
     # at the stability boundary, in well under a second (docs/adversarial_harness.md)
