@@ -312,6 +312,15 @@ ENVELOPE_CASES = [
     # dopri5 on a stiff ground contact at atol 1e-12 (known failure 1): steps of 3e-7 s
     ("RopeBlock", ["segments=4", "gravity=20", "integrator=3", "atol=1e-12", "ground_contact=1",
                    "ground_slip_speed=1e-6", "contact=0"], "integrator"),
+    # the cases flexible_panels = true alone (10 modes) opened to the envelope kind (2026-12-07):
+    # "dopri5-tree: body `satellite` is not connected to the ground by joints" (benchmark seed 7,
+    # 60055) and "body `panel1` is flexible (modal)" (62815) named no parameter
+    ("PanelLock", ["integrator=4", "free_satellite=1"], "free_satellite"),
+    ("PanelLock", ["integrator=4", "flexible_panels=1"], "flexible_panels"),
+    # "bending rigidity D [N m] must be > 0, got 0" (slice 25, 853)
+    ("PanelLock", ["flexible_panels=1", "panel_youngs_modulus=5e-324"], "panel_youngs_modulus"),
+    # 1 + nu ~ 1e-16: "K_ii is singular" (seed 7, 54955) or 124 s CPU to max_steps (28537)
+    ("PanelLock", ["flexible_panels=1", "panel_poisson=-0.9999999999999999"], "panel_poisson"),
 ]
 
 

@@ -103,7 +103,13 @@ pub fn compute(
     reduction: Reduction,
     outer: bool,
 ) -> Result<FlexPanel, String> {
-    let err = |e: crate::flex::FlexError| format!("flexible panel: {e}");
+    // the panel parameters the plate model is made of, so that a failure names what to change
+    let err = |e: crate::flex::FlexError| {
+        format!(
+            "flexible panel ({}x{} elements, n_modes = {n_modes}; panel_length {} m, panel_width {} m, panel_thickness {} m, panel_youngs_modulus {} Pa, panel_poisson {}): {e}",
+            nx, ny, spec.a, spec.b, spec.thickness, spec.youngs_modulus, spec.poisson
+        )
+    };
     let plate = PlateModel::new(spec, nx, ny).map_err(err)?;
     let inboard_node = plate.node_index(0, ny / 2).map_err(err)?;
     let outboard_node = plate.node_index(nx, ny / 2).map_err(err)?;

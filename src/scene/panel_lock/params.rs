@@ -295,11 +295,10 @@ impl PanelLockParams {
             ));
         }
         if !(self.panel_poisson.is_finite()
-            && self.panel_poisson > -1.0
-            && self.panel_poisson < 0.5)
+            && (MIN_PANEL_POISSON..=MAX_PANEL_POISSON).contains(&self.panel_poisson))
         {
             return Err(format!(
-                "panel_poisson must be in (-1, 0.5), got {}",
+                "panel_poisson must be in [{MIN_PANEL_POISSON}, {MAX_PANEL_POISSON}] (the isotropic range (-1, 0.5) less 0.01 at each end, where the plate model degenerates), got {}",
                 self.panel_poisson
             ));
         }
@@ -498,6 +497,18 @@ impl PanelLockParams {
         }
         self.validate_deployment_speed()?;
         self.validate_array()?;
+        if self.integrator == IntegratorKind::Dopri5Tree
+            && (self.free_satellite || self.flexible_panels)
+        {
+            let why = if self.free_satellite {
+                "free_satellite is on (the satellite floats, so the array is no tree hanging from the ground)"
+            } else {
+                "flexible_panels is on (modal bodies)"
+            };
+            return Err(format!(
+                "integrator = dopri5_tree takes rigid panels on a fixed satellite, but {why}: choose gen_alpha, bdf or dopri5"
+            ));
+        }
         self.validate_flexible()?;
         self.solver_settings().validate().map(|_| ())
     }
@@ -701,11 +712,10 @@ pub fn declared_range(name: &str) -> Option<DeclaredRange> {
             Some(d.panel_youngs_modulus / k),
             Some(d.panel_youngs_modulus * k),
         ),
-        "panel_poisson" => DeclaredRange {
-            min: Some(-1.0),
-            max: Some(0.5),
-            open: [true, true],
-        },
+        // the isotropic range (-1, 0.5) less 0.01 at each end: at 1 + nu ~ 1e-16 the plate's
+        // shear stiffness E / (2 (1 + nu)) made the reduction singular or the run take minutes
+        // (adversarial seed 7 #28537, #54955)
+        "panel_poisson" => closed(Some(MIN_PANEL_POISSON), Some(MAX_PANEL_POISSON)),
         "panel_nonstructural_mass" => closed(Some(0.0), None),
         "satellite_cg_x" | "satellite_cg_y" | "satellite_cg_z" => closed(
             Some(-super::satellite::MAX_CG_OFFSET),
@@ -728,6 +738,10 @@ pub struct DeclaredRange {
 
 /// Decades either side of a parameter's default that [`PanelLockParams::validate`] accepts.
 pub const ENVELOPE_DECADES: i32 = 3;
+
+/// Smallest and largest `panel_poisson` [-] (see [`declared_range`]).
+pub const MIN_PANEL_POISSON: f64 = -0.99;
+pub const MAX_PANEL_POISSON: f64 = 0.49;
 
 /// `v` within [`ENVELOPE_DECADES`] of `default` (above only unless `both_sides`; a zero default
 /// has no envelope).
