@@ -233,3 +233,19 @@ def test_shipped_studies_describe_the_issue_cases():
     assert [x.values for x in a] == [x.values for x in b]  # seeded
     assert set(a[0].values) == {"mu", "block_mass", "hoist_speed"}
     assert len({x.id for x in a}) == len(a)
+
+
+def test_the_readme_install_line_installs_mbstudy_into_a_fresh_environment(tmp_path):
+    """The README's `pip install ... ./tools/mbstudy` line, run as written from the repository
+    root into a new venv, gives a working `mbstudy` command (issue #44 item 7)."""
+    readme = (ROOT / "README.md").read_text()
+    lines = [l for l in readme.splitlines() if l.startswith("pip install") and "tools/mbstudy" in l]
+    assert len(lines) == 1, lines
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
+    args = lines[0].split()
+    r = subprocess.run([str(venv / "bin" / "pip"), *args[1:], "-q"], cwd=ROOT, capture_output=True,
+                       text=True, timeout=900)
+    assert r.returncode == 0, r.stdout + r.stderr
+    r = subprocess.run([str(venv / "bin" / "mbstudy"), "--help"], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0 and "mbstudy run STUDY.toml" in r.stdout, r.stdout + r.stderr

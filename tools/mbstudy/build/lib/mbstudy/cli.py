@@ -1,0 +1,45 @@
+"""`mbstudy run STUDY.toml [--scheduler ADDR | --workers N | --serial] [--out DIR]`."""
+
+import argparse
+import pathlib
+import sys
+import time
+
+from . import driver, plots, spec
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="mbstudy", description=__doc__)
+    sub = ap.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run", help="run a study (resumes where an earlier run stopped)")
+    r.add_argument("study", help="study description (TOML)")
+    where = r.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", help="address of an existing Dask scheduler (tcp://host:8786)")
+    where.add_argument("--workers", type=int, help="embedded LocalCluster size (default: one per core)")
+    where.add_argument("--serial", action="store_true", help="no Dask: every case in this process")
+    r.add_argument("--out", help="output folder (default: out/study/<study name>)")
+    r.add_argument("--fmu", help="run this FMU file instead of the one the study names")
+    r.add_argument("--retry-failed", action="store_true", help="run failed cases again on resume")
+    r.add_argument("--no-progress", action="store_true")
+    args = ap.parse_args(argv)
+
+    study = spec.load(args.study, fmu=args.fmu)
+    out = pathlib.Path(args.out or pathlib.Path("out") / "study" / study.name)
+    t0 = time.perf_counter()
+    table = driver.run(study, out, scheduler=args.scheduler, workers=args.workers,
+                       serial=args.serial, retry_failed=args.retry_failed,
+                       progress=not args.no_progress)
+    status = table.column("status").to_pylist()
+    written = plots.draw(study, table, out)
+    print(f"{study.name}: {status.count('done')} done, {len(status) - status.count('done')} failed "
+          f"of {len(status)} cases in {time.perf_counter() - t0:.1f} s -> "
+          f"{out / 'results.parquet'}, {out / 'results.csv'}"
+          + "".join(f", {p}" for p in written))
+    for row in table.to_pylist():
+        if row["status"] != "done":
+            print(f"  case {row['case_index']} ({row['case_id']}) failed: {row['message']}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,103 @@
+"""The study description: a TOML file read into a `Study` (validated, paths resolved)."""
+
+import dataclasses
+import hashlib
+import pathlib
+import tomllib
+
+FIGURES = ("peak", "min", "final", "initial", "mean", "spectrum_peak")
+
+
+@dataclasses.dataclass
+class Study:
+    name: str
+    path: pathlib.Path  # the TOML file
+    fmu: pathlib.Path
+    stop_time: float
+    step: float
+    keep_series: bool
+    fixed: dict  # FMU variable -> value, the same in every case
+    grid: dict  # variable -> list of values (Cartesian product)
+    random: dict  # {"seed": int, "samples": int, "vary": {variable: {dist: [a, b]}}}
+    inputs: dict  # input -> [[t, value or variable name], ...] (piecewise constant)
+    outputs: dict  # output -> [figure, ...]
+    spectrum: dict  # {"start": s, "after_final_of": [...], "settle": s, "band": [f0, f1]}
+    derived: dict  # column -> {"ratio": [a, b]} or {"max": [...]}
+    marks: list  # [{"label": str, "where": {variable: value}, ...}]
+    plots: list  # [{"kind": "xy" | "histogram", ...}]
+
+    def run_settings(self) -> dict:
+        """What every case shares and what changes its results (part of every case id): the
+        FMU, the study's settings and the code that runs and reduces a case."""
+        code = b"".join((pathlib.Path(__file__).parent / m).read_bytes() for m in ("fmu_run.py", "summary.py"))
+        return {
+            "fmu_sha256": hashlib.sha256(self.fmu.read_bytes()).hexdigest(),
+            "code_sha256": hashlib.sha256(code).hexdigest(),
+            "stop_time": self.stop_time,
+            "step": self.step,
+            "fixed": self.fixed,
+            "inputs": self.inputs,
+            "outputs": self.outputs,
+            "spectrum": self.spectrum,
+            "keep_series": self.keep_series,
+        }
+
+
+def _need(table, key, where):
+    if key not in table:
+        raise ValueError(f"{where}: `{key}` is missing")
+    return table[key]
+
+
+def load(path, fmu=None) -> Study:
+    """Reads and checks a study file; the FMU path is relative to the file (`fmu`: another
+    FMU file instead)."""
+    path = pathlib.Path(path).resolve()
+    with open(path, "rb") as f:
+        d = tomllib.load(f)
+    known = {"study", "fixed", "grid", "random", "inputs", "outputs", "spectrum", "derived", "mark", "plot"}
+    unknown = set(d) - known
+    if unknown:
+        raise ValueError(f"{path}: unknown tables {sorted(unknown)} (known: {sorted(known)})")
+    s = _need(d, "study", str(path))
+    fmu = pathlib.Path(fmu).resolve() if fmu else (path.parent / _need(s, "fmu", "[study]")).resolve()
+    stop, step = float(_need(s, "stop_time", "[study]")), float(_need(s, "step", "[study]"))
+    if not (stop > 0 and step > 0 and step <= stop):
+        raise ValueError(f"[study]: need 0 < step <= stop_time (got step {step}, stop_time {stop})")
+    outputs = d.get("outputs", {})
+    if not outputs:
+        raise ValueError("[outputs]: name at least one output and its figures")
+    for name, figs in outputs.items():
+        bad = [f for f in figs if f not in FIGURES]
+        if bad:
+            raise ValueError(f"[outputs] {name}: unknown figures {bad} (known: {list(FIGURES)})")
+    random = d.get("random", {})
+    if random:
+        _need(random, "seed", "[random]")
+        _need(random, "samples", "[random]")
+        for name, dist in _need(random, "vary", "[random]").items():
+            if len(dist) != 1 or next(iter(dist)) not in ("uniform", "loguniform", "normal"):
+                raise ValueError(f"[random.vary] {name}: one of uniform, loguniform, normal = [a, b]")
+    grid = d.get("grid", {})
+    for name, values in grid.items():
+        if not isinstance(values, list) or not values:
+            raise ValueError(f"[grid] {name}: a non-empty list of values")
+    spectrum = {"start": 0.0, "after_final_of": [], "settle": 0.0, "band": [0.0, float("inf")]}
+    spectrum.update(d.get("spectrum", {}))
+    return Study(
+        name=s.get("name", path.stem),
+        path=path,
+        fmu=fmu,
+        stop_time=stop,
+        step=step,
+        keep_series=bool(s.get("keep_series", False)),
+        fixed=d.get("fixed", {}),
+        grid=grid,
+        random=random,
+        inputs=d.get("inputs", {}),
+        outputs=outputs,
+        spectrum=spectrum,
+        derived=d.get("derived", {}),
+        marks=d.get("mark", []),
+        plots=d.get("plot", []),
+    )
