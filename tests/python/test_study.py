@@ -241,10 +241,18 @@ def test_the_readme_install_line_installs_mbstudy_into_a_fresh_environment(tmp_p
     readme = (ROOT / "README.md").read_text()
     lines = [l for l in readme.splitlines() if l.startswith("pip install") and "tools/mbstudy" in l]
     assert len(lines) == 1, lines
+    # run in a copy of the files the line names: a non-editable pip install writes build/ into
+    # the source folder, which must not land in the checkout
+    import shutil
+    root = tmp_path / "repo"
+    shutil.copytree(ROOT / "tools" / "mbstudy", root / "tools" / "mbstudy",
+                    ignore=shutil.ignore_patterns("build", "*.egg-info", "__pycache__"))
+    (root / "tests" / "python").mkdir(parents=True)
+    shutil.copy(ROOT / "tests" / "python" / "constraints.txt", root / "tests" / "python")
     venv = tmp_path / "venv"
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
     args = lines[0].split()
-    r = subprocess.run([str(venv / "bin" / "pip"), *args[1:], "-q"], cwd=ROOT, capture_output=True,
+    r = subprocess.run([str(venv / "bin" / "pip"), *args[1:], "-q"], cwd=root, capture_output=True,
                        text=True, timeout=900)
     assert r.returncode == 0, r.stdout + r.stderr
     r = subprocess.run([str(venv / "bin" / "mbstudy"), "--help"], capture_output=True, text=True, timeout=60)
