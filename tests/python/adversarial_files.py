@@ -56,12 +56,23 @@ def directory(p):
     p.mkdir()
 
 
-def sparse(head):
+def sparse(head, size=OVERSIZE):
+    """A file of `size` bytes starting with `head`, the rest zeros that take no disk space."""
     def make(p):
         with open(p, "wb") as f:
             f.write(head)
-            f.truncate(OVERSIZE)
+            f.truncate(size)
     return make
+
+
+def unknown_keys(n):
+    """`n` keys no model knows, one per line."""
+    return "".join(f"unknown_key_{k:06d} = 1\n" for k in range(n))
+
+
+def long_keys(n, length):
+    """`n` distinct keys of `length` characters each, one per line."""
+    return "".join(f"{'k' * (length - 10)}{k:010d} = 1\n" for k in range(n))
 
 
 def text(build):
@@ -72,10 +83,10 @@ def text(build):
 def scene_variants(default):
     """(name, how scene.toml is made) for every model."""
     def unknown():
-        return default + "".join(f"unknown_key_{k:05d} = 1\n" for k in range(80_000))
+        return default + unknown_keys(80_000)
 
-    def long_keys():
-        return default + "".join(f"{'k' * 990}{k:010d} = 1\n" for k in range(20_000))
+    def long():
+        return default + long_keys(20_000, 1000)
 
     return [
         ("scene.toml FIFO", fifo),
@@ -85,7 +96,7 @@ def scene_variants(default):
         ("scene.toml symlink loop", loop),
         ("scene.toml oversized (300 MB)", sparse(default.encode() + b"\n# ")),
         ("scene.toml 80,000 unknown keys", text(unknown)),
-        ("scene.toml 20,000 long keys", text(long_keys)),
+        ("scene.toml 20,000 long keys", text(long)),
     ]
 
 

@@ -22,6 +22,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import adversarial_files as H  # noqa: E402 - the harness's makers of hostile files
 import fmi2raw as R2  # noqa: E402
 from fmpy import read_model_description  # noqa: E402
 
@@ -48,18 +49,10 @@ def rig(n_lugs=4, n_slings=4, block=BLOCK):
     return block + lugs + HOOK + "".join(sling(k) for k in range(n_slings))
 
 
-def sparse(path, size):
-    """A file of `size` bytes that takes no disk space (all zeros)."""
-    with open(path, "wb") as f:
-        f.truncate(size)
-
-
-def binary_stl_header(path, triangles):
-    """A binary STL that claims `triangles` triangles and is exactly as long as they need (the
-    triangles are zeros: the file is sparse)."""
-    with open(path, "wb") as f:
-        f.write(b"\0" * 80 + triangles.to_bytes(4, "little"))
-        f.truncate(84 + 50 * triangles)
+def binary_stl_header(triangles):
+    """A binary STL maker: the header claims `triangles` triangles and the file is exactly as
+    long as they need (the triangles are zeros: the file is sparse)."""
+    return H.sparse(b"\0" * 80 + triangles.to_bytes(4, "little"), 84 + 50 * triangles)
 
 
 # Each case: res (the resources folder) -> what to do. It writes files and returns the scene
@@ -71,48 +64,25 @@ def mesh_in_block(target):
     return scene(tables=rig(block=f'[block]\nmesh = "{target}"\nmass = 250e3\n'))
 
 
-def mesh_fifo(res):
-    os.mkfifo(res / "block.obj")
-    return mesh_in_block(res / "block.obj")
+def mesh(name, make):
+    """A case: the mesh file `name` made by the harness's maker `make`, named in [block]."""
+    def case(res):
+        make(res / name)
+        return mesh_in_block(res / name)
+    return case
 
 
 def mesh_file_fifo(res):
-    os.mkfifo(res / "block.obj")
+    H.fifo(res / "block.obj")
     return scene(parameters=f'mesh_file = "{res / "block.obj"}"', tables=rig(block=""))
 
 
-def mesh_dir(res):
-    (res / "block.obj").mkdir()
-    return mesh_in_block(res / "block.obj")
-
-
-def mesh_loop(res):
-    os.symlink("block.obj", res / "block.obj")
-    return mesh_in_block(res / "block.obj")
-
-
-def mesh_too_big(res):
-    sparse(res / "block.stl", MESH_FILE_BYTES + 1)
-    return mesh_in_block(res / "block.stl")
-
-
-def mesh_too_many_triangles(res):
-    binary_stl_header(res / "block.stl", MESH_TRIANGLES + 1)
-    return mesh_in_block(res / "block.stl")
-
-
-def scene_fifo(res):
-    (res / "scene.toml").unlink()
-    os.mkfifo(res / "scene.toml")
-
-
-def scene_dev_zero(res):
-    (res / "scene.toml").unlink()
-    os.symlink("/dev/zero", res / "scene.toml")
-
-
-def scene_too_big(res):
-    sparse(res / "scene.toml", SCENE_FILE_BYTES + 1)
+def scene_file(make):
+    """A case: scene.toml itself replaced by what the harness's maker `make` makes."""
+    def case(res):
+        (res / "scene.toml").unlink()
+        make(res / "scene.toml")
+    return case
 
 
 def many_slings(res):
@@ -124,12 +94,11 @@ def many_lugs(res):
 
 
 def unknown_keys(res):
-    return scene(parameters="".join(f"unknown_{k} = 1\n" for k in range(80_000)))
+    return scene(parameters=H.unknown_keys(80_000))
 
 
 def long_keys(res, length):
-    pad = "k" * length
-    return scene(parameters="".join(f"{pad}{k} = 1\n" for k in range(20_000)))
+    return scene(parameters=H.long_keys(20_000, length))
 
 
 def unreadable(res):
@@ -146,19 +115,19 @@ RIG_SLINGS = 64
 RIG_LUGS = 256
 
 CASES = {
-    "mesh_fifo": mesh_fifo,
+    "mesh_fifo": mesh("block.obj", H.fifo),
     "mesh_file_fifo": mesh_file_fifo,
     "mesh_file_fifo_at_init": "fifo",
     "mesh_dev_zero": lambda res: mesh_in_block("/dev/zero"),
     "mesh_dev_urandom": lambda res: mesh_in_block("/dev/urandom"),
     "mesh_file_dev_zero_at_init": "/dev/zero",
-    "mesh_directory": mesh_dir,
-    "mesh_symlink_loop": mesh_loop,
-    "mesh_too_big": mesh_too_big,
-    "mesh_too_many_triangles": mesh_too_many_triangles,
-    "scene_fifo": scene_fifo,
-    "scene_dev_zero": scene_dev_zero,
-    "scene_too_big": scene_too_big,
+    "mesh_directory": mesh("block.obj", H.directory),
+    "mesh_symlink_loop": mesh("block.obj", H.loop),
+    "mesh_too_big": mesh("block.stl", H.sparse(b"", MESH_FILE_BYTES + 1)),
+    "mesh_too_many_triangles": mesh("block.stl", binary_stl_header(MESH_TRIANGLES + 1)),
+    "scene_fifo": scene_file(H.fifo),
+    "scene_dev_zero": scene_file(H.link("/dev/zero")),
+    "scene_too_big": scene_file(H.sparse(b"", SCENE_FILE_BYTES + 1)),
     "scene_2000_slings": many_slings,
     "scene_65_slings": lambda res: scene(tables=rig(n_slings=RIG_SLINGS + 1)),
     "scene_257_lugs": lambda res: scene(tables=rig(n_lugs=RIG_LUGS + 1)),
@@ -195,7 +164,7 @@ def main():
             if text is not None:
                 (res / "scene.toml").write_text(text)
         elif what == "fifo":
-            os.mkfifo(res / "block.obj")
+            H.fifo(res / "block.obj")
         t0 = cpu()
         i = R2.Instance(lib, md.guid, resource_uri=res.as_uri(), logging_on=True)
         spent = cpu() - t0
