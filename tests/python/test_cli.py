@@ -254,3 +254,19 @@ def test_variables_lists_types_units_and_items():
     assert "contact_law  (fixed parameter) ContactLaw = lankarani_nikravesh (1=hertz, 2=lankarani_nikravesh" in out
     assert "hinge0_angle [rad]  (output) Real" in out
     assert "n_panels  (fixed parameter) Integer = 3 in [1, 6]" in out
+
+
+# --- table1 ---------------------------------------------------------------------------------
+
+def test_table1_takes_booleans_and_choices_and_the_papers_setup(tmp_path):
+    """`table1 --set` takes every parameter type as `simulate --set` does (issue #45 item 1: the
+    cable loop and the integrator could not be switched), `--paper-setup` is the paper's cable
+    loop and BDF, and the table says which setup it ran."""
+    md = ok("table1", "--rigid", "--paper-setup", "--stop", 2, "--out", tmp_path).stdout
+    assert "cable loop on, bdf rtol 1e-4" in md, md
+    assert "| root hinge peak [N] | paper [N] | deviation | largest hinge peak [N] (hinge) |" in md
+    md = ok("table1", "--rigid", "--set", "integrator=dopri5", "--set", "rtol=1e-5", "--stop", 2,
+            "--out", tmp_path).stdout
+    assert "cable loop off, dopri5 rtol 1e-5" in md, md
+    assert "`maybe` is not true, false" in refused("table1", "--set", "cable_loop=maybe", "--out", tmp_path)
+    assert "did you mean `gen_alpha`" in refused("table1", "--set", "integrator=gen-alpha", "--out", tmp_path)

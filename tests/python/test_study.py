@@ -228,6 +228,15 @@ def test_shipped_studies_describe_the_issue_cases():
     assert len(c) == len(ks) * len(ns)
     marked = {(x.values["contact_stiffness"], x.values["contact_exponent"]) for x in c if x.mark}
     assert marked == {(1e7, 1.5), (1e8, 1.5)}  # the paper's two rows
+    assert table1.derived["root_peak_lock_force"] == {"max": ["hinge0_peak_force.final"]}
+    # the paper's own setup: the same study with the cable loop on and BDF, on Table 1's cases
+    paper = spec.load(ROOT / "studies" / "table1_paper.toml", fmu=packed("PanelLock"))
+    assert paper.fixed["cable_loop"] is True and paper.fixed["integrator"] == "bdf"
+    assert {k: v for k, v in paper.fixed.items() if k not in ("cable_loop", "integrator")} == table1.fixed
+    pc = cases.generate(paper)
+    assert {(x.values["contact_stiffness"], x.values["contact_exponent"]) for x in pc} >= {(1e7, 1.5), (1e8, 1.5), (1e8, 0.9)}
+    assert {(x.values["contact_stiffness"], x.values["contact_exponent"]) for x in pc if x.mark} == marked
+    assert (paper.outputs, paper.derived, paper.spectrum) == (table1.outputs, table1.derived, table1.spectrum)
     mc = spec.load(ROOT / "studies" / "rope_monte_carlo.toml", fmu=packed("RopeBlock"))
     a, b = cases.generate(mc), cases.generate(mc)
     assert [x.values for x in a] == [x.values for x in b]  # seeded

@@ -45,41 +45,49 @@ pub struct Table1Args {
     /// Rigid panels instead of flexible ones.
     #[arg(long)]
     rigid: bool,
-    /// Set a real PanelLock parameter: NAME=VALUE (finite number); repeatable.
+    /// The paper's own array and solver: the closed cable loop on and Gear's BDF
+    /// (`cable_loop = true`, `integrator = bdf`), before the --set values.
+    #[arg(long)]
+    paper_setup: bool,
+    /// Set any PanelLock parameter (number, boolean or enumeration name, checked against its
+    /// type and range as `simulate --set` does): NAME=VALUE; repeatable.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     sets: Vec<String>,
 }
 
+/// The study's starting values: the paper configuration ([`PanelLockParams::flexible`]) or the
+/// rigid default, then the paper's cable loop and BDF with `--paper-setup`, as NAME=VALUE.
+fn starting_values(a: &Table1Args) -> Vec<String> {
+    use mbcosim::scene::panel_lock::PanelLockParams;
+    let mut v = Vec::new();
+    if !a.rigid {
+        let p = PanelLockParams::flexible(a.modes);
+        v.extend([
+            "flexible_panels=true".to_string(),
+            format!("n_modes={}", p.n_modes),
+            format!("cam_radius={}", p.cam_radius),
+            format!("groove_width={}", p.groove_width),
+        ]);
+    }
+    if a.paper_setup {
+        v.extend(["cable_loop=true".into(), "integrator=bdf".into()]);
+    }
+    v
+}
+
 pub fn table1(a: &Table1Args) -> Result<(), String> {
-    use mbcosim::scene::panel_lock::{PanelLockParams, ports::REAL_PARAMS, study};
-    let mut p = if a.rigid {
-        PanelLockParams::default()
-    } else {
-        PanelLockParams::flexible(a.modes)
-    };
-    let names: Vec<&str> = REAL_PARAMS.iter().map(|r| r.name).collect();
-    for kv in &a.sets {
-        let (name, v) = kv
+    use mbcosim::scene::panel_lock::{PanelLockModel, study};
+    let info = mbcosim::scene::panel_lock::info();
+    let mut model = PanelLockModel::new();
+    for kv in starting_values(a).iter().chain(&a.sets) {
+        let (k, v) = kv
             .split_once('=')
             .ok_or_else(|| format!("--set {kv}: expected NAME=VALUE"))?;
-        let rp = REAL_PARAMS
-            .iter()
-            .find(|r| r.name == name.trim())
-            .ok_or_else(|| {
-                format!(
-                    "--set {kv}: `{name}` is not a real PanelLock parameter{}",
-                    values::near_names(name.trim(), &names, "PanelLock")
-                )
-            })?;
-        let v: f64 = v
-            .trim()
-            .parse()
-            .ok()
-            .filter(|v: &f64| v.is_finite())
-            .ok_or_else(|| format!("--set {kv}: `{v}` is not a finite number"))?;
-        (rp.set)(&mut p, v);
+        let port = values::writable(info, k.trim()).map_err(|e| format!("--set {kv}: {e}"))?;
+        let value = values::parse_for(port, v).map_err(|e| format!("--set {kv}: {e}"))?;
+        values::apply(&mut model, port, &value).map_err(|e| format!("--set {kv}: {e}"))?;
     }
-    p.validate()?;
+    let p = model.params().map_err(|e| e.to_string())?;
     let md = study::table1(&a.out, &p, a.stop, a.step)?;
     println!("{md}");
     println!(

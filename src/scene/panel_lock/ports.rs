@@ -689,6 +689,14 @@ pub fn integrator_code(kind: IntegratorKind) -> i32 {
         .map_or(0, |i| i as i32 + 1)
 }
 
+/// The parameter's spelling of an integrator (its enumeration item name, e.g. `gen_alpha`).
+pub fn integrator_name(kind: IntegratorKind) -> &'static str {
+    match integrator_code(kind) {
+        0 => kind.name(),
+        c => INTEGRATORS[c as usize - 1].0,
+    }
+}
+
 /// The kinds of [`INTEGRATORS`], item by item.
 const ENUMERATED_INTEGRATORS: [IntegratorKind; 4] = [
     IntegratorKind::ALL[0],

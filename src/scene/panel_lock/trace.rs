@@ -97,10 +97,20 @@ impl ForceTrace {
         p
     }
 
-    /// The largest located or sampled force [N] and its time [s].
+    /// The largest located or sampled force of any hinge: (time [s], force [N]).
     pub fn peak(&self) -> (f64, f64) {
-        self.largest()
-            .into_iter()
-            .fold((f64::NAN, 0.0), |a, b| if b.1 > a.1 { b } else { a })
+        highest(self.largest())
     }
+
+    /// The largest located or sampled force of hinge `k`: (time [s], force [N]).
+    pub fn hinge_peak(&self, k: usize) -> (f64, f64) {
+        highest(self.hinge(k))
+    }
+}
+
+/// The point of `series` with the largest force (NaN time for an all-zero series).
+fn highest(series: Vec<(f64, f64)>) -> (f64, f64) {
+    series
+        .into_iter()
+        .fold((f64::NAN, 0.0), |a, b| if b.1 > a.1 { b } else { a })
 }
