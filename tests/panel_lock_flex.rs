@@ -13,7 +13,7 @@
 use mbcosim::integrator::{IntegratorKind, Settings};
 use mbcosim::math::{Mat3, Quat, Vec3};
 use mbcosim::scene::panel_lock::flex_panel::flex_panel;
-use mbcosim::scene::panel_lock::study::{post_lock_frequency, run_case};
+use mbcosim::scene::panel_lock::study::{locked_modes, post_lock_frequency, run_case};
 use mbcosim::scene::panel_lock::{ErrorControl, PanelLock, PanelLockParams};
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -179,6 +179,62 @@ fn post_lock_frequency_matches_the_linearized_locked_system() {
         "post-lock: response {f:.5} Hz (tip velocity amplitude {amp:.2e} m/s), linearized {f_lin:.5} Hz, rel {rel:.2e}"
     );
     assert!(rel < 0.02, "response {f} Hz vs linearized {f_lin} Hz");
+}
+
+/// The solver's linearization of the locked array ([`locked_modes`]: static equilibrium,
+/// tangent stiffness, constrained eigenproblem) against the hand-built modal-level model of the
+/// module doc, on the one-panel array.
+#[test]
+fn locked_modes_match_the_hand_built_linearization() {
+    let p = one_panel(4);
+    let f_hand = linearized_frequency(&p);
+    let mut s = PanelLock::new(p).unwrap();
+    s.advance_to(60.0).unwrap();
+    let (eq, f) = locked_modes(&mut s).unwrap();
+    let rel = (f[0] - f_hand).abs() / f_hand;
+    println!(
+        "locked modes: {:.6} Hz (then {:.4}, {:.4} Hz), hand model {f_hand:.6} Hz, rel {rel:.2e}; equilibrium in {} iterations, unbalanced {:.1e}",
+        f[0], f[1], f[2], eq.iterations, eq.force_residual
+    );
+    assert!(
+        rel < 2e-3,
+        "linearized {} Hz vs hand model {f_hand} Hz",
+        f[0]
+    );
+}
+
+/// The three-panel paper array: the lowest linearized frequency of the locked structure equals
+/// the frequency of its free vibration at small amplitude, simulated from the equilibrium with
+/// 1 % of the run's post-lock velocities (an independent path: the nonlinear dynamics).
+#[test]
+fn locked_frequency_is_the_small_amplitude_vibration_of_the_paper_array() {
+    let mut s = PanelLock::new(PanelLockParams::flexible(10)).unwrap();
+    s.advance_to(40.0).unwrap();
+    assert!(s.lock_times().iter().all(|t| t.is_finite()));
+    let (eq, f) = locked_modes(&mut s).unwrap();
+    let t0 = s.sim.state.t;
+    let v: Vec<f64> = s.sim.state.v.iter().map(|x| 0.01 * x).collect();
+    s.sim.state.q.copy_from_slice(&eq.q);
+    s.sim.state.v.copy_from_slice(&v);
+    s.sim.restart().unwrap();
+    let dt = 0.01;
+    let mut tip = Vec::new();
+    for i in 1..=4000 {
+        s.advance_to(t0 + i as f64 * dt).unwrap();
+        tip.push(s.outputs().tip_normal_velocity);
+    }
+    let amp = tip.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let measured = post_lock_frequency(&tip, dt).unwrap();
+    let rel = (measured - f[0]).abs() / f[0];
+    println!(
+        "paper array: linearized {:.5} Hz, small-amplitude response {measured:.5} Hz (tip amplitude {amp:.1e} m/s), rel {rel:.2e}",
+        f[0]
+    );
+    assert!(
+        rel < 0.01,
+        "linearized {} Hz vs response {measured} Hz",
+        f[0]
+    );
 }
 
 #[test]

@@ -183,6 +183,16 @@ impl LinearSolver {
         self.vals.push(value);
     }
 
+    /// The entries assembled since [`LinearSolver::begin`] as `(row, col, value)` (duplicates
+    /// not yet summed), for callers that need the matrix itself (e.g. a linearization).
+    pub fn triplets(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        self.rows
+            .iter()
+            .zip(&self.cols)
+            .zip(&self.vals)
+            .map(|((&r, &c), &v)| (r, c, v))
+    }
+
     /// Dimension of the current system as the caller sees it (without auxiliary unknowns).
     pub fn dim(&self) -> usize {
         self.n_user

@@ -16,6 +16,7 @@
 pub mod conditioning;
 pub mod dense_lu;
 pub mod linear;
+pub mod linearize;
 mod modal;
 mod momentum;
 mod node_body;
