@@ -10,51 +10,24 @@
 //!   of the two end segments' (`over ends`), and the largest excess of a segment over both its
 //!   neighbours (`local`), both relative.
 //! - Tilted sharp edge: the 90 degree edge of `tests/rope/cone.rs`, strand 2 tilted along the
-//!   edge by 10 and 20 degrees, T1 981 kN (and 9.81 kN at 20 degrees), v = 0.05, 0.1, 0.2 m/s,
-//!   2 s: steps, rejections, Newton work, edge slides, and T2/T1 across the node (its two
-//!   segments) sampled every 1 ms, mean over 1-2 s, least and largest.
+//!   edge by 0, 10 and 20 degrees, T1 9.81 kN and 981 kN, v = 0.05, 0.1, 0.2 m/s, 2 s: steps,
+//!   rejections, Newton work, edge slides, CPU time of the thread, and T2/T1 across the node
+//!   (its two segments) sampled every 1 ms, mean over 1-2 s, least and largest.
 //!
-//! Run: `cargo run --release --example rope_pull_speed [-- capstan | tilted]` (both by default).
+//! Run: `cargo run --release --example rope_pull_speed [-- capstan | tilted [T1 tilt]]` (both
+//! by default; `tilted 9.81e5 20` runs that one case at the three speeds).
 //! The figures are in docs/rope_friction.md ("Pulled at a speed").
 
+#[allow(dead_code)]
+#[path = "../tests/rope/pulled.rs"]
+mod pulled;
 #[allow(dead_code)]
 #[path = "../tests/rope/rig.rs"]
 mod rig;
 
-use mbcosim::integrator::IntegratorKind;
-use mbcosim::math::Vec3;
 use mbcosim::model::Profile;
-use mbcosim::rope::{HookInit, SlipMode};
-use mbcosim::scene::rope_block::{ContactSettings, EndSpec, RopeBlockSim};
+use pulled::hooked;
 use rig::{Hold, Wrap};
-use std::f64::consts::PI;
-use std::sync::Arc;
-
-/// The simulation of `rig` with end 2 on a hook that reaches `v` [m/s] along `rig.e2` in 0.1 s.
-fn hooked(rig: &Wrap, v: f64) -> RopeBlockSim {
-    let mut s = rig.structure();
-    let p2 = s.loads[1].position;
-    s.loads.truncate(1);
-    // the forces on load 1 (end 2); a welded block has no others
-    s.forces.truncate(1);
-    s.hooks = vec![HookInit {
-        target_velocity: rig.e2 * v,
-        ramp: 0.1,
-        ..HookInit::at(p2)
-    }];
-    s.ropes[0].end = EndSpec::Hook(0);
-    RopeBlockSim::new(
-        s,
-        IntegratorKind::GenAlpha,
-        rig::settings(1e-3),
-        ContactSettings {
-            detect: false,
-            ..ContactSettings::default()
-        },
-        0.0,
-    )
-    .unwrap()
-}
 
 fn capstan() {
     println!("capstan pulled at 0.2 m/s, 2 s, samples every 1 ms");
@@ -100,59 +73,53 @@ fn capstan() {
     }
 }
 
-/// The 90 degree sharp edge with strand 2 tilted by `tilt` [deg] along the edge.
-fn tilted_rig(t1: f64, tilt: f64) -> Wrap {
-    let g = 0.25 * PI;
-    let a = tilt.to_radians();
-    Wrap {
-        mesh: Arc::new(rig::wedge(0.5 * PI)),
-        vertices: vec![Vec3::zeros()],
-        e1: Vec3::new(-g.sin(), -g.cos(), 0.0),
-        e2: Vec3::new(g.sin() * a.cos(), -g.cos() * a.cos(), a.sin()),
-        strand: 2.0,
-        nodes: 3,
-        props: rig::steel_rope(),
-        t_init: vec![t1, t1],
-        end_mass: 100.0 * t1 / 9.81e3,
-        f1: Profile::constant(t1),
-        f2: Profile::constant(t1),
-        hold: Hold::Fixed,
-        gravity: None,
-        mode: SlipMode::Stick,
-        grad: [0.0; 2],
-        contact_mass: 1.0,
-    }
+/// CPU time of this thread [s] (wall time since the first call where the kernel does not tell).
+fn cpu_seconds() -> f64 {
+    static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|t| t.split_whitespace().next()?.parse::<f64>().ok())
+        .map(|ns| ns * 1e-9)
+        .unwrap_or_else(|| {
+            START
+                .get_or_init(std::time::Instant::now)
+                .elapsed()
+                .as_secs_f64()
+        })
 }
 
-fn tilted() {
+/// The tilted-edge cases `(T1 [N], tilt [deg])`: all, or the one named on the command line.
+fn tilted_cases(args: &[String]) -> Vec<(f64, f64)> {
+    let named: Vec<f64> = args.iter().filter_map(|a| a.parse().ok()).collect();
+    if let [t1, tilt] = named[..] {
+        return vec![(t1, tilt)];
+    }
+    let mut out = Vec::new();
+    for t1 in [9.81e3, 9.81e5] {
+        for tilt in [0.0, 10.0, 20.0] {
+            out.push((t1, tilt));
+        }
+    }
+    out
+}
+
+fn tilted(args: &[String]) {
     println!("tilted sharp edge pulled by the hook, 2 s; T2/T1 across the node every 1 ms");
-    for (t1, tilt) in [(9.81e5, 10.0), (9.81e5, 20.0), (9.81e3, 20.0)] {
+    for (t1, tilt) in tilted_cases(args) {
         for v in [0.05, 0.1, 0.2] {
-            let mut sim = hooked(&tilted_rig(t1, tilt), v);
-            let start = std::time::Instant::now();
-            let (mut sum, mut n, mut lo, mut hi) = (0.0, 0, f64::INFINITY, 0.0f64);
-            for s in 1..=2000 {
-                let t = 1e-3 * s as f64;
-                sim.advance_to(t).unwrap();
-                if t > 1.0 {
-                    let rep = sim.contact_reports()[0];
-                    let q = rep.segments.t_next / rep.segments.t_prev;
-                    sum += q;
-                    n += 1;
-                    lo = lo.min(q);
-                    hi = hi.max(q);
-                }
-            }
-            let st = sim.sim.stats();
+            let start = cpu_seconds();
+            let r = pulled::run_tilted(t1, tilt, v);
             println!(
-                "T1 {t1:.3e} N, tilt {tilt:4.1} deg, v {v:.2} m/s: steps {}, rejected {}, Newton {} (failed {}), edge slides {}; T2/T1 over 1-2 s mean {:.4}, least {lo:.4}, largest {hi:.4}; {:.1} s",
-                st.steps,
-                st.rejected,
-                st.newton_iterations,
-                st.newton_failures,
-                sim.counters.edge_slides,
-                sum / n as f64,
-                start.elapsed().as_secs_f64()
+                "T1 {t1:.3e} N, tilt {tilt:4.1} deg, v {v:.2} m/s: steps {}, rejected {}, Newton {} (failed {}), edge slides {}; T2/T1 over 1-2 s mean {:.4}, least {:.4}, largest {:.4}; {:.2} s CPU",
+                r.steps,
+                r.rejected,
+                r.newton,
+                r.newton_failed,
+                r.edge_slides,
+                r.mean,
+                r.least,
+                r.largest,
+                cpu_seconds() - start
             );
         }
     }
@@ -165,6 +132,6 @@ fn main() {
         capstan();
     }
     if all || what.iter().any(|w| w == "tilted") {
-        tilted();
+        tilted(&what);
     }
 }
