@@ -1,11 +1,11 @@
 //! Cost and accuracy of PanelLock with flexible panels and hinge Coulomb friction (issue #48's
 //! slow case, docs/hinge_friction_cost.md). Generalized-alpha's Newton iteration cycled between
 //! the two saturated branches of the regularized friction law whenever a step's friction impulse
-//! exceeded a panel node's inertia times the slip rate: 53,627 steps, 84,904 Newton failures and
-//! 70 s CPU for 0.3 s at `T_f` = 1 N m (hinge 0 ending 38 % off), 1,394 steps at 0.05 N m, where
-//! the same scene without friction takes 146. The step counts are deterministic, so they are
-//! bounded here (not timed); the end state is checked against BDF at a 1000 times tighter
-//! tolerance.
+//! exceeded the (small, modal) inertia behind the hinge rate times the slip rate: 53,627 steps,
+//! 84,904 Newton failures and 70 s CPU for 0.3 s at `T_f` = 1 N m (hinge 0 ending 38 % off),
+//! 1,394 steps at 0.05 N m, where the same scene without friction takes 146. The step counts
+//! are deterministic, so they are bounded here (not timed); the end state is checked against
+//! BDF at a 1000 times tighter tolerance.
 
 use mbcosim::integrator::{IntegratorKind, Settings};
 use mbcosim::scene::panel_lock::{PanelLock, PanelLockParams};

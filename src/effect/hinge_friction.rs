@@ -19,13 +19,14 @@
 //! (`|w| > 3 w_s`): an implicit step that starts slipping and whose friction impulse
 //! `T_f gamma h` exceeds `I w_s` (`I` the inertia the hinge rate sees) then predicts the full
 //! torque on the far side of `w = 0`, lands saturated there, and is sent back: Newton cycles
-//! between the two branches with rate exactly 1. With flexible panels `I` is a panel node's small
-//! modal inertia and the hinge rate oscillates through zero, so every step larger than a few
-//! microseconds cycled (generalized-alpha: 5,116 steps and 8,098 Newton failures for 0.03 s at
-//! `T_f` = 1 N m). With the secant, a linearization solves for the rate at which the step's
-//! momentum and other forces balance a damper of the iterate's coefficient: its sign is the side
-//! they drive to, whatever the iterate's, so no two-branch cycle; on one hinge the iterates
-//! approach the solution monotonically (the Kacanov iteration of a saturating law, whose secant
+//! between the two branches with rate exactly 1. With flexible panels the hinge rate oscillates
+//! through zero with the panels' vibration and the inertia behind it is small (about 5e-4
+//! kg m^2, from the cycle's amplitude), so every step larger than a few microseconds cycled
+//! (generalized-alpha: 5,116 steps and 8,098 Newton failures for 0.03 s at `T_f` = 1 N m).
+//! With the secant, a linearization solves for the rate at which the step's momentum and other
+//! forces balance a damper of the iterate's coefficient: its sign is the side they drive to,
+//! whatever the iterate's, so no two-branch cycle; on one hinge the iterates approach the
+//! solution monotonically (the Kacanov iteration of a saturating law, whose secant
 //! `tanh(x) / x` falls with `|x|`). See docs/hinge_friction_cost.md.
 
 use super::angle::relative_angle;
