@@ -107,7 +107,9 @@ pub trait ForceEffect: Send + Sync + std::fmt::Debug {
     /// torques [N m] in the body frame on rotations.
     fn add_forces(&self, ctx: &EvalCtx, f: &mut [f64]);
 
-    /// Adds `K = -df/dx` and `D = -df/dv` blocks.
+    /// Adds `K = -df/dx` and `D = -df/dv` blocks (they serve only as Newton iteration
+    /// matrices: an effect whose tangent makes Newton cycle may give another slope and says
+    /// so, as [`hinge_friction`] does).
     fn add_jacobian(&self, ctx: &EvalCtx, sink: &mut dyn JacobianSink);
 
     /// Potential energy stored in the elements [J].
