@@ -24,8 +24,9 @@
 //! end replay <bytes> <fnv>
 //! ```
 //!
-//! Exit status 0 only when every call returned OK (or Warning); otherwise the failing call is
-//! named on stderr. The FMU's own messages go to its stderr sink (the logger is NULL).
+//! Then it terminates and frees the instance. Exit status 0 only when every call returned OK (or
+//! Warning); otherwise the failing call is named on stderr. The FMU's own messages go to its
+//! stderr sink (the logger is NULL).
 
 use std::ffi::{CString, c_char, c_void};
 use std::process::ExitCode;
@@ -46,6 +47,8 @@ trait Slave {
     fn save(&self) -> Result<Vec<u8>, String>;
     /// The state `bytes` deserialized and restored (the deserialized state is freed again).
     fn restore(&self, bytes: &[u8]) -> Result<(), String>;
+    /// Terminates the instance and frees it.
+    fn finish(&self) -> Result<(), String>;
 }
 
 /// Fails with the function's name unless `s` is OK or Warning.
@@ -87,6 +90,8 @@ struct Fmi2 {
     size: unsafe extern "C" fn(Handle, Handle, *mut usize) -> Status,
     serialize: unsafe extern "C" fn(Handle, Handle, *mut u8, usize) -> Status,
     deserialize: unsafe extern "C" fn(Handle, *const u8, usize, *mut Handle) -> Status,
+    terminate: unsafe extern "C" fn(Handle) -> Status,
+    free_instance: unsafe extern "C" fn(Handle),
 }
 
 impl Fmi2 {
@@ -148,6 +153,8 @@ impl Fmi2 {
             size: symbol(lib, "fmi2SerializedFMUstateSize")?,
             serialize: symbol(lib, "fmi2SerializeFMUstate")?,
             deserialize: symbol(lib, "fmi2DeSerializeFMUstate")?,
+            terminate: symbol(lib, "fmi2Terminate")?,
+            free_instance: symbol(lib, "fmi2FreeInstance")?,
         };
         // SAFETY: `c` is the live instance just created.
         unsafe {
@@ -206,6 +213,15 @@ impl Slave for Fmi2 {
             check("fmi2FreeFMUstate", (self.free_state)(self.c, &mut state))
         }
     }
+
+    fn finish(&self) -> Result<(), String> {
+        // SAFETY: live instance, not used after it is freed (the run ends here).
+        unsafe {
+            check("fmi2Terminate", (self.terminate)(self.c))?;
+            (self.free_instance)(self.c);
+        }
+        Ok(())
+    }
 }
 
 /// An FMI 3.0 Co-Simulation instance and the functions it is driven by.
@@ -229,6 +245,8 @@ struct Fmi3 {
     size: unsafe extern "C" fn(Handle, Handle, *mut usize) -> Status,
     serialize: unsafe extern "C" fn(Handle, Handle, *mut u8, usize) -> Status,
     deserialize: unsafe extern "C" fn(Handle, *const u8, usize, *mut Handle) -> Status,
+    terminate: unsafe extern "C" fn(Handle) -> Status,
+    free_instance: unsafe extern "C" fn(Handle),
 }
 
 impl Fmi3 {
@@ -291,6 +309,8 @@ impl Fmi3 {
             size: symbol(lib, "fmi3SerializedFMUStateSize")?,
             serialize: symbol(lib, "fmi3SerializeFMUState")?,
             deserialize: symbol(lib, "fmi3DeserializeFMUState")?,
+            terminate: symbol(lib, "fmi3Terminate")?,
+            free_instance: symbol(lib, "fmi3FreeInstance")?,
         };
         // SAFETY: `c` is the live instance just created.
         unsafe {
@@ -368,6 +388,15 @@ impl Slave for Fmi3 {
             check("fmi3FreeFMUState", (self.free_state)(self.c, &mut state))
         }
     }
+
+    fn finish(&self) -> Result<(), String> {
+        // SAFETY: live instance, not used after it is freed (the run ends here).
+        unsafe {
+            check("fmi3Terminate", (self.terminate)(self.c))?;
+            (self.free_instance)(self.c);
+        }
+        Ok(())
+    }
 }
 
 fn cstring(s: &str) -> Result<CString, String> {
@@ -439,7 +468,7 @@ fn experiment(
     run_points(slave, "replay", vrs, (start, step), mid, n, |_| Ok(()))?;
     let end = slave.save()?;
     println!("end replay {} {:016x}", end.len(), fnv1a(&end));
-    Ok(())
+    slave.finish()
 }
 
 fn number(what: &str, s: &str) -> Result<f64, String> {
