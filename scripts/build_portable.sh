@@ -1,25 +1,38 @@
 #!/usr/bin/env bash
-# Builds the one shared library that every FMU ships (run by `mbcosim pack` and `mbcosim demo`):
-#   1. portable: cargo-zigbuild links it against glibc 2.17 with zig from PyPI's `ziglang`, so the
-#      FMUs load on any x86_64 Linux with glibc >= 2.17 (RHEL/CentOS 7, Ubuntu 18.04 and newer).
-#      The pinned toolchain (scripts/portable-requirements.txt) is installed into .venv on first
-#      use, idempotently; python3-venv and binutils come from apt when missing.
-#   2. fallback, only when that toolchain cannot be installed or the portable build fails: the host
-#      build, with a loud warning. Its FMUs need this machine's glibc, and
+# Builds the shared library that every FMU ships for one platform (run by `mbcosim pack` and
+# `mbcosim demo`, once per platform):
+#   1. x86_64 Linux (the default target): cargo-zigbuild links it against glibc 2.17 with zig from
+#      PyPI's `ziglang`, so the FMUs load on any x86_64 Linux with glibc >= 2.17 (RHEL/CentOS 7,
+#      Ubuntu 18.04 and newer). The pinned toolchain (scripts/portable-requirements.txt) is
+#      installed into .venv on first use, idempotently; python3-venv and binutils come from apt
+#      when missing. Fallback, only when that toolchain cannot be installed or the portable build
+#      fails: the host build, with a loud warning. Its FMUs need this machine's glibc, and
 #      tests/python/test_portable_binary.py fails on them.
-#   3. split: the debug info goes to <debug-dir>/libmbcosim.so.debug; the library is stripped and
-#      points to that file by .gnu_debuglink (name + CRC) and by its GNU build ID.
-# Usage: scripts/build_portable.sh [--profile P] [--target-dir DIR] [--debug-dir DIR]
+#   2. aarch64 Linux (--target aarch64-unknown-linux-gnu): the same zig build for glibc 2.17 on
+#      aarch64; no fallback (there is no host build to fall back to).
+#   3. x86_64 Windows (--target x86_64-pc-windows-gnu): cargo with Debian's mingw-w64 gcc as the
+#      linker; the DLL links libgcc and winpthread statically (Rust's windows-gnu default), and
+#      the build fails when it imports anything but Windows system DLLs (docs/platforms.md).
+#   The Rust targets come from `rustup target add`, the binutils of each platform from apt, both
+#   only when missing.
+#   4. split: the debug info goes to <debug-dir>[/<platform>]/<library>.debug; the library is
+#      stripped and points to that file by .gnu_debuglink (name + CRC) and, on Linux, by its GNU
+#      build ID.
+# Usage: scripts/build_portable.sh [--target TRIPLE] [--profile P] [--target-dir DIR]
+#                                  [--debug-dir DIR]
 # Prints the stripped library's path, the only line on stdout; everything else goes to stderr.
-# MBCOSIM_PORTABLE=0 asks for the host build (no warning). See docs/portable_binary.md.
+# MBCOSIM_PORTABLE=0 asks for the host build of x86_64 Linux (no warning). See
+# docs/portable_binary.md and docs/platforms.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 profile=release
 target_dir=target
 debug_dir=dist/debug
+triple=x86_64-unknown-linux-gnu
 while [ $# -gt 0 ]; do
     case "$1" in
+        --target) triple="$2"; shift 2 ;;
         --profile) profile="$2"; shift 2 ;;
         --target-dir) target_dir="$2"; shift 2 ;;
         --debug-dir) debug_dir="$2"; shift 2 ;;
@@ -31,11 +44,24 @@ case "$profile" in
     dev | debug) profile=dev; profile_dir=debug ;;
     *) profile_dir="$profile" ;;
 esac
-triple=x86_64-unknown-linux-gnu
 glibc_floor=2.17
 cargo="${CARGO:-cargo}"
 
 say() { printf 'build_portable: %s\n' "$*" >&2; }
+
+# Per platform: the library cargo writes, the binutils prefix, the apt package holding them, the
+# folder (under the output and debug folders) of the stripped library and its debug file.
+case "$triple" in
+    x86_64-unknown-linux-gnu)
+        lib_name=libmbcosim.so; tools="" tools_pkg=binutils; sub="" ;;
+    aarch64-unknown-linux-gnu)
+        lib_name=libmbcosim.so; tools=aarch64-linux-gnu- tools_pkg=binutils-aarch64-linux-gnu
+        sub=aarch64-linux ;;
+    x86_64-pc-windows-gnu)
+        lib_name=mbcosim.dll; tools=x86_64-w64-mingw32- tools_pkg=binutils-mingw-w64-x86-64
+        sub=x86_64-windows ;;
+    *) echo "build_portable.sh: unknown target $triple" >&2; exit 2 ;;
+esac
 
 apt_install() {
     local sudo=""
@@ -73,14 +99,60 @@ portable_toolchain() {
     echo "$hash" >"$stamp"
 }
 
-if ! command -v objcopy >/dev/null 2>&1 || ! command -v objdump >/dev/null 2>&1; then
-    say "installing binutils (objcopy, objdump)"
-    apt_install binutils || { say "binutils could not be installed"; exit 1; }
+if ! command -v "${tools}objcopy" >/dev/null 2>&1 || ! command -v "${tools}objdump" >/dev/null 2>&1
+then
+    say "installing $tools_pkg (${tools}objcopy, ${tools}objdump)"
+    apt_install "$tools_pkg" || { say "$tools_pkg could not be installed"; exit 1; }
 fi
+objcopy() { command "${tools}objcopy" "$@"; }
+objdump() { command "${tools}objdump" "$@"; }
+
+# The Rust standard library of a cross target, from rustup when missing.
+rust_target() {
+    if ! rustup target list --installed 2>/dev/null | grep -qx "$triple"; then
+        say "rustup target add $triple"
+        rustup target add "$triple" >&2 || { say "rustup target add $triple failed"; exit 1; }
+    fi
+}
+
+# x86_64 Windows: the DLL through mingw-w64's gcc; it must import Windows system DLLs only.
+windows_dll() {
+    rust_target
+    if ! command -v x86_64-w64-mingw32-gcc >/dev/null 2>&1; then
+        say "installing gcc-mingw-w64-x86-64-posix (the linker of the Windows DLL)"
+        apt_install gcc-mingw-w64-x86-64-posix || { say "mingw-w64 could not be installed"; exit 1; }
+    fi
+    CARGO_TARGET_X86_64_PC_WINDOWS_GNU_LINKER=x86_64-w64-mingw32-gcc \
+        "$cargo" build --lib --quiet --profile "$profile" --target "$triple" \
+        --manifest-path Cargo.toml --target-dir "$target_dir" >&2
+    lib="$target_dir/$triple/$profile_dir/$lib_name"
+    local foreign
+    foreign="$(objdump -p "$lib" | sed -n 's/^[[:space:]]*DLL Name: //p' |
+        grep -viE '^(kernel32|ntdll|msvcrt|advapi32|userenv|ws2_32|bcrypt|bcryptprimitives|api-ms-win-[a-z0-9-]+)\.dll$' || true)"
+    if [ -n "$foreign" ]; then
+        say "$lib imports DLLs that are not Windows system DLLs: $(echo "$foreign" | xargs)"
+        exit 1
+    fi
+}
+
+# aarch64 Linux: zig's glibc 2.17 build, as for x86_64 but without a host fallback.
+aarch64_so() {
+    rust_target
+    portable_toolchain || { say "the pinned cargo-zigbuild/ziglang could not be installed"; exit 1; }
+    CARGO_ZIGBUILD_PYTHON_PATH="$PWD/.venv/bin/python" \
+        CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUSTFLAGS="${CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUSTFLAGS:-} -C link-arg=-Wl,--build-id=sha1" \
+        .venv/bin/cargo-zigbuild zigbuild --lib --quiet --profile "$profile" \
+        --target "$triple.$glibc_floor" --manifest-path Cargo.toml --target-dir "$target_dir" >&2
+    lib="$target_dir/$triple/$profile_dir/$lib_name"
+}
 
 lib=""
 why=""
-if [ "${MBCOSIM_PORTABLE:-1}" = "0" ]; then
+if [ "$triple" = x86_64-pc-windows-gnu ]; then
+    windows_dll
+elif [ "$triple" = aarch64-unknown-linux-gnu ]; then
+    aarch64_so
+elif [ "${MBCOSIM_PORTABLE:-1}" = "0" ]; then
     why="MBCOSIM_PORTABLE=0"
 elif ! portable_toolchain; then
     why="the pinned cargo-zigbuild/ziglang could not be installed into .venv"
@@ -112,13 +184,20 @@ if [ -z "$lib" ]; then
     fi
 fi
 
-out_dir="$target_dir/fmu/$profile_dir"
+out_dir="$target_dir/fmu/$profile_dir${sub:+/$sub}"
+debug_dir="$debug_dir${sub:+/$sub}"
 mkdir -p "$out_dir" "$debug_dir"
-debug_file="$debug_dir/libmbcosim.so.debug"
+debug_file="$debug_dir/$lib_name.debug"
+out="$out_dir/$lib_name"
 objcopy --only-keep-debug "$lib" "$debug_file.partial"
 mv "$debug_file.partial" "$debug_file"
-objcopy --strip-unneeded --add-gnu-debuglink="$debug_file" "$lib" "$out_dir/libmbcosim.so.partial"
-mv "$out_dir/libmbcosim.so.partial" "$out_dir/libmbcosim.so"
-say "$(basename "$lib") from $lib: $(glibc_needed "$lib"), stripped to $out_dir/libmbcosim.so" \
-    "($(($(stat -c %s "$out_dir/libmbcosim.so") / 1024)) KiB), debug info in $debug_file"
-echo "$out_dir/libmbcosim.so"
+objcopy --strip-unneeded --add-gnu-debuglink="$debug_file" "$lib" "$out.partial"
+mv "$out.partial" "$out"
+if [ "$triple" = x86_64-pc-windows-gnu ]; then
+    needs="imports $(objdump -p "$out" | sed -n 's/^[[:space:]]*DLL Name: //p' | xargs)"
+else
+    needs="$(glibc_needed "$lib")"
+fi
+say "$triple $(basename "$lib") from $lib: $needs, stripped to $out" \
+    "($(($(stat -c %s "$out") / 1024)) KiB), debug info in $debug_file"
+echo "$out"

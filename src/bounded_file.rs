@@ -9,7 +9,8 @@
 //! 2. refuse a regular file whose size is over the cap of its kind ([`FileKind`]) before
 //!    reading a byte;
 //! 3. open the file non-blocking (`O_NONBLOCK`: a FIFO swapped in after step 1 does not block
-//!    the open) and check the opened file again (`fstat`), so what is read is what was checked;
+//!    the open; Windows has no FIFOs in the file system, so there a plain open) and check the
+//!    opened file again (`fstat`), so what is read is what was checked;
 //! 4. read at most cap + 1 bytes (`Read::take`), so a file that grows while it is read is
 //!    refused too, and never holds more than cap + 1 bytes in memory.
 //!
@@ -17,8 +18,9 @@
 //! cap (its value and the name of its constant). What is inside the file (table, key, vertex
 //! counts) is bounded by the parser of each format.
 
-use std::fs::{File, Metadata, OpenOptions};
+use std::fs::{File, FileType, Metadata, OpenOptions};
 use std::io::{ErrorKind, Read};
+#[cfg(unix)]
 use std::os::unix::fs::{FileTypeExt, OpenOptionsExt};
 use std::path::Path;
 
@@ -57,7 +59,42 @@ impl From<ReadError> for String {
 }
 
 /// `ELOOP` (Linux): the error of a path whose symbolic links loop.
+#[cfg(unix)]
 const ELOOP: i32 = libc::ELOOP;
+/// Windows' `ERROR_CANT_RESOLVE_FILENAME`: its error for a symbolic-link loop.
+#[cfg(windows)]
+const ELOOP: i32 = 1921;
+
+/// Options that open a file for reading without blocking on a FIFO (Unix: `O_NONBLOCK`).
+fn read_options() -> OpenOptions {
+    let mut o = OpenOptions::new();
+    o.read(true);
+    #[cfg(unix)]
+    o.custom_flags(libc::O_NONBLOCK);
+    o
+}
+
+/// What a file that is neither a regular file nor a folder is, for messages.
+#[cfg(unix)]
+fn special_kind(t: FileType) -> &'static str {
+    if t.is_fifo() {
+        "a FIFO (named pipe)"
+    } else if t.is_char_device() {
+        "a character device"
+    } else if t.is_block_device() {
+        "a block device"
+    } else if t.is_socket() {
+        "a socket"
+    } else {
+        "a special file"
+    }
+}
+
+/// What a file that is neither a regular file nor a folder is, for messages.
+#[cfg(not(unix))]
+fn special_kind(_: FileType) -> &'static str {
+    "a special file"
+}
 
 /// `n` bytes for messages: "4 MiB" when it is a whole number of MiB, else "4194305 bytes".
 pub fn human_bytes(n: u64) -> String {
@@ -88,9 +125,7 @@ fn open_checked(path: &Path, kind: &FileKind) -> Result<(File, u64), ReadError> 
     let meta = std::fs::metadata(path).map_err(|e| open_error(path, kind, &e))?;
     check_regular(&meta, path, kind).map_err(refuse)?;
     check_size(meta.len(), path, kind).map_err(refuse)?;
-    let file = OpenOptions::new()
-        .read(true)
-        .custom_flags(libc::O_NONBLOCK)
+    let file = read_options()
         .open(path)
         .map_err(|e| open_error(path, kind, &e))?;
     let opened = file
@@ -169,16 +204,8 @@ fn check_regular(meta: &Metadata, path: &Path, kind: &FileKind) -> Result<(), St
     }
     let is = if t.is_dir() {
         "a folder"
-    } else if t.is_fifo() {
-        "a FIFO (named pipe)"
-    } else if t.is_char_device() {
-        "a character device"
-    } else if t.is_block_device() {
-        "a block device"
-    } else if t.is_socket() {
-        "a socket"
     } else {
-        "a special file"
+        special_kind(t)
     };
     Err(format!(
         "{} {} is not a regular file (it is {is}); only regular files are read, so that reading ends",

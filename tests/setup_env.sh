@@ -6,6 +6,11 @@
 #     tests/python/test_adversarial.py); only if missing
 #   - apt: chromium (the replay page test loads the page headless, tests/python/test_replay.py),
 #     npm (only where no npm is installed); only if missing
+#   - the other platforms of the FMUs (`mbcosim pack`, tests/python/test_platforms.py,
+#     docs/platforms.md): rustup targets x86_64-pc-windows-gnu and aarch64-unknown-linux-gnu; apt:
+#     gcc-mingw-w64-x86-64-posix and binutils-mingw-w64-x86-64 (the Windows DLL's linker),
+#     binutils-aarch64-linux-gnu, wine and wine64 (runs the Windows DLL), qemu-user and
+#     libc6-arm64-cross (runs the aarch64 library); only if missing
 #   - three.js for the replay pages: `npm ci` in tools/replay (the version pinned in its
 #     package-lock.json, embedded into mbcosim at build time, docs/replay.md); only if another or
 #     no version is installed
@@ -36,6 +41,28 @@ if [ ${#missing[@]} -gt 0 ]; then
 else
     echo "libclang-dev, python3-venv, libtbb12, valgrind, chromium and npm present"
 fi
+
+log "system packages of the FMUs' other platforms (Windows, aarch64 Linux)"
+missing=()
+command -v x86_64-w64-mingw32-gcc >/dev/null 2>&1 || missing+=(gcc-mingw-w64-x86-64-posix)
+command -v x86_64-w64-mingw32-objdump >/dev/null 2>&1 || missing+=(binutils-mingw-w64-x86-64)
+command -v aarch64-linux-gnu-objcopy >/dev/null 2>&1 || missing+=(binutils-aarch64-linux-gnu)
+[ -x /usr/lib/wine/wine64 ] || missing+=(wine wine64)
+command -v qemu-aarch64 >/dev/null 2>&1 || missing+=(qemu-user)
+[ -e /usr/aarch64-linux-gnu/lib/ld-linux-aarch64.so.1 ] || missing+=(libc6-arm64-cross)
+if [ ${#missing[@]} -gt 0 ]; then
+    echo "installing: ${missing[*]}"
+    # without recommends: wine's are 32-bit wine, fonts and desktop parts no test needs
+    apt_install --no-install-recommends "${missing[@]}"
+else
+    echo "mingw-w64, aarch64 binutils, wine64, qemu-user and the aarch64 sysroot present"
+fi
+
+log "Rust targets of the FMUs' other platforms"
+for t in x86_64-pc-windows-gnu aarch64-unknown-linux-gnu; do
+    rustup target list --installed | grep -qx "$t" || rustup target add "$t"
+done
+echo "x86_64-pc-windows-gnu and aarch64-unknown-linux-gnu installed"
 
 log "three.js for the replay pages (tools/replay)"
 three_version() {

@@ -206,8 +206,23 @@ fn table(out: &mut String, title: &str, rows: &[Row], with_start: bool, with_vr:
     out.push_str("</table>\n");
 }
 
-/// The HTML page of the FMI 2.0 FMU of one model.
-pub fn index_html(info: &ModelInfo) -> String {
+/// The platforms of `folders` (names under `binaries/`) as the page lists them.
+fn binaries_text(folders: &[&str]) -> String {
+    let names: Vec<String> = folders
+        .iter()
+        .map(|f| format!("<code>{}</code>", escape(f)))
+        .collect();
+    let noun = if names.len() == 1 {
+        "binary"
+    } else {
+        "binaries"
+    };
+    format!("{noun} for {}", names.join(", "))
+}
+
+/// The HTML page of the FMI 2.0 FMU of one model; `folders` are its binaries' folders under
+/// `binaries/`.
+pub fn index_html(info: &ModelInfo, folders: &[&str]) -> String {
     let rows = |c: Causality| -> Vec<Row> {
         info.ports
             .iter()
@@ -216,19 +231,20 @@ pub fn index_html(info: &ModelInfo) -> String {
             .collect()
     };
     let usage = format!(
-        "<li>FMI 2.0 Co-Simulation, GUID <code>{guid}</code>, binary for <code>linux64</code>.</li>\n\
+        "<li>FMI 2.0 Co-Simulation, GUID <code>{guid}</code>, {binaries}.</li>\n\
 <li>Fixed parameters can be set until <code>fmi2ExitInitializationMode</code>; tunable parameters and inputs also between steps. Values outside their range, NaN and infinities are refused with <code>fmi2Error</code>.</li>\n\
 <li>Inputs are held constant over a communication step; outputs change only in <code>fmi2DoStep</code>. Variable step sizes are accepted; communication points are matched to the model time with a relative tolerance of 1e-9.</li>\n\
 <li>FMU states can be saved, restored and serialized (also across processes); <code>fmi2Reset</code> is supported; instances are independent and may run on different threads.</li>\n",
         guid = escape(info.guid),
+        binaries = binaries_text(folders),
     );
     page(info, rows, false, &usage)
 }
 
 /// The HTML page of the FMI 3.0 FMU of one model: FMI 3.0 names, types and value references,
 /// families of outputs as arrays. Empty when the table has no FMI 3.0 view (packing refuses
-/// such a table before).
-pub fn index_html3(info: &ModelInfo) -> String {
+/// such a table before). `folders` as for [`index_html`].
+pub fn index_html3(info: &ModelInfo, folders: &[&str]) -> String {
     let Ok(view) = View3::new(info) else {
         return String::new();
     };
@@ -240,13 +256,14 @@ pub fn index_html3(info: &ModelInfo) -> String {
             .collect()
     };
     let usage = format!(
-        "<li>FMI 3.0 Co-Simulation, instantiationToken <code>{guid}</code>, binary for <code>x86_64-linux</code>. The independent variable <code>time</code> has value reference {time}.</li>\n\
+        "<li>FMI 3.0 Co-Simulation, instantiationToken <code>{guid}</code>, {binaries}. The independent variable <code>time</code> has value reference {time}.</li>\n\
 <li>An array <code>name[n]</code> has one value reference and <code>n</code> values: <code>nValues</code> counts elements.</li>\n\
 <li>Fixed parameters can be set until <code>fmi3ExitInitializationMode</code>; tunable parameters and inputs also between steps. Values outside their range, NaN and infinities are refused with <code>fmi3Error</code>.</li>\n\
 <li>Inputs are held constant over a communication step; outputs change only in <code>fmi3DoStep</code>. Instantiated with <code>earlyReturnAllowed</code>, <code>fmi3DoStep</code> ends at the model's first event in the step (located in time) with <code>earlyReturn</code> true and <code>lastSuccessfulTime</code> there; an intermediate-update callback is called after every internal integrator step and may ask for an early return. No event mode.</li>\n\
 <li>FMU states can be saved, restored and serialized (also across processes); <code>fmi3Reset</code> is supported; instances are independent and may run on different threads.</li>\n",
         guid = escape(info.guid),
         time = super::variables3::TIME_VR,
+        binaries = binaries_text(folders),
     );
     page(info, rows, true, &usage)
 }
@@ -332,7 +349,11 @@ mod tests {
 
     #[test]
     fn pid_page_lists_every_port() {
-        let html = index_html(pid::info());
+        let html = index_html(pid::info(), &["linux64", "win64"]);
+        assert!(
+            html.contains("binaries for <code>linux64</code>, <code>win64</code>."),
+            "{html}"
+        );
         for p in &pid::info().ports {
             assert!(
                 html.contains(&format!("<code>{}</code>", p.name)),
@@ -348,7 +369,11 @@ mod tests {
     #[test]
     fn fmi3_page_shows_arrays_with_their_value_references() {
         let info = crate::scene::rope_block::info();
-        let html = index_html3(info);
+        let html = index_html3(info, &["x86_64-linux"]);
+        assert!(
+            html.contains("binary for <code>x86_64-linux</code>."),
+            "{html}"
+        );
         let view = View3::new(info).unwrap();
         for v in &view.vars {
             let shown = if v.is_array() {

@@ -7,7 +7,8 @@
 //!
 //! The only module with `unsafe` code and the C ABI. One generic wrapper serves every model in
 //! [`crate::scene::registry()`]: `fmi2Instantiate` picks the model by GUID, and the same shared
-//! library ships in every FMU as `binaries/linux64/<modelIdentifier>.so`.
+//! library ships in every FMU as `binaries/linux64/<modelIdentifier>.so`, built for x86_64
+//! Windows and aarch64 Linux beside it ([`platform`]).
 //!
 //! - [`types`]: hand-written `#[repr(C)]` FMI 2.0 types.
 //! - [`exports`](self#functions): the 34 `fmi2*` functions (re-exported here).
@@ -33,6 +34,7 @@ pub mod metadata;
 pub mod model_description;
 pub mod model_description3;
 pub mod package;
+pub mod platform;
 pub mod resource_location;
 pub mod sketch;
 pub mod snapshot;

@@ -5,8 +5,9 @@
 //!
 //! ```text
 //! modelDescription.xml              the checked-in modelDescription/<Identifier>.xml
-//! binaries/linux64/<Identifier>.so  the crate's cdylib, renamed (no `lib` prefix)
-//!                                   (FMI 3.0: binaries/x86_64-linux/<Identifier>.so)
+//! binaries/linux64/<Identifier>.so  the crate's cdylib for each platform, renamed (no `lib`
+//! binaries/win64/<Identifier>.dll   prefix); FMI 3.0: x86_64-linux, x86_64-windows,
+//! binaries/aarch64-linux/<Identifier>.so   aarch64-linux ([`Platform`], docs/platforms.md)
 //! documentation/index.html          generated from the variable table
 //! documentation/licenses/license.txt the licence (the repository's LICENSE)
 //! resources/scene.toml               the default scene (parameters), read at instantiation
@@ -26,6 +27,7 @@ use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
 
+use super::platform::Platform;
 use super::{documentation, metadata, model_description, model_description3};
 use crate::scene::ModelEntry;
 
@@ -54,19 +56,28 @@ pub fn checked_description(entry: &ModelEntry, descriptions: &Path) -> Result<St
     Ok(on_disk)
 }
 
-/// Writes `<out_dir>/<Identifier>.fmu` for `entry` with `cdylib` as its binary; returns its path.
-/// `generated_at` (an `xs:dateTime`, the commit time) becomes the description's
+/// The crate's shared library built for one platform.
+#[derive(Debug, Clone)]
+pub struct Binary {
+    pub platform: Platform,
+    /// The built library (`libmbcosim.so`, `mbcosim.dll`).
+    pub path: PathBuf,
+}
+
+/// Writes `<out_dir>/<Identifier>.fmu` for `entry` with `binaries` (one per platform); returns
+/// its path. `generated_at` (an `xs:dateTime`, the commit time) becomes the description's
 /// `generationDateAndTime`; `None` leaves the attribute out.
 pub fn pack(
     entry: &ModelEntry,
-    cdylib: &Path,
+    binaries: &[Binary],
     descriptions: &Path,
     out_dir: &Path,
     generated_at: Option<&str>,
 ) -> Result<PathBuf, String> {
     let xml = stamped(checked_description(entry, descriptions)?, generated_at)?;
-    let page = documentation::index_html((entry.info)());
-    write_fmu(entry, cdylib, xml, page, "linux64", out_dir)
+    let folders: Vec<&str> = binaries.iter().map(|b| b.platform.fmi2_folder()).collect();
+    let page = documentation::index_html((entry.info)(), &folders);
+    write_fmu(entry, binaries, Platform::fmi2_folder, xml, page, out_dir)
 }
 
 /// Where the checked-in FMI 3.0 description of `identifier` lives under `dir`
@@ -91,19 +102,20 @@ pub fn checked_description3(entry: &ModelEntry, descriptions: &Path) -> Result<S
     Ok(on_disk)
 }
 
-/// Writes the FMI 3.0 FMU `<out_dir>/<Identifier>.fmu` for `entry` (the same library, under the
-/// FMI 3.0 platform tuple `binaries/x86_64-linux/`); returns its path. `generated_at` as for
-/// [`pack`].
+/// Writes the FMI 3.0 FMU `<out_dir>/<Identifier>.fmu` for `entry` (the same libraries, under
+/// the FMI 3.0 platform tuples `binaries/x86_64-linux/` ...); returns its path. `generated_at`
+/// as for [`pack`].
 pub fn pack3(
     entry: &ModelEntry,
-    cdylib: &Path,
+    binaries: &[Binary],
     descriptions: &Path,
     out_dir: &Path,
     generated_at: Option<&str>,
 ) -> Result<PathBuf, String> {
     let xml = stamped(checked_description3(entry, descriptions)?, generated_at)?;
-    let page = documentation::index_html3((entry.info)());
-    write_fmu(entry, cdylib, xml, page, "x86_64-linux", out_dir)
+    let folders: Vec<&str> = binaries.iter().map(|b| b.platform.fmi3_folder()).collect();
+    let page = documentation::index_html3((entry.info)(), &folders);
+    write_fmu(entry, binaries, Platform::fmi3_folder, xml, page, out_dir)
 }
 
 /// `xml` with `generationDateAndTime` when a time is given.
@@ -114,17 +126,19 @@ fn stamped(xml: String, generated_at: Option<&str>) -> Result<String, String> {
     }
 }
 
+/// The archive: `folder` names each binary's folder under `binaries/` (FMI 2.0 or 3.0 names).
 fn write_fmu(
     entry: &ModelEntry,
-    cdylib: &Path,
+    binaries: &[Binary],
+    folder: fn(Platform) -> &'static str,
     xml: String,
     page: String,
-    platform: &str,
     out_dir: &Path,
 ) -> Result<PathBuf, String> {
     let info = (entry.info)();
-    let binary = fs::read(cdylib)
-        .map_err(|e| format!("cannot read the shared library {}: {e}", cdylib.display()))?;
+    if binaries.is_empty() {
+        return Err(format!("{}: no binary to pack", info.identifier));
+    }
     fs::create_dir_all(out_dir).map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
     let target = out_dir.join(format!("{}.fmu", info.identifier));
     let partial = out_dir.join(format!(".{}.fmu.partial", info.identifier));
@@ -136,13 +150,20 @@ fn write_fmu(
         .compression_method(CompressionMethod::Deflated)
         .last_modified_time(DateTime::default())
         .unix_permissions(0o644);
-    let mut entries: Vec<(String, Vec<u8>, u32)> = vec![
-        ("modelDescription.xml".into(), xml.into_bytes(), 0o644),
-        (
-            format!("binaries/{platform}/{}.so", info.identifier),
-            binary,
-            0o755,
-        ),
+    let mut entries: Vec<(String, Vec<u8>, u32)> =
+        vec![("modelDescription.xml".into(), xml.into_bytes(), 0o644)];
+    for b in binaries {
+        let bytes = fs::read(&b.path)
+            .map_err(|e| format!("cannot read the shared library {}: {e}", b.path.display()))?;
+        let name = format!(
+            "binaries/{}/{}.{}",
+            folder(b.platform),
+            info.identifier,
+            b.platform.extension()
+        );
+        entries.push((name, bytes, 0o755));
+    }
+    entries.extend([
         ("documentation/index.html".into(), page.into_bytes(), 0o644),
         (
             metadata::LICENSE_ENTRY.into(),
@@ -154,7 +175,7 @@ fn write_fmu(
             crate::scene::scene_file::render(info).into_bytes(),
             0o644,
         ),
-    ];
+    ]);
     for r in entry.resources {
         if r.path
             .split('/')
@@ -188,8 +209,14 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("mbcosim-pack-{}", std::process::id()));
         let descr = dir.join("md");
         fs::create_dir_all(&descr).unwrap();
-        let lib = dir.join("libfake.so");
-        fs::write(&lib, b"\x7fELF fake").unwrap();
+        let binaries: Vec<Binary> = Platform::ALL
+            .iter()
+            .map(|&platform| {
+                let path = dir.join(format!("fake-{}", platform.tuple()));
+                fs::write(&path, format!("fake {}", platform.tuple())).unwrap();
+                Binary { platform, path }
+            })
+            .collect();
         const RES: &[Resource] = &[Resource {
             path: "data/table.csv",
             bytes: b"a,b\n1,2\n",
@@ -197,7 +224,7 @@ mod tests {
         let entry = ModelEntry::new(pid::info, pid::create).with_resources(RES);
 
         fs::write(description_path(&descr, "PidController"), "<stale/>").unwrap();
-        let e = pack(&entry, &lib, &descr, &dir, None).unwrap_err();
+        let e = pack(&entry, &binaries, &descr, &dir, None).unwrap_err();
         assert!(e.contains(REGENERATE), "{e}");
 
         fs::write(
@@ -206,24 +233,38 @@ mod tests {
         )
         .unwrap();
         let when = "2026-12-07T05:30:45Z";
-        let fmu = pack(&entry, &lib, &descr, &dir, Some(when)).unwrap();
+        let fmu = pack(&entry, &binaries, &descr, &dir, Some(when)).unwrap();
         let mut z = zip::ZipArchive::new(fs::File::open(&fmu).unwrap()).unwrap();
         let names: Vec<String> = z.file_names().map(|n| n.unwrap().into_owned()).collect();
         for n in [
             "modelDescription.xml",
-            "binaries/linux64/PidController.so",
             "documentation/index.html",
             metadata::LICENSE_ENTRY,
             "resources/data/table.csv",
         ] {
             assert!(names.iter().any(|x| x == n), "{n} in {names:?}");
         }
-        let mut so = Vec::new();
-        z.by_name("binaries/linux64/PidController.so")
-            .unwrap()
-            .read_to_end(&mut so)
-            .unwrap();
-        assert_eq!(so, b"\x7fELF fake");
+        let libs: Vec<&String> = names
+            .iter()
+            .filter(|n| n.starts_with("binaries/"))
+            .collect();
+        assert_eq!(
+            libs,
+            [
+                "binaries/linux64/PidController.so",
+                "binaries/win64/PidController.dll",
+                "binaries/aarch64-linux/PidController.so",
+            ]
+        );
+        for (name, tuple) in [
+            ("binaries/linux64/PidController.so", "x86_64-linux"),
+            ("binaries/win64/PidController.dll", "x86_64-windows"),
+            ("binaries/aarch64-linux/PidController.so", "aarch64-linux"),
+        ] {
+            let mut so = String::new();
+            z.by_name(name).unwrap().read_to_string(&mut so).unwrap();
+            assert_eq!(so, format!("fake {tuple}"));
+        }
         let first = fs::read(&fmu).unwrap();
         let mut xml = String::new();
         z.by_name("modelDescription.xml")
@@ -240,8 +281,13 @@ mod tests {
             .read_to_string(&mut license)
             .unwrap();
         assert!(license.starts_with("MIT License"), "{license}");
-        let again = pack(&entry, &lib, &descr, &dir, Some(when)).unwrap();
+        let again = pack(&entry, &binaries, &descr, &dir, Some(when)).unwrap();
         assert_eq!(fs::read(again).unwrap(), first, "reproducible archive");
+        assert!(
+            pack(&entry, &[], &descr, &dir, Some(when))
+                .unwrap_err()
+                .contains("no binary")
+        );
         fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -15,9 +15,11 @@
 //! - the unpacked FMU's root folder (holding `modelDescription.xml` and `resources/`) is taken to
 //!   mean its `resources/` folder, with a Warning.
 //!
-//! Windows forms are parsed as well ([`local_path`] with `windows = true`: `file:///C:/dir`,
-//! `file:/C:/dir`, UNC `file://server/share/dir`), so that the rules are checked here even
-//! though this build runs on Linux only.
+//! Windows forms ([`local_path`] with `windows = true`: `file:///C:/dir`, `file:/C:/dir`,
+//! `file://localhost/C:/dir`, UNC `file://server/share/dir` and `file:////server/share/dir`)
+//! apply in the Windows DLL (`cfg!(windows)`); their unit tests run on every host, and
+//! tests/python/test_platforms.py loads the DLL under wine through a percent-encoded
+//! `file:///C:/...` URI (docs/platforms.md).
 
 use std::path::{Path, PathBuf};
 
@@ -334,6 +336,12 @@ mod tests {
             "\\\\server\\share\\fmu\\resources"
         );
         assert_eq!(ok("file:////server/share/x"), "\\\\server\\share\\x");
+        assert_eq!(
+            ok("file://server/share/a%20b%23c"),
+            "\\\\server\\share\\a b#c"
+        );
+        assert_eq!(ok("file:///C%3A/x%25y"), "C:\\x%y");
+        assert_eq!(ok("FILE:/d:/"), "D:\\");
         assert!(
             win("file:///no/drive")
                 .unwrap_err()

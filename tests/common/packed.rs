@@ -3,7 +3,8 @@
 
 use std::path::PathBuf;
 
-use mbcosim::fmi::package;
+use mbcosim::fmi::package::{self, Binary};
+use mbcosim::fmi::platform::Platform;
 use mbcosim::scene;
 
 /// Which FMI version to pack.
@@ -29,6 +30,11 @@ pub fn packed(identifier: &str, version: Fmi, tag: &str) -> PathBuf {
         std::env::temp_dir().join(format!("mbcosim-{tag}-{}-{identifier}", std::process::id()));
     let entry = scene::find_by_identifier(identifier).unwrap();
     let md = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("modelDescription");
+    // the host's library only: these tests load it in this process
+    let lib = [Binary {
+        platform: Platform::LinuxX86_64,
+        path: lib,
+    }];
     match version {
         Fmi::V2 => package::pack(&entry, &lib, &md, &out, None),
         Fmi::V3 => package::pack3(&entry, &lib, &md, &out, None),

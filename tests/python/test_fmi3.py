@@ -156,7 +156,9 @@ def test_validate_fmu_finds_no_problems(model):
     assert md.fmiVersion == "3.0"
     assert md.guid == md2.guid, "instantiationToken is the FMI 2.0 GUID"
     names = zipfile.ZipFile(path).namelist()
-    assert f"binaries/x86_64-linux/{model}.so" in names
+    assert {n for n in names if n.startswith("binaries/")} == {
+        f"binaries/x86_64-linux/{model}.so", f"binaries/x86_64-windows/{model}.dll",
+        f"binaries/aarch64-linux/{model}.so"}
     # the same variables, with FMI 3.0 types (plus the independent variable time), an array
     # standing for its elements; value references unique
     kinds = {"Real": "Float64", "Integer": "Int32", "Enumeration": "Enumeration",

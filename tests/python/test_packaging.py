@@ -44,12 +44,17 @@ def test_fmutool_check_passes(fmu):
 def test_archive_layout_and_exports(fmu):
     with zipfile.ZipFile(fmu.path) as z:
         names = set(z.namelist())
-        assert {"modelDescription.xml", f"binaries/linux64/{fmu.id}.so", "documentation/index.html"} <= names
+        assert {"modelDescription.xml", "documentation/index.html"} <= names
+        # x86_64 Linux, x86_64 Windows, aarch64 Linux (FMI 2.0 has no aarch64 name: docs/platforms.md)
+        binaries = {n for n in names if n.startswith("binaries/")}
+        assert binaries == {f"binaries/linux64/{fmu.id}.so", f"binaries/win64/{fmu.id}.dll",
+                            f"binaries/aarch64-linux/{fmu.id}.so"}, binaries
         packed = z.read("modelDescription.xml").decode()
         stamp = f' generationDateAndTime="{commit_time()}"'
         assert stamp in packed, packed[:800]
         assert packed.replace(stamp, "", 1) == (ROOT / "modelDescription" / f"{fmu.id}.xml").read_text()
         html = z.read("documentation/index.html").decode()
+        assert "binaries for <code>linux64</code>, <code>win64</code>, <code>aarch64-linux</code>." in html
         for v in fmu.md.modelVariables:
             assert f"<code>{v.name}</code>" in html
     lib = ctypes.CDLL(f"{fmu.unzip}/binaries/linux64/{fmu.id}.so")

@@ -8,6 +8,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use mbcosim::fmi::package::Binary;
+use mbcosim::fmi::platform::Platform;
 use mbcosim::fmi::{metadata, model_description, model_description3, package};
 use mbcosim::scene::{self, native, scene_file};
 
@@ -43,11 +45,22 @@ pub fn repo_root(what: &str) -> Result<PathBuf, String> {
         })
 }
 
-/// The library every FMU ships, for this executable's profile and target directory: built by
-/// `scripts/build_portable.sh` (portable glibc 2.17 build through cargo-zigbuild, host build with a
-/// loud warning when that toolchain cannot be had; stripped, debug info split into
-/// `<dist>/debug/`), or with `MBCOSIM_NO_BUILD` the stripped library of the last build as it is.
-fn fresh_cdylib(repo: &Path, dist: &Path) -> Result<PathBuf, String> {
+/// Where `scripts/build_portable.sh` puts the stripped library of `platform` under
+/// `<target>/fmu/<profile>/`.
+fn stripped_name(platform: Platform) -> PathBuf {
+    match platform {
+        Platform::LinuxX86_64 => PathBuf::from("libmbcosim.so"),
+        Platform::LinuxAarch64 => Path::new(platform.tuple()).join("libmbcosim.so"),
+        Platform::WindowsX86_64 => Path::new(platform.tuple()).join("mbcosim.dll"),
+    }
+}
+
+/// The library every FMU ships on `platform`, for this executable's profile and target
+/// directory: built by `scripts/build_portable.sh` (Linux: portable glibc 2.17 build through
+/// cargo-zigbuild, for x86_64 the host build with a loud warning when that toolchain cannot be
+/// had; Windows: mingw-w64, self-contained; stripped, debug info split into `<dist>/debug/`), or
+/// with `MBCOSIM_NO_BUILD` the stripped library of the last build as it is.
+fn fresh_cdylib(repo: &Path, dist: &Path, platform: Platform) -> Result<PathBuf, String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
     let profile_dir = exe.parent().ok_or("executable has no parent folder")?;
     let profile = profile_dir
@@ -55,7 +68,10 @@ fn fresh_cdylib(repo: &Path, dist: &Path) -> Result<PathBuf, String> {
         .and_then(|n| n.to_str())
         .unwrap_or("debug");
     let target_dir = profile_dir.parent().ok_or("no target folder")?;
-    let stripped = target_dir.join("fmu").join(profile).join("libmbcosim.so");
+    let stripped = target_dir
+        .join("fmu")
+        .join(profile)
+        .join(stripped_name(platform));
     if std::env::var_os("MBCOSIM_NO_BUILD").is_some() {
         return if stripped.is_file() {
             Ok(stripped)
@@ -71,6 +87,7 @@ fn fresh_cdylib(repo: &Path, dist: &Path) -> Result<PathBuf, String> {
     let script = repo.join("scripts").join("build_portable.sh");
     let out = Command::new("bash")
         .arg(&script)
+        .args(["--target", platform.rust_target()])
         .args(["--profile", profile, "--target-dir"])
         .arg(target_dir)
         .arg("--debug-dir")
@@ -92,21 +109,27 @@ fn fresh_cdylib(repo: &Path, dist: &Path) -> Result<PathBuf, String> {
     Ok(lib)
 }
 
-fn pack_all(what: &str, dist: &Path) -> Result<Vec<PathBuf>, String> {
+/// Packs every registered model for `platforms` (FMI 2.0 into `dist`, FMI 3.0 into
+/// `dist/fmi3`); returns the FMUs written.
+fn pack_all(what: &str, dist: &Path, platforms: &[Platform]) -> Result<Vec<PathBuf>, String> {
     let repo = repo_root(what)?;
-    let lib = fresh_cdylib(&repo, dist)?;
+    let mut binaries = Vec::new();
+    for &platform in platforms {
+        let path = fresh_cdylib(&repo, dist, platform)?;
+        binaries.push(Binary { platform, path });
+    }
     let descriptions = repo.join("modelDescription");
     let when = generation_time(&repo)?;
     let when = when.as_deref();
     let mut packed = Vec::new();
     for e in scene::registry() {
-        packed.push(package::pack(&e, &lib, &descriptions, dist, when)?);
+        packed.push(package::pack(&e, &binaries, &descriptions, dist, when)?);
     }
-    // FMI 3.0 FMUs of the same models, from the same library (docs/fmi3.md)
+    // FMI 3.0 FMUs of the same models, from the same libraries (docs/fmi3.md)
     for e in scene::registry() {
         packed.push(package::pack3(
             &e,
-            &lib,
+            &binaries,
             &descriptions,
             &dist.join("fmi3"),
             when,
@@ -147,15 +170,37 @@ fn generation_time(repo: &Path) -> Result<Option<String>, String> {
     metadata::utc_date_time(seconds).map(Some)
 }
 
+/// The platforms named in `list` (FMI 3.0 tuples, comma-separated), each once.
+fn platforms(list: &str) -> Result<Vec<Platform>, String> {
+    let mut out = Vec::new();
+    for name in list.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+        let p = Platform::parse(name)?;
+        if !out.contains(&p) {
+            out.push(p);
+        }
+    }
+    if out.is_empty() {
+        return Err("--platforms names no platform".into());
+    }
+    Ok(out)
+}
+
 #[derive(clap::Args)]
 pub struct PackArgs {
     /// Folder for the FMUs and their debug info (relative to the current directory).
     #[arg(long, value_name = "DIR", default_value = "dist")]
     out: PathBuf,
+    /// The platforms each FMU carries a binary for, comma-separated (docs/platforms.md).
+    #[arg(
+        long,
+        value_name = "LIST",
+        default_value = "x86_64-linux,x86_64-windows,aarch64-linux"
+    )]
+    platforms: String,
 }
 
 pub fn pack(a: &PackArgs) -> Result<(), String> {
-    for f in pack_all("pack", &a.out)? {
+    for f in pack_all("pack", &a.out, &platforms(&a.platforms)?)? {
         println!("packed {}", f.display());
     }
     Ok(())
@@ -216,6 +261,10 @@ pub struct DemoArgs {
     /// Folder for the demos' CSV files and SVG plots (relative to the current directory).
     #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
+    /// The platforms the FMUs carry a binary for (x86_64 Linux only by default, so the quick
+    /// start compiles no cross target; `mbcosim pack` builds all three).
+    #[arg(long, value_name = "LIST", default_value = "x86_64-linux")]
+    platforms: String,
 }
 
 /// PID demo: a PI(D) controller closing the loop around `tau*dy/dt = -y + K*u`.
@@ -301,7 +350,7 @@ fn demo_rope_block(out: &Path) -> Result<(), String> {
 }
 
 pub fn demo(a: &DemoArgs) -> Result<(), String> {
-    for fmu in pack_all("demo", &a.dist)? {
+    for fmu in pack_all("demo", &a.dist, &platforms(&a.platforms)?)? {
         println!("packed {}", fmu.display());
     }
     demo_panel_lock(&a.out)?;
