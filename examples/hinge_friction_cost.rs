@@ -1,6 +1,6 @@
 //! Cost of PanelLock runs with hinge friction (docs/hinge_friction_cost.md): accepted and
 //! rejected steps, Newton iterations and failures, thread CPU time of one run. Reported, never
-//! asserted (the step counts are asserted in `tests/panel_lock_hinge_friction.rs`).
+//! asserted (the step counts are asserted in `tests/panel_lock_flex/hinge_friction.rs`).
 //!
 //! `cargo run --release --example hinge_friction_cost -- FLEX FRICTION KIND RTOL T_END`
 //! (FLEX: rigid or flex; FRICTION [N m]; KIND: gen-alpha, bdf, ...; T_END [s]).

@@ -372,3 +372,7 @@ fn frames_on_missing_nodes_and_unsupported_uses_are_errors() {
         .unwrap_err();
     assert!(err.contains("3 modes"), "{err}");
 }
+
+/// Hinge friction at a flexible panel node (issue #48 slow case).
+#[path = "flex_jacobians/hinge_friction.rs"]
+mod hinge_friction;

@@ -408,3 +408,7 @@ fn bdf_per_unit_step_starts_the_flexible_scene() {
         assert!(err < 10.0 * rtol * moved, "rtol {rtol:e}: {err:.3e} rad");
     }
 }
+
+/// Cost and accuracy with hinge friction (issue #48 slow case).
+#[path = "panel_lock_flex/hinge_friction.rs"]
+mod hinge_friction;

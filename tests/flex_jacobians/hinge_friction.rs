@@ -7,9 +7,8 @@
 //! mapping, not the choice of slope (docs/hinge_friction_cost.md; the slope is tested in the
 //! effect's own tests).
 
-mod common;
-use common::flex::panel;
-use common::jacobian::assembled;
+use crate::common::flex::panel;
+use crate::common::jacobian::assembled;
 use mbcosim::dae::System;
 use mbcosim::effect::hinge_friction::{HingeFriction, HingeFrictions};
 use mbcosim::flex::ModalBodyData;
