@@ -6,7 +6,7 @@
 use mbcosim::report::svg_check::{check, parse};
 use mbcosim::scene::panel_lock::PanelLockParams;
 use mbcosim::scene::panel_lock::study::{
-    CaseResult, force_plot, run_case, spectrum_plot, tip_velocity_plot,
+    CaseResult, backbone_plot, force_plot, run_case, spectrum_plot, tip_velocity_plot,
 };
 use std::sync::OnceLock;
 
@@ -73,6 +73,7 @@ fn study_plots_pass_the_layout_checks_with_three_cases() {
         force_plot(&cases, "flexible"),
         tip_velocity_plot(&cases, "flexible"),
         spectrum_plot(&cases, "flexible", 0.01),
+        backbone_plot(&cases, "flexible"),
     ] {
         let plot = parse(&svg).unwrap();
         check(&plot).unwrap();
@@ -102,6 +103,7 @@ fn committed_plots_pass_the_layout_checks() {
         "panel_lock_table1_contact_force.svg",
         "panel_lock_table1_tip_velocity.svg",
         "panel_lock_table1_spectrum.svg",
+        "panel_lock_table1_backbone.svg",
     ]
     .iter()
     .map(|n| docs.join(n))
