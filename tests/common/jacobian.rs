@@ -44,11 +44,28 @@ pub fn force_jacobian_mismatch(
     let n = sys.n_v();
     let k_an = assembled(sys, t, q, v, [0.0, 0.0, 1.0]);
     let d_an = assembled(sys, t, q, v, [0.0, 1.0, 0.0]);
-    let mut f_at = |q: &[f64], v: &[f64]| {
+    let f_at = |q: &[f64], v: &[f64]| {
         let mut f = vec![0.0; n];
         sys.forces(t, q, v, &mut f);
         f
     };
+    jacobian_mismatch(model, q, v, &k_an, &d_an, f_at, eps)
+}
+
+/// Largest difference between given `K`, `D` (`n_v x n_v`) and the central finite differences
+/// of the generalized force `f_at(q, v)` with step `eps` (positions retracted on `model`'s
+/// configuration space), and the largest finite-difference entry: `(worst, scale)`. For checking
+/// one effect's share, `f_at` and the matrices are differences of two systems.
+pub fn jacobian_mismatch(
+    model: &Model,
+    q: &[f64],
+    v: &[f64],
+    k_an: &DMatrix<f64>,
+    d_an: &DMatrix<f64>,
+    mut f_at: impl FnMut(&[f64], &[f64]) -> Vec<f64>,
+    eps: f64,
+) -> (f64, f64) {
+    let n = k_an.nrows();
     let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
     for j in 0..n {
         let mut dx = vec![0.0; n];

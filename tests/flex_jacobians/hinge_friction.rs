@@ -8,7 +8,7 @@
 //! effect's own tests).
 
 use crate::common::flex::panel;
-use crate::common::jacobian::assembled;
+use crate::common::jacobian::{assembled, jacobian_mismatch};
 use mbcosim::dae::System;
 use mbcosim::effect::hinge_friction::{HingeFriction, HingeFrictions};
 use mbcosim::flex::ModalBodyData;
@@ -92,35 +92,13 @@ fn hinge_friction_at_a_panel_node_matches_finite_differences() {
     };
     let k_an = share([0.0, 0.0, 1.0], &mut sw, &mut so);
     let d_an = share([0.0, 1.0, 0.0], &mut sw, &mut so);
-    let mut force = |q: &[f64], v: &[f64]| -> Vec<f64> {
+    let force = |q: &[f64], v: &[f64]| -> Vec<f64> {
         let (mut fw, mut fo) = (vec![0.0; n], vec![0.0; n]);
         sw.forces(t, q, v, &mut fw);
         so.forces(t, q, v, &mut fo);
         fw.iter().zip(&fo).map(|(a, b)| a - b).collect()
     };
-    let eps = 1e-6;
-    let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
-    for j in 0..n {
-        let mut dx = vec![0.0; n];
-        let (mut qp, mut qm) = (q.clone(), q.clone());
-        dx[j] = eps;
-        with.retract(&q, &dx, &mut qp);
-        dx[j] = -eps;
-        with.retract(&q, &dx, &mut qm);
-        let (fp, fm) = (force(&qp, &v), force(&qm, &v));
-        let (mut vp, mut vm) = (v.clone(), v.clone());
-        vp[j] += eps;
-        vm[j] -= eps;
-        let (gp, gm) = (force(&q, &vp), force(&q, &vm));
-        for i in 0..n {
-            let k_fd = -(fp[i] - fm[i]) / (2.0 * eps);
-            let d_fd = -(gp[i] - gm[i]) / (2.0 * eps);
-            worst = worst
-                .max((k_fd - k_an[(i, j)]).abs())
-                .max((d_fd - d_an[(i, j)]).abs());
-            scale = scale.max(k_fd.abs()).max(d_fd.abs());
-        }
-    }
+    let (worst, scale) = jacobian_mismatch(&with, &q, &v, &k_an, &d_an, force, 1e-6);
     println!("friction K/D share: worst mismatch {worst:.3e}, scale {scale:.3e}");
     // the friction is in the model and acts: its share is of the slope's size
     assert!(scale > 0.1 * TORQUE / SLIP_RATE, "scale {scale:.3e}");

@@ -278,11 +278,7 @@ pub fn simulate(a: &SimulateArgs) -> Result<(), String> {
     let grid = Grid::new(stop, step).map_err(|e| e.to_string())?;
     let mut sets = Vec::new();
     for kv in &a.sets {
-        let (k, v) = kv
-            .split_once('=')
-            .ok_or_else(|| format!("--set {kv}: expected NAME=VALUE"))?;
-        let port = values::writable(info, k.trim()).map_err(|e| format!("--set {kv}: {e}"))?;
-        let value = values::parse_for(port, v).map_err(|e| format!("--set {kv}: {e}"))?;
+        let (port, value) = values::parse_set(info, kv)?;
         sets.push((kv, port, value));
     }
     let schedule = a

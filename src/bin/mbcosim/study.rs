@@ -80,11 +80,7 @@ pub fn table1(a: &Table1Args) -> Result<(), String> {
     let info = mbcosim::scene::panel_lock::info();
     let mut model = PanelLockModel::new();
     for kv in starting_values(a).iter().chain(&a.sets) {
-        let (k, v) = kv
-            .split_once('=')
-            .ok_or_else(|| format!("--set {kv}: expected NAME=VALUE"))?;
-        let port = values::writable(info, k.trim()).map_err(|e| format!("--set {kv}: {e}"))?;
-        let value = values::parse_for(port, v).map_err(|e| format!("--set {kv}: {e}"))?;
+        let (port, value) = values::parse_set(info, kv)?;
         values::apply(&mut model, port, &value).map_err(|e| format!("--set {kv}: {e}"))?;
     }
     let p = model.params().map_err(|e| e.to_string())?;

@@ -126,6 +126,17 @@ pub fn parse_for(port: &PortSpec, text: &str) -> Result<Value, String> {
     }
 }
 
+/// One `--set NAME=VALUE`: the writable port it names and the value read for its type; errors
+/// start with `--set NAME=VALUE:`.
+pub fn parse_set<'a>(info: &'a ModelInfo, kv: &str) -> Result<(&'a PortSpec, Value), String> {
+    let (k, v) = kv
+        .split_once('=')
+        .ok_or_else(|| format!("--set {kv}: expected NAME=VALUE"))?;
+    let port = writable(info, k.trim()).map_err(|e| format!("--set {kv}: {e}"))?;
+    let value = parse_for(port, v).map_err(|e| format!("--set {kv}: {e}"))?;
+    Ok((port, value))
+}
+
 /// Sets `value` through the model's own setter (its rules and messages).
 pub fn apply(model: &mut dyn CoSimModel, port: &PortSpec, value: &Value) -> Result<(), String> {
     let r = match value {
