@@ -412,3 +412,6 @@ fn bdf_per_unit_step_starts_the_flexible_scene() {
 /// Cost and accuracy with hinge friction (issue #48 slow case).
 #[path = "panel_lock_flex/hinge_friction.rs"]
 mod hinge_friction;
+
+#[path = "panel_lock_flex/outboard_hinge.rs"]
+mod outboard_hinge;

@@ -260,9 +260,13 @@ impl ModelBuilder {
         Ok(())
     }
 
-    /// Checks a force element's frame; a node frame is replaced by a frame on the node body
-    /// (same offset and axes, relative to the node's frame).
-    fn force_frame(
+    /// Checks a force element's frame; a node frame ([`Frame::on_node`]) is replaced by a frame
+    /// on the node body ([`ModelBuilder::node_body`]; same offset and axes, relative to the node's
+    /// frame). Built-in force elements call it themselves; a custom force effect
+    /// ([`ModelBuilder::add_force_effect`]) must be given frames that went through it, or it acts
+    /// on the modal body's reference frame instead of the node. `owner` and `which` name the
+    /// element and the frame in errors.
+    pub fn force_frame(
         &mut self,
         owner: &str,
         which: &str,

@@ -35,7 +35,9 @@ pub struct Layout {
     pub plate_lengths: Vec<f64>,
     /// Hinge bodies, root first.
     pub hinges: Vec<BodyId>,
-    /// Joint frames of each hinge shaft: (inboard side, hinge body side).
+    /// Frames of each hinge shaft as force effects and outputs use them: (inboard side, hinge
+    /// body side); on a flexible inboard panel the inboard one rides on the panel's outboard node
+    /// body ([`ModelBuilder::force_frame`]).
     pub hinge_frames: Vec<(Frame, Frame)>,
     /// Lock angle of each hinge [rad].
     pub lock_angles: Vec<f64>,
@@ -195,6 +197,10 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
             layout.root_joint = 0;
         }
         b.add_joint(&format!("hinge{k} shaft"), JointKind::Revolute, fi, fj)?;
+        // The shaft's inboard frame as force effects see it: on a flexible panel's outboard
+        // node it rides on the node body, so that spring, latch, stop, friction, cable loop and
+        // the hinge-angle output all act across the same two frames as the shaft joint.
+        let fi = b.force_frame(&format!("hinge{k}"), "inboard", &fi, true)?;
         b.add_joint(
             &format!("hinge{k} bolts"),
             JointKind::Fixed,
