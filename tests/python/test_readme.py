@@ -61,7 +61,7 @@ def _table1_rows(text):
 
 def test_readme_table1_figures_are_what_the_study_gives(tmp_path):
     """The README's Table 1 rows against fresh `mbcosim table1` runs: ours to the printed digit;
-    the paper setup's root peaks (from a 14-minute BDF run, docs/panel_lock_table1_comparison.md)
+    the paper setup's root peaks (from a BDF run, 2.3 min of CPU, docs/panel_lock_table1_comparison.md)
     within 0.5 % of the same setup under the default integrator, its frequencies to the digit (the
     linearization does not depend on the integrator)."""
     import subprocess
