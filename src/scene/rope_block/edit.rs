@@ -244,3 +244,7 @@ pub fn insert_initial_contacts(
     }
     count.inserted as usize
 }
+
+#[cfg(test)]
+#[path = "edit_tests.rs"]
+mod tests;
