@@ -147,7 +147,7 @@ impl Simulation {
     /// Advances exactly to `t_end` [s].
     pub fn advance_to(&mut self, t_end: f64) -> Result<(), SolverError> {
         if !(t_end.is_finite() && t_end >= self.state.t) {
-            return Err(SolverError(format!(
+            return Err(SolverError::other(format!(
                 "cannot advance from t = {} s to t = {t_end} s",
                 self.state.t
             )));
@@ -221,7 +221,7 @@ impl Simulation {
             }
         }
         if !(t_end.is_finite() && t_end >= self.state.t) {
-            return Err(SolverError(format!(
+            return Err(SolverError::other(format!(
                 "cannot advance from t = {} s to t = {t_end} s",
                 self.state.t
             )));
@@ -245,7 +245,7 @@ impl Simulation {
     /// The state's effect memory is copied into the system before anything is evaluated.
     pub fn replace_system(&mut self, system: System, state: State) -> Result<(), SolverError> {
         if state.memory.len() != system.n_memory() {
-            return Err(SolverError(format!(
+            return Err(SolverError::other(format!(
                 "replace_system: state has {} memory values, the system needs {}",
                 state.memory.len(),
                 system.n_memory()
@@ -270,7 +270,7 @@ impl Simulation {
     /// acceleration steps); the integrator keeps its history.
     pub fn sync_memory(&mut self) -> Result<(), SolverError> {
         if self.state.memory.len() != self.system.n_memory() {
-            return Err(SolverError("state memory does not match the system".into()));
+            return Err(SolverError::other("state memory does not match the system"));
         }
         self.system.memory.copy_from_slice(&self.state.memory);
         Ok(())
@@ -281,7 +281,7 @@ impl Simulation {
     /// into the system, recomputes accelerations and multipliers, and drops the history.
     pub fn restart(&mut self) -> Result<(), SolverError> {
         if self.state.memory.len() != self.system.n_memory() {
-            return Err(SolverError("state memory does not match the system".into()));
+            return Err(SolverError::other("state memory does not match the system"));
         }
         self.system.memory.copy_from_slice(&self.state.memory);
         self.integrator.restart(&mut self.system, &mut self.state)

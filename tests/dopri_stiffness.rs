@@ -59,7 +59,7 @@ fn a_stiff_run_stops_naming_the_stiffness_at_the_stability_boundary() {
     let steps = sim.stats().steps;
     println!("{err}\nsteps {steps}");
     assert!(
-        err.contains("dopri5 is stiff") && err.contains("bdf or gen-alpha"),
+        err.contains("dopri5 is stiff") && err.contains("bdf or gen_alpha"),
         "{err}"
     );
     assert!(steps < 5_000, "stopped only after {steps} steps");

@@ -282,6 +282,13 @@ impl LinearSolver {
         Ok(Backend::Sparse(lu))
     }
 
+    /// Whether the assembled matrix holds a non-finite entry: after a failed
+    /// [`LinearSolver::factor`], tells a non-finite matrix from a singular one without reading
+    /// the message.
+    pub fn has_non_finite_entries(&self) -> bool {
+        self.vals.iter().any(|v| !v.is_finite())
+    }
+
     /// Factorizes the assembled matrix. `Err` names a singular or non-finite matrix.
     pub fn factor(&mut self) -> Result<(), String> {
         self.factored = false;

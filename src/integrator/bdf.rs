@@ -19,11 +19,13 @@ use super::ERROR_TIME_UNIT;
 use super::JacobianPoint;
 use super::dopri::Dopri5;
 use super::events::EventLocator;
-use super::newton::{DIVERGENCE_RATE, MAX_ITERATIONS, NewtonTest, Progress, Verdict};
+use super::newton::{
+    DIVERGENCE_RATE, MAX_ITERATIONS, NewtonTest, Progress, Verdict, factor_failure,
+};
 use super::step_control::{self, StepPolicy};
 use super::{
-    Integrator, IntegratorKind, MemoryHook, Settings, SolverError, Stats, StepAction, StepHook,
-    time_eps, weights,
+    Cause, Collapse, Integrator, IntegratorKind, MemoryHook, NewtonCause, NewtonFailure, Settings,
+    SingularPassage, SolverError, Stats, StepAction, StepHook, time_eps, weights,
 };
 use crate::dae::System;
 use crate::dae::linear::LinearSolver;
@@ -43,9 +45,6 @@ struct Point {
 
 /// How much a first Newton correction is scaled in the convergence test (see `solve_step`).
 const FIRST_CORRECTION_FACTOR: f64 = 1e4;
-
-// the failure message names the cap
-const _: () = assert!(MAX_ITERATIONS == 12);
 
 /// A step's error weights are at least `ROUND_OFF_EPSILONS` machine epsilons of the largest
 /// position scale (positions) and of the largest speed (speeds, at least that position scale
@@ -194,23 +193,9 @@ fn assemble(sys: &mut System, lin: &mut LinearSolver, t: f64, q: &[f64], v: &[f6
     sys.add_constraint_blocks(lin, 2 * nv + nc, nv, 1.0, Some((nv, 2 * nv, 1.0)));
 }
 
-/// Why a Newton iteration failed: a static reason and the time [s], formatted only when the
-/// integrator gives up (a retried failure allocates nothing).
-#[derive(Debug, Clone, Copy)]
-struct Failure {
-    reason: &'static str,
-    t: f64,
-}
-
-impl std::fmt::Display for Failure {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{} at t = {:.9e} s", self.reason, self.t)
-    }
-}
-
 enum Outcome {
     Converged,
-    Failed(Failure),
+    Failed(NewtonFailure),
 }
 
 impl Bdf {
@@ -465,9 +450,9 @@ impl Bdf {
                 phi_max = phi_max.max(row.phi.abs());
             }
             if self.rhs[..n].iter().any(|x| !x.is_finite()) {
-                return Outcome::Failed(Failure {
-                    reason: "non-finite Newton residual",
+                return Outcome::Failed(NewtonFailure {
                     t: t1,
+                    cause: NewtonCause::NonFinite("Newton residual"),
                 });
             }
             let restored = if self.jac_valid {
@@ -503,12 +488,9 @@ impl Bdf {
                     self.stats.factorizations += 1;
                 }
                 self.jac_alpha0 = self.jac_point.as_ref().map_or(a0, |p| p.coefficient);
-                if self.lin.factor().is_err() {
+                if let Err(e) = self.lin.factor() {
                     self.jac_valid = false;
-                    return Outcome::Failed(Failure {
-                        reason: "singular Newton matrix",
-                        t: t1,
-                    });
+                    return Outcome::Failed(factor_failure(&self.lin, e, t1));
                 }
                 self.jac_valid = true;
                 // a restored matrix was observed when it was first formed: the restored monitors
@@ -525,11 +507,11 @@ impl Bdf {
                     );
                 }
             }
-            if self.lin.solve(&mut self.rhs[..n]).is_err() {
+            if let Err(e) = self.lin.solve(&mut self.rhs[..n]) {
                 self.jac_valid = false;
-                return Outcome::Failed(Failure {
-                    reason: "non-finite Newton solution",
+                return Outcome::Failed(NewtonFailure {
                     t: t1,
+                    cause: NewtonCause::SingularMatrix(e),
                 });
             }
             for i in 0..nv {
@@ -560,21 +542,16 @@ impl Bdf {
             // fixed-step BDF first order
             let verdict = progress.judge(&test, norm, stalled);
             if let Verdict::Diverged(_) = verdict {
-                return Outcome::Failed(Failure {
-                    reason: "Newton iteration diverges",
+                return Outcome::Failed(NewtonFailure {
                     t: t1,
+                    cause: NewtonCause::Diverged(None),
                 });
             }
             if verdict == Verdict::Converged && (stalled || phi_max <= 10.0 * self.s.atol) {
                 sys.model.retract(&self.q0, &self.x, &mut self.q1);
                 let (rtol, atol) = (self.s.rtol, self.s.atol);
                 match progress.settle_decisions(sys, (t1, &self.q1, &self.v), rtol, atol) {
-                    Err(_) => {
-                        return Outcome::Failed(Failure {
-                            reason: "slip modes not settled",
-                            t: t1,
-                        });
-                    }
+                    Err(e) => return Outcome::Failed(e),
                     Ok(false) => continue,
                     Ok(true) => {}
                 }
@@ -586,9 +563,9 @@ impl Bdf {
                 return Outcome::Converged;
             }
             if progress.iterations() >= MAX_ITERATIONS {
-                return Outcome::Failed(Failure {
-                    reason: "Newton iteration did not converge in 12 iterations",
+                return Outcome::Failed(NewtonFailure {
                     t: t1,
+                    cause: NewtonCause::NoConvergence(MAX_ITERATIONS),
                 });
             }
         }
@@ -628,7 +605,7 @@ impl Bdf {
 
     /// Tries one step of size `h` at the current order. Returns the error estimates at orders
     /// (k-1, k, k+1) (NaN where unavailable) on convergence.
-    fn try_step(&mut self, sys: &mut System, h: f64) -> Result<[f64; 3], Failure> {
+    fn try_step(&mut self, sys: &mut System, h: f64) -> Result<[f64; 3], NewtonFailure> {
         let (nv, nc) = (sys.n_v(), sys.n_c());
         let k = self.order.min(self.hist.len());
         let t1 = self.hist[0].t + h;
@@ -861,8 +838,8 @@ impl Bdf {
     }
 
     /// When the run fails near a singular configuration of a closed loop (the loop rows watched
-    /// directly, or the Newton matrix's pivots, inside a passage): what to say about it.
-    fn singular_cause(&mut self, sys: &mut System, st: &State) -> Option<String> {
+    /// directly, or the Newton matrix's pivots, inside a passage): what the monitors measured.
+    fn singular_cause(&mut self, sys: &mut System, st: &State) -> Option<SingularPassage> {
         if !self.rows.observed() {
             return None;
         }
@@ -877,11 +854,11 @@ impl Bdf {
             .rows
             .weakest_joints(sys)
             .unwrap_or_else(|| "?".to_string());
-        Some(format!(
-            "the mechanism is at a singular configuration (joints {joints}: the loop constraints' smallest pivot fell to {ratio:.1e} of its value at the start), where the solve amplifies round-off {:.0e}-fold beyond what rtol = {:.0e} leaves room for; loosen rtol or use dopri5, which passes singular configurations at tighter tolerances",
-            1.0 / ratio.max(f64::MIN_POSITIVE),
-            self.s.rtol
-        ))
+        Some(SingularPassage {
+            joints,
+            ratio,
+            rtol: self.s.rtol,
+        })
     }
 
     /// Fixed-step start: fills the history with `order - 1` points from a tight DOPRI5 run.
@@ -941,7 +918,7 @@ impl Integrator for Bdf {
     ) -> Result<(), SolverError> {
         self.resize(sys.n_q(), sys.n_v(), sys.n_c());
         if self.hist.is_empty() {
-            return Err(SolverError("bdf: advance_to before start".into()));
+            return Err(SolverError::other("bdf: advance_to before start"));
         }
         let fixed = self.s.fixed_step > 0.0;
         self.note_start_vdot(st);
@@ -968,10 +945,13 @@ impl Integrator for Bdf {
             }
             steps += 1;
             if steps > self.s.max_steps {
-                return Err(SolverError(format!(
-                    "more than {} steps in one call at t = {:.9e} s: raise h_max or loosen rtol/atol",
-                    self.s.max_steps, st.t
-                )));
+                return Err(SolverError::at(
+                    IntegratorKind::Bdf,
+                    st.t,
+                    Cause::StepBudget {
+                        max_steps: self.s.max_steps,
+                    },
+                ));
             }
             let natural = if fixed {
                 self.s.fixed_step
@@ -1068,7 +1048,7 @@ impl Integrator for Bdf {
                     }
                     self.h = STEP_POLICY.after_acceptance(h, natural, self.h, best.0);
                 }
-                Err(reason) => {
+                Err(newton) => {
                     self.stats.newton_failures += 1;
                     if !refreshed && self.jac_valid {
                         self.jac_valid = false;
@@ -1077,24 +1057,25 @@ impl Integrator for Bdf {
                     }
                     refreshed = false;
                     if fixed {
-                        return Err(SolverError(format!(
-                            "{reason}; the fixed step {h:.3e} s is too large: reduce it or use adaptive steps"
-                        )));
+                        return Err(SolverError::at(
+                            IntegratorKind::Bdf,
+                            st.t,
+                            Cause::FixedStepTooLarge { h, newton },
+                        ));
                     }
                     self.h = step_control::after_failure(h);
                     self.order = 1;
                     self.steps_at_order = 0;
                     if step_control::collapsed(self.h, st.t) {
-                        if let Some(cause) = self.singular_cause(sys, st) {
-                            return Err(SolverError(format!(
-                                "step size fell below {:.1e} s at t = {:.9e} s: {reason}; {cause}",
-                                self.h, st.t
-                            )));
-                        }
-                        return Err(SolverError(format!(
-                            "step size fell below {:.1e} s at t = {:.9e} s: {reason} (check parameters, loosen rtol or raise damping)",
-                            self.h, st.t
-                        )));
+                        let singular = self.singular_cause(sys, st);
+                        return Err(SolverError::at(
+                            IntegratorKind::Bdf,
+                            st.t,
+                            Cause::StepCollapse {
+                                h: self.h,
+                                why: Collapse::Newton { newton, singular },
+                            },
+                        ));
                     }
                 }
             }

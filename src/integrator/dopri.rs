@@ -14,8 +14,8 @@ use super::kkt::Kkt;
 use super::rank::{Passage, RankMonitor};
 use super::step_control::{self, StepPolicy};
 use super::{
-    Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
-    weights,
+    Cause, Collapse, Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction,
+    StepHook, error, time_eps, weights,
 };
 use crate::dae::System;
 use crate::math::wrms;
@@ -461,7 +461,7 @@ impl Dopri5 {
         // the derivative at the projected state: output accelerations and the next first stage
         self.x.fill(0.0);
         self.vs.copy_from_slice(&st.v);
-        self.stage(sys, st, st.t, 0).map_err(SolverError)?;
+        self.stage(sys, st, st.t, 0).map_err(SolverError::other)?;
         let nv = sys.n_v();
         self.check_branch(sys, st)?;
         st.vdot.copy_from_slice(&self.kv[0]);
@@ -531,22 +531,35 @@ impl Dopri5 {
                 let cos = c / (n0 * n1).sqrt();
                 if n0 > 0.0 && n1 > 0.0 && cos < BRANCH_COS {
                     let (joints, t) = self.passage(sys, st.t);
-                    return Err(SolverError(format!(
-                        "singular configuration at t = {t:.9e} s (joints {joints}): the solution left it on another branch of the mechanism (the direction of motion turned by {:.0} degrees within the passage, up to t = {:.9e} s); dopri5's projection onto the constraints cannot keep the branch there: use gen-alpha, or loosen rtol so the steps pass the singular configuration",
-                        cos.clamp(-1.0, 1.0).acos().to_degrees(),
-                        st.t
-                    )));
+                    return Err(SolverError::at(
+                        IntegratorKind::Dopri5,
+                        t,
+                        Cause::SingularConfiguration {
+                            joints,
+                            how: error::Passage::Branch {
+                                degrees: cos.clamp(-1.0, 1.0).acos().to_degrees(),
+                                until: st.t,
+                            },
+                        },
+                    ));
                 }
                 let (e0, t0) = self.energy_entry;
                 let (e1, t1) = energy_balance(sys, st);
                 let allowed = PASSAGE_ENERGY_RTOLS * self.s.rtol * t0.max(t1);
                 if (e1 - e0).abs() > allowed {
                     let (joints, t) = self.passage(sys, st.t);
-                    return Err(SolverError(format!(
-                        "singular configuration at t = {t:.9e} s (joints {joints}): the energy balance changed by {:.3e} J within the passage (up to t = {:.9e} s; allowed {allowed:.3e} J, 100 rtol of the kinetic energy): the accelerations there are too ill-conditioned for dopri5 at this tolerance; use gen-alpha, or loosen rtol",
-                        e1 - e0,
-                        st.t
-                    )));
+                    return Err(SolverError::at(
+                        IntegratorKind::Dopri5,
+                        t,
+                        Cause::SingularConfiguration {
+                            joints,
+                            how: error::Passage::Energy {
+                                change: e1 - e0,
+                                allowed,
+                                until: st.t,
+                            },
+                        },
+                    ));
                 }
                 Ok(())
             }
@@ -601,10 +614,13 @@ impl Integrator for Dopri5 {
             }
             steps += 1;
             if steps > self.s.max_steps {
-                return Err(SolverError(format!(
-                    "more than {} steps in one call at t = {:.9e} s: the scene is too stiff for dopri5, choose gen-alpha or bdf",
-                    self.s.max_steps, st.t
-                )));
+                return Err(SolverError::at(
+                    IntegratorKind::Dopri5,
+                    st.t,
+                    Cause::StepBudget {
+                        max_steps: self.s.max_steps,
+                    },
+                ));
             }
             let natural = if adaptive {
                 self.h.min(self.s.h_max)
@@ -643,23 +659,32 @@ impl Integrator for Dopri5 {
                             .rank
                             .last_passage(sys)
                             .map_or_else(|| "?".to_string(), |(j, _)| j);
-                        return Err(SolverError(format!(
-                            "singular configuration at t = {:.9e} s (joints {joints}): the step size fell below {:.1e} s because the constraints lose rank there; loosen rtol so the steps pass the singular configuration, or use gen-alpha",
-                            st.t, self.h
-                        )));
+                        return Err(SolverError::at(
+                            IntegratorKind::Dopri5,
+                            st.t,
+                            Cause::SingularConfiguration {
+                                joints,
+                                how: error::Passage::StepCollapse { h: self.h },
+                            },
+                        ));
                     }
-                    return Err(SolverError(format!(
-                        "step size fell below {:.1e} s at t = {:.9e} s (non-finite or singular accelerations?)",
-                        self.h, st.t
-                    )));
+                    return Err(SolverError::at(
+                        IntegratorKind::Dopri5,
+                        st.t,
+                        Cause::StepCollapse {
+                            h: self.h,
+                            why: Collapse::ErrorEstimate,
+                        },
+                    ));
                 }
                 continue;
             }
             if !err.is_finite() {
-                return Err(SolverError(format!(
-                    "dopri5 step at t = {:.9e} s produced non-finite values with the fixed step {h:.3e} s",
-                    st.t
-                )));
+                return Err(SolverError::at(
+                    IntegratorKind::Dopri5,
+                    st.t,
+                    Cause::NonFinite { h },
+                ));
             }
             // a contact closing or opening inside the step: take the step again, ending at the
             // event, so no step straddles the kink of the contact force and the approach speed
@@ -682,14 +707,17 @@ impl Integrator for Dopri5 {
                 && self.stiff.note(self.h_lambda(h))
                 && (t_end - st.t) / h > STIFF_CALL_STEPS
             {
-                return Err(SolverError(format!(
-                    "dopri5 is stiff here: {} steps in a row up to t = {:.9e} s were held at its stability boundary (h |lambda| up to {:.1}), not by the tolerance, and at their size ({:.2e} s) this call needs {:.1e} more steps to reach t = {t_end} s; a stiff spring, damper or contact makes explicit steps this small: use the integrator bdf or gen-alpha",
-                    self.stiff.stiff,
+                return Err(SolverError::at(
+                    IntegratorKind::Dopri5,
                     st.t,
-                    self.stiff.h_lambda,
-                    h,
-                    (t_end - st.t) / h
-                )));
+                    Cause::Stiffness {
+                        steps: self.stiff.stiff,
+                        h_lambda: self.stiff.h_lambda,
+                        h,
+                        more: (t_end - st.t) / h,
+                        t_end,
+                    },
+                ));
             }
             self.accept(sys, st, h)?;
             // a step cut to land on an event proposes nothing: its estimate is mostly round-off

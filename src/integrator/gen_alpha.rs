@@ -15,11 +15,11 @@
 
 use super::JacobianPoint;
 use super::events::EventLocator;
-use super::newton::{MAX_ITERATIONS, NewtonTest, Progress, Verdict};
+use super::newton::{MAX_ITERATIONS, NewtonTest, Progress, Verdict, factor_failure};
 use super::step_control::{self, StepPolicy};
 use super::{
-    Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
-    weights,
+    Cause, Collapse, Integrator, IntegratorKind, NewtonCause, NewtonFailure, Settings, SolverError,
+    Stats, StepAction, StepHook, time_eps, weights,
 };
 use crate::dae::System;
 use crate::dae::linear::LinearSolver;
@@ -180,27 +180,11 @@ const MAX_GROWTH: f64 = 3.0;
 /// has converged.
 const NEWTON_FRACTION: f64 = 0.02;
 
-/// What a Newton failure that no step size cures says about the problem, from the failure
-/// itself (the integrator does not know whether the model has contacts).
-fn newton_failure_cause(reason: &str) -> &'static str {
-    if reason.contains("singular") {
-        "the Newton matrix is singular here: a singular configuration (joints whose constraints \
-         lose rank, e.g. a closed loop at a dead point) or a body without mass or inertia"
-    } else if reason.contains("non-finite") {
-        "the forces or constraints became non-finite: a force law evaluated outside its range \
-         (check its parameters)"
-    } else {
-        "Newton does not converge however small the step: a force law too stiff or not smooth \
-         enough for the solver (check stiffness and damping parameters) or a discontinuity in \
-         the forces"
-    }
-}
-
 enum StepOutcome {
     /// Newton converged; weighted local error estimate.
     Converged(f64),
-    /// Newton did not converge (with the reason).
-    Failed(String),
+    /// Newton did not converge.
+    Failed(NewtonFailure),
 }
 
 impl GenAlpha {
@@ -426,7 +410,10 @@ impl GenAlpha {
                 phi_max = phi_max.max(row.phi.abs());
             }
             if self.rhs.iter().any(|x| !x.is_finite()) {
-                return StepOutcome::Failed(format!("non-finite residual at t = {t1:.9e} s"));
+                return StepOutcome::Failed(NewtonFailure {
+                    t: t1,
+                    cause: NewtonCause::NonFinite("Newton residual"),
+                });
             }
             let fresh = fresh_fixed_step_matrix(fixed, progress.iterations());
             if !self.jac_valid || !same_step(self.jac_h, h) || fresh {
@@ -479,7 +466,7 @@ impl GenAlpha {
                 }
                 if let Err(e) = self.lin.factor() {
                     self.jac_valid = false;
-                    return StepOutcome::Failed(e);
+                    return StepOutcome::Failed(factor_failure(&self.lin, e, t1));
                 }
                 self.jac_valid = true;
                 self.jac_h = hm;
@@ -492,7 +479,10 @@ impl GenAlpha {
             }
             if let Err(e) = self.lin.solve(&mut self.rhs) {
                 self.jac_valid = false;
-                return StepOutcome::Failed(e);
+                return StepOutcome::Failed(NewtonFailure {
+                    t: t1,
+                    cause: NewtonCause::SingularMatrix(e),
+                });
             }
             for i in 0..nv {
                 self.w[i] += self.rhs[i];
@@ -524,9 +514,10 @@ impl GenAlpha {
                 && self.tmp.iter().all(|x| x.abs() <= band);
             let verdict = progress.judge(&test, norm, stalled);
             if let Verdict::Diverged(rate) = verdict {
-                return StepOutcome::Failed(format!(
-                    "Newton iteration diverges at t = {t1:.9e} s (rate {rate:.2})"
-                ));
+                return StepOutcome::Failed(NewtonFailure {
+                    t: t1,
+                    cause: NewtonCause::Diverged(Some(rate)),
+                });
             }
             let phi_tol = if unit {
                 phi_tol * self.rank.round_off_amplification()
@@ -593,9 +584,10 @@ impl GenAlpha {
                 return StepOutcome::Converged(err);
             }
             if progress.iterations() >= MAX_ITERATIONS {
-                return StepOutcome::Failed(format!(
-                    "Newton iteration did not converge in {MAX_ITERATIONS} iterations at t = {t1:.9e} s"
-                ));
+                return StepOutcome::Failed(NewtonFailure {
+                    t: t1,
+                    cause: NewtonCause::NoConvergence(MAX_ITERATIONS),
+                });
             }
         }
     }
@@ -606,7 +598,7 @@ impl GenAlpha {
     /// smaller next step then corrects the predictor's normal motion `h G v1` through
     /// `a1 ~ G v1 / (b h)`, and the error estimate `h^2 (a1 - a0)`, taken per unit step, no longer
     /// falls with the step: after a rejection the step collapsed (double pendulum, rtol 1e-4).
-    fn project_speeds(&mut self, sys: &mut System, t1: f64) -> Result<(), String> {
+    fn project_speeds(&mut self, sys: &mut System, t1: f64) -> Result<(), NewtonFailure> {
         let (nv, nc) = (sys.n_v(), sys.n_c());
         if nc == 0 {
             return Ok(());
@@ -618,7 +610,10 @@ impl GenAlpha {
         for (r, row) in sys.rows.iter().enumerate() {
             self.rhs[nv + r] = -(self.lam_scratch[r] + row.phi_t);
         }
-        self.lin.solve(&mut self.rhs)?;
+        self.lin.solve(&mut self.rhs).map_err(|e| NewtonFailure {
+            t: t1,
+            cause: NewtonCause::SingularMatrix(e),
+        })?;
         for (v, dv) in self.v1.iter_mut().zip(&self.rhs[..nv]) {
             *v += dv;
         }
@@ -773,10 +768,13 @@ impl Integrator for GenAlpha {
             }
             steps += 1;
             if steps > self.s.max_steps {
-                return Err(SolverError(format!(
-                    "more than {} steps in one call at t = {:.9e} s: raise h_max or loosen rtol/atol",
-                    self.s.max_steps, st.t
-                )));
+                return Err(SolverError::at(
+                    IntegratorKind::GenAlpha,
+                    st.t,
+                    Cause::StepBudget {
+                        max_steps: self.s.max_steps,
+                    },
+                ));
             }
             let natural = if adaptive {
                 self.h.min(self.s.h_max)
@@ -831,20 +829,28 @@ impl Integrator for GenAlpha {
                             && (self.err_roundoff * h / self.h >= ROUNDOFF_SHARE_LIMIT
                                 || step_control::collapsed(self.h, st.t))
                         {
-                            return Err(SolverError(format!(
-                                "rtol {:.1e} / atol {:.1e} is tighter than generalized-alpha resolves here in double precision: at t = {:.9e} s the step this tolerance needs ({:.1e} s) is so small that the round-off of positions takes {:.2} of the tolerance; loosen rtol/atol or use bdf or dopri5",
-                                self.s.rtol,
-                                self.s.atol,
+                            return Err(SolverError::at(
+                                IntegratorKind::GenAlpha,
                                 st.t,
-                                self.h,
-                                self.err_roundoff * h / self.h
-                            )));
+                                Cause::Tolerance {
+                                    rtol: self.s.rtol,
+                                    atol: self.s.atol,
+                                    h: self.h,
+                                    share: self.err_roundoff * h / self.h,
+                                },
+                            ));
                         }
                         if self.gain_ratio > 1.0 && step_control::collapsed(self.h, st.t) {
-                            return Err(SolverError(format!(
-                                "step size fell below {:.1e} s at t = {:.9e} s: the steps keep gaining energy ({:.2e} of the allowed 100 rtol of the energy in play) however small: a force whose potential energy disagrees with the force, or a force law too stiff for the solver (check stiffness and damping parameters)",
-                                self.h, st.t, self.gain_ratio
-                            )));
+                            return Err(SolverError::at(
+                                IntegratorKind::GenAlpha,
+                                st.t,
+                                Cause::StepCollapse {
+                                    h: self.h,
+                                    why: Collapse::EnergyGain {
+                                        gain: self.gain_ratio,
+                                    },
+                                },
+                            ));
                         }
                     } else {
                         let located = if locate && !landing_trial {
@@ -884,7 +890,7 @@ impl Integrator for GenAlpha {
                         }
                     }
                 }
-                StepOutcome::Failed(reason) => {
+                StepOutcome::Failed(newton) => {
                     self.stats.newton_failures += 1;
                     if !refreshed && self.jac_valid {
                         self.jac_valid = false;
@@ -893,18 +899,25 @@ impl Integrator for GenAlpha {
                     }
                     refreshed = false;
                     if !adaptive {
-                        return Err(SolverError(format!(
-                            "{reason}; the fixed step {h:.3e} s is too large for this problem: reduce it or use an adaptive integrator"
-                        )));
+                        return Err(SolverError::at(
+                            IntegratorKind::GenAlpha,
+                            st.t,
+                            Cause::FixedStepTooLarge { h, newton },
+                        ));
                     }
                     self.h = step_control::after_failure(h);
                     if step_control::collapsed(self.h, st.t) {
-                        return Err(SolverError(format!(
-                            "step size fell below {:.1e} s at t = {:.9e} s: {reason}; {}",
-                            self.h,
+                        return Err(SolverError::at(
+                            IntegratorKind::GenAlpha,
                             st.t,
-                            newton_failure_cause(&reason)
-                        )));
+                            Cause::StepCollapse {
+                                h: self.h,
+                                why: Collapse::Newton {
+                                    newton,
+                                    singular: None,
+                                },
+                            },
+                        ));
                     }
                 }
             }

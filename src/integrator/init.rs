@@ -76,13 +76,13 @@ pub fn project_positions_reusing(
             Verdict::Converged => return Ok(()),
             Verdict::Continue => {}
             Verdict::Diverged(_) => {
-                return Err(SolverError(format!(
+                return Err(SolverError::other(format!(
                     "projection onto the joints failed at t = {:.9e} s: constraint row {row} has the residual {worst} (non-finite positions or joint data)",
                     state.t
                 )));
             }
             Verdict::Exhausted => {
-                return Err(SolverError(format!(
+                return Err(SolverError::other(format!(
                     "positions cannot be made to satisfy the joints at t = {:.9e} s: constraint row {row} keeps a residual of {worst:.3e} after {PROJECTION_ITERATIONS} projection iterations (check joint frames and initial poses)",
                     state.t
                 )));
@@ -93,7 +93,7 @@ pub fn project_positions_reusing(
         } else {
             lin.factor(sys, state.t, &state.q, &state.v, 0.0)
                 .map_err(|e| {
-                    SolverError(format!(
+                    SolverError::other(format!(
                         "projection onto the joints failed: {e} (redundant or conflicting joints?)"
                     ))
                 })?;
@@ -102,7 +102,7 @@ pub fn project_positions_reusing(
         for (r, row) in sys.rows.iter().enumerate() {
             rhs[nv + r] = -row.phi;
         }
-        lin.solve(rhs).map_err(SolverError)?;
+        lin.solve(rhs).map_err(SolverError::other)?;
         sys.model.retract(&state.q, &rhs[..nv], qn);
         state.q.copy_from_slice(qn);
     }
@@ -134,7 +134,7 @@ pub fn project_velocities_reusing(
     sys.eval_constraints(state.t, &state.q, &state.v);
     if !reuse {
         lin.factor(sys, state.t, &state.q, &state.v, 0.0)
-            .map_err(|e| SolverError(format!("velocity projection failed: {e}")))?;
+            .map_err(|e| SolverError::other(format!("velocity projection failed: {e}")))?;
     }
     let ProjectionScratch { rhs, gv, .. } = scratch;
     rhs.resize(nv + nc, 0.0);
@@ -144,7 +144,7 @@ pub fn project_velocities_reusing(
     for (r, row) in sys.rows.iter().enumerate() {
         rhs[nv + r] = -(gv[r] + row.phi_t);
     }
-    lin.solve(rhs).map_err(SolverError)?;
+    lin.solve(rhs).map_err(SolverError::other)?;
     for (v, dv) in state.v.iter_mut().zip(&rhs[..nv]) {
         *v += dv;
     }
@@ -184,8 +184,8 @@ pub fn index1_solution(
         out[nv + r] = row.gamma;
     }
     lin.factor(sys, t, q, v, 0.0)
-        .map_err(|e| SolverError(format!("initial accelerations: {e}")))?;
-    lin.solve(out).map_err(SolverError)
+        .map_err(|e| SolverError::other(format!("initial accelerations: {e}")))?;
+    lin.solve(out).map_err(SolverError::other)
 }
 
 /// `v_dot` and `lambda` of the index-1 system at `(t, q, v)` into `vdot` (length `n_v`) and
@@ -224,7 +224,7 @@ pub fn make_consistent(
     let mut lin = Kkt::new();
     project_positions(sys, &mut lin, state, position_tol)?;
     sys.check_dropped_rows(state.t, &state.q, &state.v, 1e3 * position_tol.max(1e-13))
-        .map_err(SolverError)?;
+        .map_err(SolverError::other)?;
     project_velocities(sys, &mut lin, state)?;
     accelerations(sys, &mut lin, state)
 }

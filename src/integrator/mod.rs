@@ -14,6 +14,7 @@
 
 pub mod bdf;
 pub mod dopri;
+pub mod error;
 mod events;
 pub mod gen_alpha;
 pub mod init;
@@ -26,6 +27,9 @@ pub mod tree_tableau;
 
 use crate::dae::System;
 use crate::state::State;
+pub use error::{
+    Cause, Collapse, Failure, NewtonCause, NewtonFailure, Passage, SingularPassage, SolverError,
+};
 
 /// Which integrator; the first three ([`IntegratorKind::ALL`]) are the FMU enumeration of both
 /// models (1-based there), PanelLock's has [`IntegratorKind::Dopri5Tree`] as its fourth item.
@@ -71,6 +75,19 @@ impl IntegratorKind {
             IntegratorKind::Dopri5Tree => "dopri5-tree",
             IntegratorKind::Verner65Tree => "verner65-tree",
             IntegratorKind::Verner87Tree => "verner87-tree",
+        }
+    }
+
+    /// The spelling the FMUs' `integrator` parameter accepts for this kind (the names of
+    /// PanelLock's enumeration items); `None` for the library-only Verner pairs. Solver messages
+    /// name integrators by it when they advise another one.
+    pub fn parameter_name(self) -> Option<&'static str> {
+        match self {
+            IntegratorKind::GenAlpha => Some("gen_alpha"),
+            IntegratorKind::Bdf => Some("bdf"),
+            IntegratorKind::Dopri5 => Some("dopri5"),
+            IntegratorKind::Dopri5Tree => Some("dopri5_tree"),
+            IntegratorKind::Verner65Tree | IntegratorKind::Verner87Tree => None,
         }
     }
 }
@@ -324,18 +341,6 @@ impl Stats {
         })
     }
 }
-
-/// Why integration stopped.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SolverError(pub String);
-
-impl std::fmt::Display for SolverError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for SolverError {}
 
 /// What an integrator does after an accepted step, as a hook decides.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -15,7 +15,9 @@
 //!   and backtracking; the projection's Gauss-Newton from poses that may be far off) and may pass
 //!   non-contracting iterates on the way, so only a non-finite residual ends it early.
 
+use super::{NewtonCause, NewtonFailure};
 use crate::dae::System;
+use crate::dae::linear::LinearSolver;
 
 /// Iterations of one step before it fails (also after the decisions were taken again).
 pub const MAX_ITERATIONS: usize = 12;
@@ -160,13 +162,16 @@ impl Progress {
         (t, q, v): (f64, &[f64], &[f64]),
         rtol: f64,
         atol: f64,
-    ) -> Result<bool, String> {
+    ) -> Result<bool, NewtonFailure> {
         if sys.frozen_consistent(t, q, v, rtol, atol) {
             sys.thaw_accepted();
             return Ok(true);
         }
         if self.redecided == MAX_REDECIDE {
-            return Err(format!("slip modes not settled at t = {t:.9e} s"));
+            return Err(NewtonFailure {
+                t,
+                cause: NewtonCause::SlipModes,
+            });
         }
         self.redecided += 1;
         sys.freeze_decisions(t, q, v);
@@ -174,6 +179,18 @@ impl Progress {
         self.it = 0;
         Ok(false)
     }
+}
+
+/// The failure of a Newton matrix's factorization at the step ending at `t` [s], typed: a
+/// matrix with non-finite entries (a force law evaluated outside its range) or a singular one,
+/// with the linear solver's account `detail`.
+pub(crate) fn factor_failure(lin: &LinearSolver, detail: String, t: f64) -> NewtonFailure {
+    let cause = if lin.has_non_finite_entries() {
+        NewtonCause::NonFinite("Newton matrix entries")
+    } else {
+        NewtonCause::SingularMatrix(detail)
+    };
+    NewtonFailure { t, cause }
 }
 
 #[cfg(test)]

@@ -20,7 +20,8 @@ use super::kkt::Kkt;
 use super::step_control;
 use super::tree_tableau::{DOPRI5, Tableau, VERNER65, VERNER87};
 use super::{
-    Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook, time_eps,
+    Cause, Collapse, Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction,
+    StepHook, time_eps,
 };
 use crate::dae::System;
 use crate::math::wrms;
@@ -99,14 +100,14 @@ impl TreeRk {
             .is_some_and(|_| self.scratch.q.len() == sys.n_q());
         if !found {
             let tree = JointTree::detect(sys, &st.q)
-                .map_err(|e| SolverError(format!("{}: {e}", self.method.name)))?;
+                .map_err(|e| SolverError::other(format!("{}: {e}", self.method.name)))?;
             self.scratch = TreeScratch::default();
             self.tree = Some(tree);
         }
         let tree = self
             .tree
             .as_ref()
-            .ok_or_else(|| SolverError(format!("{}: no tree", self.method.name)))?;
+            .ok_or_else(|| SolverError::other(format!("{}: no tree", self.method.name)))?;
         let n2 = 2 * tree.n();
         self.scratch.size_for(tree, sys, &st.q);
         for v in self
@@ -151,7 +152,10 @@ impl TreeRk {
     /// Derivative of the joint state `ys` at time `t` into `k[i]`, powers into `pw[i]`.
     fn stage(&mut self, sys: &mut System, t: f64, i: usize) -> Result<(), SolverError> {
         let Some(tree) = &self.tree else {
-            return Err(SolverError(format!("{}: not started", self.method.name)));
+            return Err(SolverError::other(format!(
+                "{}: not started",
+                self.method.name
+            )));
         };
         let n = tree.n();
         let (th, dth) = self.ys.split_at(n);
@@ -159,7 +163,9 @@ impl TreeRk {
         kx.copy_from_slice(dth);
         self.scratch
             .accelerations(tree, sys, t, th, dth, kv)
-            .map_err(|e| SolverError(format!("{} at t = {t:.9e} s: {e}", self.method.name)))?;
+            .map_err(|e| {
+                SolverError::other(format!("{} at t = {t:.9e} s: {e}", self.method.name))
+            })?;
         self.pw[i] = sys.powers(t, &self.scratch.q, &self.scratch.v);
         self.stats.rhs_evaluations += 1;
         self.stats.factorizations += 1;
@@ -268,7 +274,7 @@ impl TreeRk {
             .factor(sys, st.t, &st.q, &st.v, 0.0)
             .and_then(|()| self.kkt.solve(&mut self.rhs))
             .map_err(|e| {
-                SolverError(format!(
+                SolverError::other(format!(
                     "{}: accelerations of the state: {e}",
                     self.method.name
                 ))
@@ -348,10 +354,13 @@ impl Integrator for TreeRk {
             }
             steps += 1;
             if steps > self.s.max_steps {
-                return Err(SolverError(format!(
-                    "more than {} steps in one call at t = {:.9e} s: the scene is too stiff for {}, choose gen-alpha or bdf",
-                    self.s.max_steps, st.t, self.method.name
-                )));
+                return Err(SolverError::at(
+                    self.kind(),
+                    st.t,
+                    Cause::StepBudget {
+                        max_steps: self.s.max_steps,
+                    },
+                ));
             }
             let natural = if adaptive {
                 self.h.min(self.s.h_max)
@@ -381,18 +390,19 @@ impl Integrator for TreeRk {
                 self.stats.rejected_error += 1;
                 self.h = step_control::after_rejection(h, step_control::proposal(err, order));
                 if step_control::collapsed(self.h, st.t) {
-                    return Err(SolverError(format!(
-                        "{}: step size fell below {:.1e} s at t = {:.9e} s (non-finite or singular accelerations?)",
-                        self.method.name, self.h, st.t
-                    )));
+                    return Err(SolverError::at(
+                        self.kind(),
+                        st.t,
+                        Cause::StepCollapse {
+                            h: self.h,
+                            why: Collapse::ErrorEstimate,
+                        },
+                    ));
                 }
                 continue;
             }
             if !err.is_finite() {
-                return Err(SolverError(format!(
-                    "{} step at t = {:.9e} s produced non-finite values with the fixed step {h:.3e} s",
-                    self.method.name, st.t
-                )));
+                return Err(SolverError::at(self.kind(), st.t, Cause::NonFinite { h }));
             }
             self.accept(sys, st, h)?;
             if adaptive {

@@ -63,7 +63,7 @@ pub fn detect(sys: &System, q: &[f64]) -> Result<JointTree, String> {
     }
     if sys.n_contact_events() > 0 {
         return Err(format!(
-            "the model has {} contact events: the joint-coordinate path does not locate contact events; use dopri5, bdf or gen-alpha",
+            "the model has {} contact events: the joint-coordinate path does not locate contact events; use integrator = dopri5, bdf or gen_alpha",
             sys.n_contact_events()
         ));
     }
