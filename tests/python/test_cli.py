@@ -14,7 +14,7 @@ from conftest import ROOT
 
 EXE = os.environ.get("MBCOSIM_BIN", str(ROOT / "target" / "release" / "mbcosim"))
 COMMANDS = ["pack", "model-descriptions", "demo", "simulate", "models", "variables", "report", "table1",
-            "state-fields"]
+            "calibrate", "state-fields"]
 
 
 def run(*args, cwd=None, env=None):
@@ -257,6 +257,28 @@ def test_variables_lists_types_units_and_items():
 
 
 # --- table1 ---------------------------------------------------------------------------------
+
+def test_calibrate_gives_table1s_figures_at_table1s_setting_and_refuses_an_impossible_grid(tmp_path):
+    """`calibrate` (issue #45 item 3) at the Table 1 configuration's own setting (restitution 0.8,
+    preloads unscaled, 50 mm cam) reports the root peaks and locked frequencies that `table1`
+    prints for k 1e7 and 1e8 (the same runs through the other command); a grid with no valid
+    setting (cam radius below the groove depth) is an error naming the parameter."""
+    stop = "30"  # every hinge locks by 27.5 s
+    ok("calibrate", "--restitution", "0.8", "--preload-scale", "1", "--cam-radius", "0.05", "--stop", stop,
+       "--out", tmp_path / "cal")
+    head, rows = table((tmp_path / "cal" / "panel_lock_calibration.csv").read_text())
+    assert len(rows) == 1, rows
+    got = dict(zip(head, map(float, rows[0])))
+    ok("table1", "--stop", stop, "--out", tmp_path / "t1")
+    head, rows = table((tmp_path / "t1" / "panel_lock_table1.csv").read_text())
+    t1 = {(float(r[0]), float(r[1])): dict(zip(head, map(float, r))) for r in rows}
+    for k, name in ((1e7, "1e7"), (1e8, "1e8")):
+        assert got[f"root_peak_{name}"] == t1[(k, 1.5)]["peak_force0"], (name, got, t1[(k, 1.5)])
+        assert got[f"frequency_{name}"] == t1[(k, 1.5)]["linear_frequency_hz"], (name, got, t1[(k, 1.5)])
+    err = refused("calibrate", "--cam-radius", "0.005", "--restitution", "0.8", "--preload-scale", "1",
+                  "--out", tmp_path / "bad")
+    assert "no setting of the grid ran" in err and "cam_radius" in err, err
+
 
 def test_table1_takes_booleans_and_choices_and_the_papers_setup(tmp_path):
     """`table1 --set` takes every parameter type as `simulate --set` does (issue #45 item 1: the

@@ -57,6 +57,9 @@ enum Command {
     /// The paper's Table 1 / Figs. 4-5 with flexible PanelLock panels: CSV, SVG plots and a
     /// markdown table.
     Table1(study::Table1Args),
+    /// Calibrate the paper's unstated latch and spring parameters against Table 1: a grid over
+    /// restitution, preload scale and cam radius, ranked by the worst residual.
+    Calibrate(study::CalibrateArgs),
     /// Every field of a serialized FMU state, one JSON object a line (offset, len, kind, what).
     StateFields(state_fields::StateFieldsArgs),
 }
@@ -74,6 +77,7 @@ fn run(cli: Cli) -> Result<(), String> {
         Command::Variables(a) => models::list_variables(&a),
         Command::Report(a) => study::report(&a),
         Command::Table1(a) => study::table1(&a),
+        Command::Calibrate(a) => study::calibrate(&a),
         Command::StateFields(a) => state_fields::state_fields(&a),
     }
 }

@@ -57,6 +57,7 @@
 pub mod array;
 mod array_file;
 mod build;
+pub mod calibration;
 mod cosim;
 mod demo;
 mod dependencies;
