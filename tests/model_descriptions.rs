@@ -129,13 +129,13 @@ fn the_guid_changes_with_the_interface() {
     let recorded: [(&str, &str, u64); 3] = [
         (
             "PanelLock",
-            "{d24f3916-8448-4cb1-912f-3b1f8dc642a0}",
-            0xa3ed_be03_e3d3_22df,
+            "{d35f394e-5e08-4ec1-a39e-ecc8c680d7e2}",
+            0x232e_a8a6_1bcc_20a6,
         ),
         (
             "RopeBlock",
-            "{ae2d1cb7-69e0-45d5-88f3-bb815d2916da}",
-            0x817c_3ef4_686c_af2d,
+            "{09fdd287-a870-402d-bb2b-296e00423f28}",
+            0x8f77_b44b_3011_be16,
         ),
         (
             "PidController",

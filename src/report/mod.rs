@@ -3,6 +3,7 @@
 
 pub mod loglog;
 pub mod plot_style;
+pub mod readme_figures;
 pub mod spectrum;
 pub mod svg;
 pub mod svg_check;

@@ -1,8 +1,14 @@
 //! Checks of a plot written by [`super::svg`] or [`super::loglog`], read back from its SVG text:
-//! the legend lies outside the data area and holds all its text, every curve stays inside the
-//! data area, no two curves share a colour or a dash pattern, and no text runs off the canvas.
+//! the legend lies outside the data area and holds all its text, covers no mark (the rings of
+//! located peaks and linearized frequencies) and no label, every curve stays inside the data
+//! area, no two curves share a colour or a dash pattern, and no text runs off the canvas.
 //! Text extents use the same width estimate as the layout
 //! ([`super::plot_style::text_width`]). Lengths are px.
+//!
+//! Plots drawn by matplotlib (tools/mbstudy) cannot be read back this way; they carry their
+//! layout as measured by matplotlib's renderer in a `<g class="layout">` group of empty `rect`s
+//! (`axes`, `legend-box`, `mark`, `label`), which [`parse_layout`] reads and [`check_layout`]
+//! checks: no legend over a mark or a label, all of them on the canvas.
 
 use super::plot_style::text_width;
 use quick_xml::XmlVersion;
@@ -57,6 +63,8 @@ pub struct Plot {
     pub legend: Bounds,
     pub series: Vec<PlotSeries>,
     pub texts: Vec<PlotText>,
+    /// Boxes of the marks drawn over the curves (`circle class="marker"`).
+    pub marks: Vec<Bounds>,
 }
 
 fn attr(e: &BytesStart, name: &str) -> Option<String> {
@@ -136,6 +144,7 @@ pub fn parse(svg: &str) -> Result<Plot, String> {
     let mut ranges = (0.0, 1.0, 0.0, 1.0, false);
     let mut raw_series = Vec::new();
     let mut texts = Vec::new();
+    let mut marks = Vec::new();
     let mut open: Option<OpenText> = None;
     let (mut font, mut legend_depth, mut depth) = (12.0, None, 0usize);
     loop {
@@ -202,6 +211,15 @@ pub fn parse(svg: &str) -> Result<Plot, String> {
                 );
             }
             "rect" if class == "legend-box" => legend = Some(rect_bounds(&e)?),
+            "circle" if class == "marker" => {
+                let (x, y, r) = (num(&e, "cx")?, num(&e, "cy")?, num(&e, "r")?);
+                marks.push(Bounds {
+                    x0: x - r,
+                    y0: y - r,
+                    x1: x + r,
+                    y1: y + r,
+                });
+            }
             "polyline" if class == "series" => {
                 let pixels: Result<Vec<(f64, f64)>, String> = attr(&e, "points")
                     .unwrap_or_default()
@@ -261,6 +279,7 @@ pub fn parse(svg: &str) -> Result<Plot, String> {
         legend: legend.ok_or("no legend box (rect of class legend-box)")?,
         series,
         texts,
+        marks,
     })
 }
 
@@ -320,6 +339,9 @@ pub fn check(p: &Plot) -> Result<(), String> {
             return Err(format!("text {:?} overlaps the legend", t.text));
         }
     }
+    if let Some(m) = p.marks.iter().find(|m| m.overlaps(&p.legend)) {
+        return Err(format!("the legend covers the mark at {m:?}"));
+    }
     let legend_texts = p.texts.iter().filter(|t| t.in_legend).count();
     if legend_texts < p.series.len() {
         return Err(format!(
@@ -328,6 +350,108 @@ pub fn check(p: &Plot) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+/// The layout of a matplotlib plot as its renderer measured it (see the module doc) [px of the
+/// SVG's own units].
+#[derive(Debug, Clone)]
+pub struct Layout {
+    pub canvas: Bounds,
+    pub axes: Vec<Bounds>,
+    pub legends: Vec<Bounds>,
+    pub marks: Vec<Bounds>,
+    pub labels: Vec<Bounds>,
+}
+
+/// A length attribute in SVG units (`504pt` and `504` alike: matplotlib's `viewBox` is in pt).
+fn length(e: &BytesStart, name: &str) -> Result<f64, String> {
+    let v = attr(e, name).ok_or(format!("no attribute {name}"))?;
+    v.trim_end_matches("pt")
+        .parse()
+        .map_err(|_| format!("attribute {name} = {v:?} is not a length"))
+}
+
+/// Reads the `<g class="layout">` group of a matplotlib plot; fails when there is none (a plot
+/// the checks cannot read).
+pub fn parse_layout(svg: &str) -> Result<Layout, String> {
+    let mut reader = Reader::from_str(svg);
+    let mut canvas = None;
+    let mut found = false;
+    let (mut axes, mut legends, mut marks, mut labels) = (vec![], vec![], vec![], vec![]);
+    loop {
+        let ev = reader.read_event().map_err(|e| e.to_string())?;
+        let e = match &ev {
+            Event::Start(e) | Event::Empty(e) => e.clone(),
+            Event::Eof => break,
+            _ => continue,
+        };
+        let class = attr(&e, "class").unwrap_or_default();
+        match (e.name().as_ref(), class.as_str()) {
+            ("svg", _) if canvas.is_none() => {
+                canvas = Some(Bounds {
+                    x0: 0.0,
+                    y0: 0.0,
+                    x1: length(&e, "width")?,
+                    y1: length(&e, "height")?,
+                });
+            }
+            ("g", "layout") => found = true,
+            ("rect", "axes") => axes.push(rect_bounds(&e)?),
+            ("rect", "legend-box") => legends.push(rect_bounds(&e)?),
+            ("rect", "mark") => marks.push(rect_bounds(&e)?),
+            ("rect", "label") => labels.push(rect_bounds(&e)?),
+            _ => {}
+        }
+    }
+    if !found {
+        return Err(
+            "no layout group (g class=\"layout\"): a plot the checks cannot read".to_string(),
+        );
+    }
+    Ok(Layout {
+        canvas: canvas.ok_or("no svg element")?,
+        axes,
+        legends,
+        marks,
+        labels,
+    })
+}
+
+/// Checks a matplotlib plot's layout: no legend covers a mark or a label, and the axes, legends,
+/// marks and labels lie on the canvas.
+pub fn check_layout(l: &Layout) -> Result<(), String> {
+    if l.axes.is_empty() {
+        return Err("the layout has no axes".into());
+    }
+    for (what, boxes) in [
+        ("axes", &l.axes),
+        ("legend", &l.legends),
+        ("mark", &l.marks),
+        ("label", &l.labels),
+    ] {
+        if let Some(b) = boxes.iter().find(|b| !b.inside(&l.canvas, 0.5)) {
+            return Err(format!("{what} {b:?} runs off the canvas {:?}", l.canvas));
+        }
+    }
+    for g in &l.legends {
+        if let Some(m) = l.marks.iter().find(|m| m.overlaps(g)) {
+            return Err(format!("the legend {g:?} covers the mark at {m:?}"));
+        }
+        if let Some(t) = l.labels.iter().find(|t| t.overlaps(g)) {
+            return Err(format!("the legend {g:?} covers the label at {t:?}"));
+        }
+    }
+    Ok(())
+}
+
+/// Checks a plot the project writes, whichever way it was drawn: [`check`] for our own SVGs (a
+/// `rect class="data"`), [`check_layout`] for matplotlib's.
+pub fn check_any(svg: &str) -> Result<(), String> {
+    if svg.contains(r#"class="data""#) {
+        check(&parse(svg)?)
+    } else {
+        check_layout(&parse_layout(svg)?)
+    }
 }
 
 #[cfg(test)]
@@ -362,9 +486,41 @@ mod tests {
             ("190,170", "250,170", "leaves the data area"),
             (">b</text>", ">a long entry</text>", "out of the legend box"),
             (r#"<text x="210" y="54">b</text>"#, "", "legend entries"),
+            (
+                "</g></svg>",
+                r#"</g><circle class="marker" cx="198" cy="30" r="4"/></svg>"#,
+                "covers the mark",
+            ),
         ] {
             let bad = GOOD.replacen(from, to, 1);
             let Err(err) = check(&parse(&bad).unwrap()) else {
+                panic!("{what}: not caught");
+            };
+            assert!(err.contains(what), "{what}: {err}");
+        }
+    }
+
+    const LAYOUT: &str = r#"<svg width="504pt" height="324pt" viewBox="0 0 504 324"><path d="M0 0"/><g class="layout"><rect class="axes" x="50" y="30" width="300" height="250"/><rect class="legend-box" x="360" y="30" width="120" height="60"/><rect class="mark" x="300" y="200" width="12" height="12"/><rect class="label" x="310" y="210" width="30" height="10"/></g></svg>"#;
+
+    #[test]
+    fn a_matplotlib_layout_passes_and_each_broken_rule_is_caught() {
+        check_any(LAYOUT).unwrap();
+        for (from, to, what) in [
+            (
+                r#"class="mark" x="300" y="200""#,
+                r#"class="mark" x="365" y="40""#,
+                "covers the mark",
+            ),
+            (
+                r#"class="label" x="310" y="210""#,
+                r#"class="label" x="400" y="50""#,
+                "covers the label",
+            ),
+            (r#"width="120""#, r#"width="160""#, "runs off the canvas"),
+            (r#"<g class="layout">"#, "<g>", "no layout group"),
+        ] {
+            let bad = LAYOUT.replacen(from, to, 1);
+            let Err(err) = check_any(&bad) else {
                 panic!("{what}: not caught");
             };
             assert!(err.contains(what), "{what}: {err}");

@@ -17,6 +17,7 @@
 //!    model-descriptions`) and pack (`... -- pack`).
 
 pub mod bytes;
+pub mod choice;
 pub mod clock;
 pub mod native;
 pub mod panel_lock;

@@ -200,6 +200,9 @@ def run_fmpy(case, time_mode="grid"):
 
     def set_value(inst, name, value):
         v = vars_[inst][name]
+        if v.type == "Enumeration":  # fmpy sets the named choices (fmi2SetInteger); the C++ masters cannot
+            slaves[inst].setInteger([v.valueReference], [int(value)])
+            return
         value = typed(v, value)
         {"Real": slaves[inst].setReal, "Integer": slaves[inst].setInteger,
          "Boolean": slaves[inst].setBoolean}[v.type]([v.valueReference], [value])
@@ -335,6 +338,24 @@ def run_ecospy(case):
             assert math.isclose(end, case.stop, rel_tol=1e-12), f"Ecos ended at {end!r} s"
             sim.terminate()
     return res.finish(time.perf_counter() - t0)
+
+
+def choice_parameters(path):
+    """The choice parameters of an FMU: (Enumeration variable, its Integer twin, number of items).
+    Every Enumeration parameter must have a twin `<name>_number` (docs/choice_parameters.md)."""
+    md = model_description(path)
+    vs = variables(path)
+    items = {t.name: len(t.items) for t in md.typeDefinitions if t.type == "Enumeration"}
+    out = []
+    for v in md.modelVariables:
+        if v.type == "Enumeration" and v.causality == "parameter":
+            twin = vs.get(f"{v.name}_number")
+            assert twin is not None and twin.type == "Integer" and twin.causality == "parameter", \
+                f"{path.name}: the Enumeration parameter {v.name} has no Integer twin {v.name}_number"
+            assert int(twin.start) == 0 and int(twin.min) == 0 and int(twin.max) == items[v.declaredType.name], \
+                f"{path.name}: {twin.name} is not 0 (start) .. number of items"
+            out.append((v, twin, items[v.declaredType.name]))
+    return out
 
 
 RUNNERS = {"fmpy": run_fmpy, "libcosimpy": run_libcosimpy, "ecospy": run_ecospy}

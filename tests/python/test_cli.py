@@ -13,8 +13,8 @@ import pytest
 from conftest import ROOT
 
 EXE = os.environ.get("MBCOSIM_BIN", str(ROOT / "target" / "release" / "mbcosim"))
-COMMANDS = ["pack", "model-descriptions", "demo", "simulate", "models", "variables", "report", "table1",
-            "calibrate", "state-fields"]
+COMMANDS = ["pack", "model-descriptions", "demo", "readme-figures", "simulate", "models", "variables", "report",
+            "table1", "calibrate", "state-fields"]
 
 
 def run(*args, cwd=None, env=None):
@@ -51,6 +51,14 @@ def test_top_level_help_lists_every_command():
     out = ok("--help").stdout
     for c in COMMANDS:
         assert f"\n  {c} " in out, c
+
+
+def test_help_names_both_fmi_versions():
+    """The FMUs are FMI 2.0 and FMI 3.0 (dist/ and dist/fmi3/); the help said FMI 2.0 only."""
+    top = ok("--help").stdout
+    assert "FMI 2.0 and FMI 3.0" in " ".join(top.split()), top
+    pack = " ".join(ok("pack", "--help").stdout.split())
+    assert "(FMI 2.0)" in pack and "fmi3/<Model>.fmu (FMI 3.0)" in pack, pack
 
 
 @pytest.mark.parametrize("command", COMMANDS)
@@ -227,6 +235,20 @@ def test_out_is_relative_to_the_current_directory(tmp_path):
     header, rows = table((tmp_path / "res" / "run.csv").read_text())
     assert header[0] == "time [s]" and len(rows) == 3
     assert not (ROOT / "res" / "run.csv").exists()
+
+
+def test_set_file_parameter_is_relative_to_the_current_directory(tmp_path):
+    """`--set mesh_file=box.obj` names ./box.obj, as --scene and --out name files there (it was
+    refused: "mesh_file `box.obj` is relative, but no FMU resources folder is known")."""
+    from test_state_resources import BOX_OBJ
+    (tmp_path / "box.obj").write_text(BOX_OBJ)
+    args = ["simulate", "RopeBlock", "--stop", "0.1", "--set", "segments=8", "--outputs", "contact_count,hook0_load"]
+    rel = ok(*args, "--set", "mesh_file=box.obj", cwd=tmp_path).stdout
+    absolute = ok(*args, "--set", f"mesh_file={tmp_path / 'box.obj'}", cwd=ROOT).stdout
+    assert rel == absolute
+    header, rows = table(rel)
+    assert int(rows[-1][1]) > 0, "the slings must touch the user mesh"
+    assert "box.obj" in refused(*args, "--set", "mesh_file=box.obj", cwd=ROOT)
 
 
 def test_pack_outside_the_source_tree_explains_where_to_run_it(tmp_path):

@@ -88,3 +88,75 @@ def test_libcosim_and_ecos_agree(case_id):
     print("\n" + summary)
     bad = _failures(case, diffs)
     assert not bad, f"{case.name}: libcosimpy and ecospy differ beyond {im.RTOL} relative:\n{bad}"
+
+
+# Choice parameters (issue #44 item 6; docs/choice_parameters.md). libcosim and Ecos cannot set
+# Enumeration variables, so every choice has an Integer twin `<name>_number`. For every choice of
+# every model and every item: libcosimpy and ecospy set the twin, fmpy sets the Enumeration, and
+# the three runs agree bit for bit (so the twin reaches the same setting); runs of different items
+# differ in at least one output (so the setting has an effect the test sees). Each entry gives a
+# run long enough, and start values, for the choice to act on the outputs.
+CHOICE_SETUPS = {
+    # solver counters and the motion differ from the first step on
+    ("PanelLock", "integrator"): (1.0, {}),
+    # the latch contacts: the first lock-up is within the first 10 s of the default deployment
+    ("PanelLock", "contact_law"): (10.0, {}),
+    # a free satellite turned by the deployment, pushed along x: world x and body x part as it turns
+    ("PanelLock", "load_frame"): (2.0, {"free_satellite": True, "satellite_force_x": 50.0}),
+    # dopri5 takes coarse slings only (segments <= 32)
+    ("RopeBlock", "integrator"): (1.0, {"segments": 16}),
+    # hook 0 commanded 0.2 m/s up: velocity mode lifts it, position mode (dz = 0) holds it
+    ("RopeBlock", "hook_command"): (1.0, {"hook0_vz": 0.2}),
+}
+
+
+def _choices():
+    return [(p.stem, v.name, twin.name, n) for p in fmu_paths() for v, twin, n in im.choice_parameters(p)]
+
+
+def _choice_case(model, values, stop):
+    case = im.default_experiment(packed(model))
+    case.n_steps = round(stop * 1e9 / case.step_ns)
+    case.values = {"model": dict(values)}
+    case.name = f"{model} {values}"
+    return case
+
+
+def test_every_choice_parameter_is_covered():
+    found = {(m, name) for m, name, _, _ in _choices()}
+    assert found == set(CHOICE_SETUPS), f"choice parameters {sorted(found)} vs the setups {sorted(CHOICE_SETUPS)}"
+
+
+@pytest.mark.parametrize("importer", OTHERS)
+@pytest.mark.parametrize("model,choice", sorted(CHOICE_SETUPS))
+def test_importer_sets_every_choice_through_its_integer_twin(model, choice, importer):
+    _require("fmpy")
+    _require(importer)
+    (_, _, twin, n), = [c for c in _choices() if c[:2] == (model, choice)]
+    stop, base = CHOICE_SETUPS[(model, choice)]
+    runs = {}
+    for item in range(1, n + 1):
+        ref = im.run_fmpy(_choice_case(model, {**base, choice: item}, stop), im.TIME_MODE_OF[importer])
+        got = im.RUNNERS[importer](_choice_case(model, {**base, twin: item}, stop))
+        bad = _failures(ref.case, im.compare(ref, got))
+        assert not bad, f"{model}: {importer} with {twin} = {item} differs from fmpy with {choice} = {item}:\n{bad}"
+        runs[item] = got
+    for a in runs:
+        for b in runs:
+            if a < b:
+                moved = [d for d in im.compare(runs[a], runs[b]) if d.rel > im.RTOL]
+                assert moved, f"{model}: {choice} = {a} and {b} set from {importer} give the same outputs"
+
+
+@pytest.mark.parametrize("model,choice", sorted(CHOICE_SETUPS))
+def test_the_integer_twin_overrides_the_enumeration(model, choice):
+    """Both set: a non-zero twin decides, whatever the Enumeration says; 0 leaves it to the
+    Enumeration."""
+    (_, _, twin, n), = [c for c in _choices() if c[:2] == (model, choice)]
+    stop, base = CHOICE_SETUPS[(model, choice)]
+    run = lambda values: im.run_fmpy(_choice_case(model, {**base, **values}, stop))
+    same = lambda a, b: not _failures(a.case, im.compare(a, b))
+    only_enum = {item: run({choice: item}) for item in (1, n)}
+    assert same(run({choice: 1, twin: n}), only_enum[n])
+    assert same(run({choice: n, twin: 0}), only_enum[n])
+    assert not same(only_enum[1], only_enum[n])

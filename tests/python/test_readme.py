@@ -4,6 +4,7 @@ known lock window; RopeBlock against the hoist it commands (block rise = hook ri
 = the block's weight)."""
 
 import re
+import warnings
 
 import numpy as np
 from conftest import DIST, ROOT, native_table
@@ -20,9 +21,19 @@ def _snippet():
 def test_readme_fmpy_snippet_runs_and_its_numbers_hold(capsys):
     code = _snippet().replace('"dist/', f'"{DIST}/')
     scope = {}
-    exec(compile(code, "README.md", "exec"), scope)
-    printed = capsys.readouterr().out
+    with warnings.catch_warnings(record=True) as raised:
+        warnings.simplefilter("always")
+        exec(compile(code, "README.md", "exec"), scope)
+    captured = capsys.readouterr()
+    printed = captured.out
     assert "root hinge locked at" in printed and "hook load" in printed, printed
+    # the block prints its two results and nothing else: no fmpy "Warning: missing input ..."
+    # lines (27 of them before the input table had every input), no Python warnings
+    lines = [x for x in (captured.out + captured.err).splitlines() if x.strip()]
+    assert len(lines) == 2 and lines[0].startswith("root hinge locked at") and lines[1].startswith("hook load"), \
+        "\n".join(lines)
+    assert not [x for x in lines if "warning" in x.lower()], lines
+    assert not raised, [str(w.message) for w in raised]
 
     panel = scope["panel"]
     ref = native_table("simulate", "PanelLock", "--stop", "60", "--step", "0.01", timeout=600)

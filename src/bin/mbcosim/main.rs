@@ -28,7 +28,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-/// Multibody co-simulation models (PanelLock, RopeBlock, PidController) as FMI 2.0
+/// Multibody co-simulation models (PanelLock, RopeBlock, PidController) as FMI 2.0 and FMI 3.0
 /// co-simulation FMUs: pack them, run them natively, reproduce the studies.
 #[derive(Parser)]
 #[command(name = "mbcosim", version, arg_required_else_help = true)]
@@ -39,13 +39,17 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Build <DIR>/<Model>.fmu for every registered model (needs the source tree).
+    /// Build <DIR>/<Model>.fmu (FMI 2.0) and <DIR>/fmi3/<Model>.fmu (FMI 3.0) for every
+    /// registered model (needs the source tree).
     Pack(pack::PackArgs),
     /// Rewrite modelDescription/<Model>.xml and resources/scenes/<Model>.toml from the variable
     /// tables (needs the source tree).
     ModelDescriptions(pack::DescriptionArgs),
     /// Pack the FMUs, then run the demos and print their tables (needs the source tree).
     Demo(pack::DemoArgs),
+    /// Regenerate the figures README.md embeds (the PanelLock demo's plots, the work-precision
+    /// plots from docs/report/refresh/'s results) in docs/ (needs the source tree).
+    ReadmeFigures,
     /// Run one model natively and write its outputs as CSV (stdout or --out).
     Simulate(simulate::SimulateArgs),
     /// List the registered models.
@@ -69,6 +73,13 @@ fn run(cli: Cli) -> Result<(), String> {
         Command::Pack(a) => pack::pack(&a),
         Command::ModelDescriptions(a) => pack::model_descriptions(&a),
         Command::Demo(a) => pack::demo(&a),
+        Command::ReadmeFigures => {
+            let repo = pack::repo_root("readme-figures")?;
+            for f in mbcosim::report::readme_figures::regenerate(&repo, &repo)? {
+                println!("wrote {}", f.display());
+            }
+            Ok(())
+        }
         Command::Simulate(a) => simulate::simulate(&a),
         Command::Models => {
             models::list_models();

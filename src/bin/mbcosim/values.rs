@@ -134,7 +134,30 @@ pub fn parse_set<'a>(info: &'a ModelInfo, kv: &str) -> Result<(&'a PortSpec, Val
         .ok_or_else(|| format!("--set {kv}: expected NAME=VALUE"))?;
     let port = writable(info, k.trim()).map_err(|e| format!("--set {kv}: {e}"))?;
     let value = parse_for(port, v).map_err(|e| format!("--set {kv}: {e}"))?;
+    let value = match value {
+        Value::String(s) if is_path(port) => {
+            Value::String(from_current_dir(&s).map_err(|e| format!("--set {kv}: {e}"))?)
+        }
+        other => other,
+    };
     Ok((port, value))
+}
+
+/// True for a String parameter that names a file (`*_file`, e.g. RopeBlock's `mesh_file`).
+pub fn is_path(port: &PortSpec) -> bool {
+    matches!(port.ty, PortType::String { .. }) && port.name.ends_with("_file")
+}
+
+/// A relative path given on the command line, resolved against the current directory (as
+/// `--scene` and `--out` are); absolute paths and the empty string (no file) stay as they are.
+fn from_current_dir(text: &str) -> Result<String, String> {
+    if text.is_empty() || std::path::Path::new(text).is_absolute() {
+        return Ok(text.to_string());
+    }
+    let abs = std::path::absolute(text).map_err(|e| format!("cannot resolve `{text}`: {e}"))?;
+    abs.into_os_string()
+        .into_string()
+        .map_err(|p| format!("`{}` is not UTF-8", p.to_string_lossy()))
 }
 
 /// Sets `value` through the model's own setter (its rules and messages).

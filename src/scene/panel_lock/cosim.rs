@@ -59,14 +59,23 @@ impl PanelLockModel {
         }
     }
 
+    /// The item number in effect for a choice parameter: its Integer twin at `number` when not 0,
+    /// else its Enumeration at `enumeration` ([`crate::scene::choice`]).
+    fn choice(&self, enumeration: ValueRef, number: ValueRef) -> Result<i32, ModelError> {
+        Ok(crate::scene::choice::effective(
+            self.ports.get_integer(enumeration)?,
+            self.ports.get_integer(number)?,
+        ))
+    }
+
     /// The scene parameters from the current port values.
     pub fn params(&self) -> Result<PanelLockParams, ModelError> {
         let gravity_on = self.ports.get_boolean(bvr::GRAVITY_ON)?;
         let flexible_panels = self.ports.get_boolean(bvr::FLEXIBLE_PANELS)?;
         let mut p = PanelLockParams {
             n_panels: self.ports.get_integer(ivr::N_PANELS)? as usize,
-            integrator: integrator_of(self.ports.get_integer(ivr::INTEGRATOR)?),
-            contact_law: law_of(self.ports.get_integer(ivr::CONTACT_LAW)?),
+            integrator: integrator_of(self.choice(ivr::INTEGRATOR, ivr::INTEGRATOR_NUMBER)?),
+            contact_law: law_of(self.choice(ivr::CONTACT_LAW, ivr::CONTACT_LAW_NUMBER)?),
             latches: self.ports.get_boolean(bvr::LATCHES)?,
             cable_loop: self.ports.get_boolean(bvr::CABLE_LOOP)?,
             free_satellite: self.ports.get_boolean(bvr::FREE_SATELLITE)?,
@@ -76,7 +85,7 @@ impl PanelLockModel {
                 0 if flexible_panels => DEFAULT_FLEX_MODES,
                 n => n,
             },
-            load_frame: load_frame_of(self.ports.get_integer(ivr::LOAD_FRAME)?),
+            load_frame: load_frame_of(self.choice(ivr::LOAD_FRAME, ivr::LOAD_FRAME_NUMBER)?),
             hinge_tables: self.tables.0.clone(),
             panel_tables: self.tables.1.clone(),
             ..PanelLockParams::default()

@@ -28,10 +28,12 @@ use super::ports::SATELLITE_LOAD_INPUTS;
 use crate::scene::port::{ModelInfo, PortSpec};
 
 /// Knowns that do not act on the initial (stowed, resting) state but for `integrator`
-/// ([`ROUND_OFF_ONLY`]).
-const MOTION_ONLY: [&str; 18] = [
+/// ([`ROUND_OFF_ONLY`]); a choice's Integer twin ([`crate::scene::choice`]) with its choice.
+const MOTION_ONLY: [&str; 20] = [
     "load_frame",
+    "load_frame_number",
     "contact_law",
+    "contact_law_number",
     "latches",
     "rtol",
     "atol",
@@ -50,9 +52,10 @@ const MOTION_ONLY: [&str; 18] = [
     "modal_damping_ratio",
 ];
 
-/// Acts on the root-hinge reactions at initialization at round-off only (the starts of the
-/// joint-coordinate and maximal integrators differ in the last bits), on nothing else there.
-const ROUND_OFF_ONLY: &str = "integrator";
+/// The integrator choice and its Integer twin: act on the root-hinge reactions at initialization
+/// at round-off only (the starts of the joint-coordinate and maximal integrators differ in the
+/// last bits), on nothing else there but the factorization counter.
+const ROUND_OFF_ONLY: [&str; 2] = ["integrator", "integrator_number"];
 
 /// The root interface loads, which the root motor torque reaches at initialization (the motor
 /// acts across the root hinge, so it is part of the interface torque; through the array's
@@ -77,7 +80,7 @@ pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<
     let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
     let name = unknown.name.as_str();
     let deps = if name == "solver_factorizations" {
-        names(&["integrator"])
+        names(&ROUND_OFF_ONLY)
     } else if name == "hinge0_angle" {
         names(&["root_stowed_angle", "root_lock_angle"])
     } else if name.starts_with("hinge") && name.ends_with("_angle") {
@@ -87,7 +90,7 @@ pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<
     } else if name == "potential_energy" || name == AXIAL_TORQUE {
         let mut excluded = MOTION_ONLY.to_vec();
         if name == "potential_energy" {
-            excluded.push(ROUND_OFF_ONLY);
+            excluded.extend(ROUND_OFF_ONLY);
             excluded.push("root_motor_torque");
         }
         excluded.extend(SATELLITE_LOAD_INPUTS.iter().map(|(n, _, _)| *n));

@@ -4,6 +4,7 @@
 use super::params::{LoadFrame, PanelLockParams};
 use crate::contact::LawKind;
 use crate::integrator::IntegratorKind;
+use crate::scene::choice;
 use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, ValueRef, Variability};
 use std::sync::OnceLock;
 
@@ -599,6 +600,12 @@ pub mod ivr {
     pub const FACTORIZATIONS: ValueRef = 6;
     pub const N_MODES: ValueRef = 7;
     pub const LOAD_FRAME: ValueRef = 8;
+    /// `integrator_number`, the Integer twin of `integrator` ([`crate::scene::choice`]).
+    pub const INTEGRATOR_NUMBER: ValueRef = 9;
+    /// `contact_law_number`, the Integer twin of `contact_law`.
+    pub const CONTACT_LAW_NUMBER: ValueRef = 10;
+    /// `load_frame_number`, the Integer twin of `load_frame`.
+    pub const LOAD_FRAME_NUMBER: ValueRef = 11;
 }
 
 /// Boolean value references (hinge `k` latched: `LATCHED0 + k`).
@@ -747,10 +754,13 @@ pub fn info() -> &'static ModelInfo {
     static INFO: OnceLock<ModelInfo> = OnceLock::new();
     INFO.get_or_init(|| {
         let d = PanelLockParams::default();
-        let mut ports = Vec::new();
-        ports.push(integer("n_panels", ivr::N_PANELS, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_panels as i32), min: Some(1), max: Some(6) }, "Number of panels outboard of the yoke (structure)."));
-        ports.push(integer("integrator", ivr::INTEGRATOR, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "Integrator", items: INTEGRATORS, start: Some(integrator_code(d.integrator)) }, "Time integrator."));
-        ports.push(integer("contact_law", ivr::CONTACT_LAW, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "ContactLaw", items: CONTACT_LAWS, start: Some(law_code(d.contact_law)) }, "Pin/groove contact force law."));
+        let mut ports = vec![
+            integer("n_panels", ivr::N_PANELS, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_panels as i32), min: Some(1), max: Some(6) }, "Number of panels outboard of the yoke (structure)."),
+            integer("integrator", ivr::INTEGRATOR, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "Integrator", items: INTEGRATORS, start: Some(integrator_code(d.integrator)) }, "Time integrator."),
+            choice::number_twin("integrator", INTEGRATORS, ivr::INTEGRATOR_NUMBER),
+            integer("contact_law", ivr::CONTACT_LAW, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "ContactLaw", items: CONTACT_LAWS, start: Some(law_code(d.contact_law)) }, "Pin/groove contact force law."),
+            choice::number_twin("contact_law", CONTACT_LAWS, ivr::CONTACT_LAW_NUMBER),
+        ];
         for (vr, (name, start, desc)) in [
             (bvr::FLEXIBLE_PANELS, ("flexible_panels", d.flexible_panels, "Flexible panels: modal bodies from a plate FE model reduced by Craig-Bampton at the hinge nodes (structure); off: rigid panels.")),
             (bvr::LATCHES, ("latches", d.latches, "Latch (pin and groove) at every hinge.")),
@@ -761,6 +771,7 @@ pub fn info() -> &'static ModelInfo {
             ports.push(PortSpec::boolean_parameter(name, vr, Variability::Fixed, start, desc));
         }
         ports.push(integer("load_frame", ivr::LOAD_FRAME, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "LoadFrame", items: LOAD_FRAMES, start: Some(load_frame_code(d.load_frame)) }, "Frame of the satellite_force_* and satellite_torque_* inputs: world or satellite body axes."));
+        ports.push(choice::number_twin("load_frame", LOAD_FRAMES, ivr::LOAD_FRAME_NUMBER));
         ports.push(integer("n_modes", ivr::N_MODES, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_modes as i32), min: Some(0), max: Some(400) }, "Craig-Bampton modes per flexible panel (structure); 0 with flexible panels takes 10, the paper configuration's count; must be 0 with rigid panels."));
         for (i, p) in REAL_PARAMS.iter().enumerate() {
             let mut spec = PortSpec::real_parameter(p.name, i as ValueRef, Variability::Fixed, (p.get)(&d), p.unit, p.description);
@@ -809,7 +820,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{d24f3916-8448-4cb1-912f-3b1f8dc642a0}",
+            guid: "{d35f394e-5e08-4ec1-a39e-ecc8c680d7e2}",
             description: "Deployment and lock-up of a solar array: yoke and panels joined by hinge bodies with preloaded torsion springs, pin/groove latches with a selectable contact law, stow stops, optional cable loops; rigid panels or flexible (Craig-Bampton modal) panels.",
             ports,
             default_stop_time: 60.0,

@@ -217,7 +217,7 @@ impl RopeBlockModel {
         };
         p.settle = true;
         p.segments = self.ports.get_integer(ivr::SEGMENTS)? as usize;
-        p.integrator = integrator_of(self.ports.get_integer(ivr::INTEGRATOR)?);
+        p.integrator = integrator_of(self.choice(ivr::INTEGRATOR, ivr::INTEGRATOR_NUMBER)?);
         p.contact_outputs = self.ports.get_integer(ivr::CONTACT_OUTPUTS)? as usize;
         p.rtol = r(rvr::RTOL);
         p.atol = r(rvr::ATOL);
@@ -298,11 +298,20 @@ impl RopeBlockModel {
         self.ports.put_integer(ivr::REBUILDS, rebuilds)
     }
 
+    /// The item number in effect for a choice parameter: its Integer twin at `number` when not 0,
+    /// else its Enumeration at `enumeration` ([`crate::scene::choice`]).
+    fn choice(&self, enumeration: ValueRef, number: ValueRef) -> Result<i32, ModelError> {
+        Ok(crate::scene::choice::effective(
+            self.ports.get_integer(enumeration)?,
+            self.ports.get_integer(number)?,
+        ))
+    }
+
     /// Applies hook commands that changed since they were last applied: with `hook_command` =
     /// velocity the velocity and pay-out inputs, with position the displacement and pay-out
     /// inputs (the others are ignored, and a change of them costs nothing).
     fn apply_inputs(&mut self) -> Result<(), ModelError> {
-        let position = match self.ports.get_integer(ivr::HOOK_COMMAND)? {
+        let position = match self.choice(ivr::HOOK_COMMAND, ivr::HOOK_COMMAND_NUMBER)? {
             hook_command::VELOCITY => false,
             hook_command::POSITION => true,
             c => {

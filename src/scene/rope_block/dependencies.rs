@@ -22,10 +22,12 @@
 use crate::scene::port::{Causality, ModelInfo, PortSpec};
 
 /// Parameters that do not act on the initial equilibrium (nor does any input).
-const NOT_STATICS: [&str; 16] = [
+const NOT_STATICS: [&str; 18] = [
     "integrator",
+    "integrator_number",
     "hook_ramp_time",
     "hook_command",
+    "hook_command_number",
     "contact_outputs",
     "drag",
     "rope_damping",

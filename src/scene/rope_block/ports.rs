@@ -12,6 +12,7 @@
 //! mass.
 
 use super::params::RopeBlockParams;
+use crate::scene::choice;
 use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, ValueRef, Variability};
 use std::sync::OnceLock;
 
@@ -279,6 +280,11 @@ pub mod ivr {
     pub const REBUILDS: ValueRef = 6;
     /// First contact-slot integer output.
     pub const SLOT0: ValueRef = 7;
+    /// `integrator_number`, the Integer twin of `integrator` ([`crate::scene::choice`]), after
+    /// the contact slots' outputs.
+    pub const INTEGRATOR_NUMBER: ValueRef = SLOT0 + 2 * super::MAX_CONTACT_SLOTS as ValueRef;
+    /// `hook_command_number`, the Integer twin of `hook_command`.
+    pub const HOOK_COMMAND_NUMBER: ValueRef = INTEGRATOR_NUMBER + 1;
 }
 
 /// Items of the `hook_command` enumeration (1-based): what the hook inputs command.
@@ -593,8 +599,10 @@ pub fn info() -> &'static ModelInfo {
             int_param("scenario", ivr::SCENARIO, scenario::LIFT, 0, 1, "0: lift (one hook, four slings over the deck edges); 1: turn-over (two hooks, two slings each, hook 1's slings around the bottom edge)."),
             int_param("segments", ivr::SEGMENTS, d.segments as i32, 2, 400, "Segments per sling (resolution)."),
             int_port("integrator", ivr::INTEGRATOR, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "Integrator", items: INTEGRATORS, start: Some(1) }, "Time integrator."),
+            choice::number_twin("integrator", INTEGRATORS, ivr::INTEGRATOR_NUMBER),
             int_param("contact_outputs", ivr::CONTACT_OUTPUTS, MAX_CONTACT_SLOTS as i32, 0, MAX_CONTACT_SLOTS as i32, "Contact slots filled in the outputs (the table always has 8; the rest read 0)."),
             int_port("hook_command", ivr::HOOK_COMMAND, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "HookCommand", items: HOOK_COMMANDS, start: Some(hook_command::VELOCITY) }, "What the hook inputs command: velocity (hookN_vx/vy/vz) or position (hookN_dx/dy/dz, displacements from the start position); hookN_payout_rate in both."),
+            choice::number_twin("hook_command", HOOK_COMMANDS, ivr::HOOK_COMMAND_NUMBER),
         ];
         for (vr, name, start, desc) in [
             (bvr::FRICTION, "friction", true, "Coulomb friction between rope and plate edges (off: frictionless, `mu` ignored)."),
@@ -650,7 +658,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{ae2d1cb7-69e0-45d5-88f3-bb815d2916da}",
+            guid: "{09fdd287-a870-402d-bb2b-296e00423f28}",
             description: "Ship-block lift with lumped-mass wire-rope slings contacting the block's shell plate edges through contact nodes with Coulomb friction; one-hook lift or two-hook turn-over.",
             ports,
             default_stop_time: 10.0,

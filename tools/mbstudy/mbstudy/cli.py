@@ -1,4 +1,6 @@
-"""`mbstudy run STUDY.toml [--scheduler ADDR | --workers N | --serial] [--out DIR]`."""
+"""`mbstudy run STUDY.toml [--scheduler ADDR | --workers N | --serial] [--out DIR]`;
+`mbstudy plot STUDY.toml --results RESULTS.csv [--out DIR] [--prefix P]` redraws a study's plots
+from its results table without running it (docs/parameter_studies/ is redrawn this way)."""
 
 import argparse
 import pathlib
@@ -21,7 +23,21 @@ def main(argv=None):
     r.add_argument("--fmu", help="run this FMU file instead of the one the study names")
     r.add_argument("--retry-failed", action="store_true", help="run failed cases again on resume")
     r.add_argument("--no-progress", action="store_true")
+    pl = sub.add_parser("plot", help="redraw a study's plots from its results CSV (no runs)")
+    pl.add_argument("study", help="study description (TOML)")
+    pl.add_argument("--results", required=True, help="the study's results.csv")
+    pl.add_argument("--out", default=".", help="folder for the SVGs (default: the current one)")
+    pl.add_argument("--prefix", default="", help="prefix of the file names (e.g. table1_)")
     args = ap.parse_args(argv)
+
+    if args.command == "plot":
+        import pyarrow.csv as pacsv
+
+        study = spec.load(args.study)
+        table = pacsv.read_csv(args.results)
+        for path in plots.draw(study, table, pathlib.Path(args.out), prefix=args.prefix):
+            print(f"wrote {path}")
+        return 0
 
     study = spec.load(args.study, fmu=args.fmu)
     out = pathlib.Path(args.out or pathlib.Path("out") / "study" / study.name)

@@ -1,7 +1,13 @@
 """The plots a study asks for ([[plot]] tables), drawn from its results table as SVG.
 
 kind = "xy": `y` against `x`, one line per value of `group`, marked cases labelled;
-kind = "histogram": the distribution of `column` over the finished cases."""
+kind = "histogram": the distribution of `column` over the finished cases.
+
+The legend sits right of the axes, so it covers no curve, mark or label. Every SVG carries its
+layout as matplotlib's renderer measured it, in a `<g class="layout">` of empty rects (axes,
+legend-box, mark, label; SVG units, pt), which src/report/svg_check.rs checks (docs/plots.md)."""
+
+import io
 
 import matplotlib
 
@@ -12,24 +18,54 @@ import numpy as np  # noqa: E402
 plt.rcParams["svg.hashsalt"] = "mbstudy"  # the same results draw the same file
 
 
-def draw(study, table, out_dir):
+def draw(study, table, out_dir, prefix=""):
     rows = [r for r in table.to_pylist() if r["status"] == "done"]
     written = []
     for p in study.plots:
-        fig, ax = plt.subplots(figsize=(7, 4.5))
+        fig, ax = plt.subplots(figsize=(8.5, 4.5))
         if p["kind"] == "xy":
-            _xy(ax, p, rows)
+            marks, labels = _xy(ax, p, rows)
         elif p["kind"] == "histogram":
-            _histogram(ax, p, rows)
+            marks, labels = _histogram(ax, p, rows)
         else:
             raise ValueError(f"[[plot]] {p.get('file')}: unknown kind {p['kind']} (xy, histogram)")
         ax.set_title(p.get("title", study.name))
         fig.tight_layout()
-        path = out_dir / p["file"]
-        fig.savefig(path, metadata={"Date": None})
+        path = out_dir / (prefix + p["file"])
+        path.write_text(with_layout(fig, ax, marks, labels))
         plt.close(fig)
         written.append(path)
     return written
+
+
+def with_layout(fig, ax, marks, labels):
+    """The figure as SVG text with its `<g class="layout">` (see the module doc)."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    to_pt = 72.0 / fig.dpi
+    height = fig.get_figheight() * 72.0
+
+    def rect(cls, bb):
+        x0, x1, y0, y1 = bb.x0 * to_pt, bb.x1 * to_pt, bb.y0 * to_pt, bb.y1 * to_pt
+        return (f'<rect class="{cls}" x="{x0:.2f}" y="{height - y1:.2f}" width="{x1 - x0:.2f}" '
+                f'height="{y1 - y0:.2f}" fill="none" stroke="none"/>')
+
+    parts = [rect("axes", ax.get_window_extent(renderer))]
+    legend = ax.get_legend()
+    if legend is not None:
+        parts.append(rect("legend-box", legend.get_window_extent(renderer)))
+    parts += [rect("mark", m.get_window_extent(renderer)) for m in marks]
+    parts += [rect("label", t.get_window_extent(renderer)) for t in labels]
+    buf = io.StringIO()
+    fig.savefig(buf, format="svg", metadata={"Date": None})
+    svg = buf.getvalue()
+    end = svg.rindex("</svg>")
+    return svg[:end] + '<g class="layout">' + "".join(parts) + "</g>\n" + svg[end:]
+
+
+def _legend_outside(ax):
+    """The legend right of the axes, top-aligned with them."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
 
 
 def _xy(ax, p, rows):
@@ -38,10 +74,12 @@ def _xy(ax, p, rows):
         sel = sorted((r for r in rows if g is None or r[p["group"]] == g), key=lambda r: r[p["x"]])
         label = None if g is None else f"{p['group']} = {g:g}"
         ax.plot([r[p["x"]] for r in sel], [r[p["y"]] for r in sel], "o-", label=label)
+    marks, labels = [], []
     for r in rows:
         if r.get("mark"):
-            ax.plot(r[p["x"]], r[p["y"]], "ks", fillstyle="none", markersize=12)
-            ax.annotate(r["mark"], (r[p["x"]], r[p["y"]]), textcoords="offset points", xytext=(8, -12))
+            marks += ax.plot(r[p["x"]], r[p["y"]], "ks", fillstyle="none", markersize=12)
+            labels.append(ax.annotate(r["mark"], (r[p["x"]], r[p["y"]]), textcoords="offset points",
+                                      xytext=(8, -12)))
     if p.get("logx"):
         ax.set_xscale("log")
     if p.get("logy"):
@@ -50,7 +88,8 @@ def _xy(ax, p, rows):
     ax.set_ylabel(p.get("ylabel", p["y"]))
     ax.grid(True, alpha=0.3)
     if groups != [None]:
-        ax.legend()
+        _legend_outside(ax)
+    return marks, labels
 
 
 def _histogram(ax, p, rows):
@@ -61,4 +100,5 @@ def _histogram(ax, p, rows):
     ax.set_ylabel(f"cases (of {len(x)})")
     if len(x):
         ax.axvline(np.percentile(x, 95), color="k", linestyle="--", label=f"95th percentile {np.percentile(x, 95):.3f}")
-        ax.legend()
+        _legend_outside(ax)
+    return [], []
