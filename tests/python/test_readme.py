@@ -96,3 +96,24 @@ def test_readme_table1_figures_are_what_the_study_gives(tmp_path):
         peak, freq = rows[("paper", k)]
         assert abs(peak / loop[k][0] - 1) < 5e-3, (k, peak, loop[k])
         assert freq == round(loop[k][1], 3), (k, freq, loop[k])
+
+
+def test_readme_calibration_figure_is_what_calibrate_gives(tmp_path):
+    """The README's best calibration setting (restitution 0.5, preloads x 1.25, 70 mm cam) run
+    through `mbcosim calibrate` alone: its worst residual against the paper's four Table 1
+    numbers is the README's +8.2 %, within 10 %."""
+    import re
+    import subprocess
+    from test_cli import EXE
+    text = (ROOT / "README.md").read_text()
+    m = re.search(r"\(restitution ([\d.]+), preloads x ([\d.]+), (\d+) mm cam\) comes within 10 % of all four "
+                  r"\(worst \+([\d.]+) %\)", text.replace("\n", " "))
+    assert m, "the README's calibration sentence"
+    e, scale, cam_mm, worst = m.groups()
+    out = tmp_path / "cal"
+    subprocess.run([EXE, "calibrate", "--restitution", e, "--preload-scale", scale, "--cam-radius",
+                    str(int(cam_mm) / 1000), "--out", str(out)], check=True, capture_output=True, timeout=600)
+    lines = (out / "panel_lock_calibration.csv").read_text().splitlines()
+    row = dict(zip(lines[0].split(","), map(float, lines[1].split(","))))
+    assert round(100 * row["worst"], 1) == float(worst), row
+    assert row["worst"] <= 0.10, row
