@@ -1,12 +1,47 @@
-//! Build script: embeds three.js into `mbcosim` for the replay pages of
+//! Build script: links every artifact to one libm, and embeds three.js into `mbcosim` for the replay pages of
 //! `mbcosim simulate --replay` (docs/replay.md), when `npm ci --prefix tools/replay` has
 //! installed the version pinned in tools/replay/package-lock.json. Without it (or with another
 //! version installed) the build still succeeds, and `--replay` says what to run.
 //!
 //! Writes `$OUT_DIR/replay_three.rs`: one expression of type `Result<ThreeJs, &str>` that the
 //! command line includes (`src/bin/mbcosim/replay/three.rs`). The library does not use it.
+//!
+//! libm: on x86_64 Linux, x86_64 Windows and aarch64 Linux, every link of this package (the
+//! FMUs' library, the executables, tests, examples) gets `-Wl,-wrap,NAME` for each C math
+//! function of src/fmi/c_math_symbols.rs, so that every call of `sin`, `pow`, ... in any object
+//! file (ours, std's, nalgebra's, ...) goes to `__wrap_NAME` of src/fmi/c_math.rs, the `libm`
+//! crate, instead of the C runtime's (docs/platforms.md, "One libm in every artifact").
 
 use std::path::{Path, PathBuf};
+
+// WRAPPED, WRAPPED_WINDOWS: the C math symbols src/fmi/c_math.rs defines `__wrap_<name>` for.
+include!("src/fmi/c_math_symbols.rs");
+
+/// The linker arguments that send every reference to a wrapped C math symbol to
+/// `__wrap_<name>`, for the target cargo builds for (empty where src/fmi/c_math.rs defines no
+/// trampolines). `-u __wrap_<name>` makes GNU ld take the definition from the library's rlib
+/// while it reads it, before the rlibs of std and the dependencies that call it. The one-dash
+/// spellings `-wrap` and `-u` are the ones that GNU ld, mingw-w64's ld and zig's `cc` (which
+/// rejects `--wrap` and `--undefined`) all accept.
+fn libm_link_args(arch: &str, os: &str) -> Vec<String> {
+    let supported = matches!(
+        (arch, os),
+        ("x86_64", "linux" | "windows") | ("aarch64", "linux")
+    );
+    if !supported {
+        return Vec::new();
+    }
+    let windows: &[&str] = if os == "windows" {
+        &WRAPPED_WINDOWS
+    } else {
+        &[]
+    };
+    WRAPPED
+        .iter()
+        .chain(windows)
+        .flat_map(|name| [format!("-Wl,-wrap,{name}"), format!("-Wl,-u,__wrap_{name}")])
+        .collect()
+}
 
 /// The files of the `three` package the page needs, relative to its folder.
 const FILES: [&str; 3] = [
@@ -59,6 +94,11 @@ fn embed(root: &Path) -> Result<String, String> {
 fn main() {
     let root = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default());
     println!("cargo::rerun-if-changed=build.rs");
+    println!("cargo::rerun-if-changed=src/fmi/c_math_symbols.rs");
+    let var = |k: &str| std::env::var(k).unwrap_or_default();
+    for arg in libm_link_args(&var("CARGO_CFG_TARGET_ARCH"), &var("CARGO_CFG_TARGET_OS")) {
+        println!("cargo::rustc-link-arg={arg}");
+    }
     println!("cargo::rerun-if-changed=tools/replay/package-lock.json");
     // only paths that exist: cargo reruns a build script (and rebuilds the crate) on every
     // build while a watched path is missing. Without three.js, watch the folder `npm ci` fills.

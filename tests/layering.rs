@@ -7,6 +7,10 @@
 
 use std::path::{Path, PathBuf};
 
+// Linked although unused: build.rs sends the C math symbols of every link of this package to
+// the library's libm (docs/platforms.md, "One libm in every artifact").
+extern crate mbcosim as _;
+
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     for e in std::fs::read_dir(dir).unwrap() {
         let p = e.unwrap().path();

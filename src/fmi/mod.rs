@@ -18,10 +18,20 @@
 //!   categories and filters; [`resource_location`]: the resources folder and its scene file; [`snapshot`]: FMU states and their byte format.
 //! - [`model_description`] and [`units`]: `modelDescription.xml` from a variable table;
 //!   [`package`] and [`documentation`]: the `.fmu` archive.
+//! - `c_math`: the C math symbols (`sin`, `pow`, ...) every artifact links to, from the `libm`
+//!   crate, so that every platform computes the same bits (docs/platforms.md).
 #![allow(unsafe_code, non_snake_case, non_upper_case_globals)]
 
 pub mod arrays3;
 pub mod boundary;
+#[cfg(any(
+    all(
+        target_arch = "x86_64",
+        any(target_os = "linux", target_os = "windows")
+    ),
+    all(target_arch = "aarch64", target_os = "linux")
+))]
+pub mod c_math;
 pub mod documentation;
 mod exports;
 mod exports3;

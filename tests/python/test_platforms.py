@@ -13,6 +13,8 @@ native path in FMI 3.0, and read the changed value back.
 Checked: the restored second half equals the first bit for bit and so do the final serialized
 states (within each platform); every output at every point equals the x86_64 Linux run to 1e-12
 relative to the output's largest magnitude over the run; the changed parameter reads back.
+And every artifact carries its own libm: no library of an FMU and not the native executable
+takes a math function (sin, pow, ...) from the C runtime (docs/platforms.md).
 """
 
 import concurrent.futures
@@ -274,22 +276,101 @@ def max_relative_difference(runs, platform):
     return worst
 
 
-# Known failure (docs/platforms.md, "Windows results"): the Windows DLL takes sin, cos, exp, log,
-# pow, atan2, ... from the C runtime (msvcrt.dll; wine's own implementation here), whose
-# last-bit results differ from glibc's; PanelLock's latch impacts amplify a first difference of
-# 5e-14 (point 18) to 1.4e-5 of an output's range by 60 s. Strict: the mark must go when a common
-# libm makes it pass.
-WINDOWS_LIBM = pytest.mark.xfail(strict=True, reason="C runtime libm differs from glibc (docs/platforms.md)")
-KNOWN = {(2, "PanelLock", "x86_64-windows"), (3, "PanelLock", "x86_64-windows")}
-
-
-@pytest.mark.parametrize("version,model,platform", [
-    pytest.param(*c, marks=WINDOWS_LIBM) if c in KNOWN else c for c in CASES if c[2] != "x86_64-linux"])
+@pytest.mark.parametrize("version,model,platform", [c for c in CASES if c[2] != "x86_64-linux"])
 def test_outputs_equal_x86_64_linux(version, model, platform, all_runs):
-    """Every output at every point equals the x86_64 Linux run to 1e-12 relative."""
+    """Every output at every point equals the x86_64 Linux run to 1e-12 relative (Windows too:
+    every library computes sin, pow, ... with the same pure-Rust libm, docs/platforms.md)."""
     runs = all_runs[version, model]
     rel, name = max_relative_difference(runs, platform)
     key = (platform, version, model)
     TIMES.setdefault("max relative difference", {})[key] = rel
     TIMES.setdefault("bit-identical to x86_64 Linux", {})[key] = runs[platform]["run"] == runs["x86_64-linux"]["run"]
     assert rel <= REL_TOL, f"FMI {version} {model} on {platform}: {name} differs from x86_64 Linux by {rel:.3e}"
+
+
+# Every function of C99's <math.h> (double and float) and msvcrt's `_hypot`: no artifact may take
+# one from the C runtime, whose last bits differ between glibc and msvcrt.dll; src/fmi/c_math.rs
+# provides the ones the code calls (docs/platforms.md, "One libm in every artifact").
+MATH_FUNCTIONS = {f + s for f in """acos acosh asin asinh atan atan2 atanh cbrt ceil copysign cos cosh erf erfc exp
+    exp10 exp2 expm1 fabs fdim floor fma fmax fmin fmod frexp hypot ilogb ldexp lgamma lgamma_r llrint llround
+    log log10 log1p log2 logb lrint lround modf nan nearbyint nextafter nexttoward pow remainder remquo rint round
+    scalbln scalbn sin sincos sinh sqrt tan tanh tgamma trunc j0 j1 jn y0 y1 yn""".split()
+                  for s in ("", "f")} | {"_hypot", "_hypotf"}
+# What the Windows DLL imported from msvcrt.dll before the change (docs/platforms.md): each now
+# has a trampoline `__wrap_<name>` in the DLL.
+IMPORTED_BEFORE = {"sin", "cos", "tan", "exp", "log", "log10", "pow", "atan2", "acos", "asin", "tanh", "_hypot"}
+
+
+def elf_undefined(path):
+    """The undefined dynamic symbols of an ELF file (any architecture: readelf reads them all)."""
+    out = run(["readelf", "--dyn-syms", "-W", str(path)]).stdout
+    names = set()
+    for line in out.splitlines():
+        f = line.split()
+        if len(f) >= 8 and f[6] == "UND":
+            names.add(f[7].split("@")[0])
+    return names
+
+
+def pe_imports(path):
+    """{dll: {imported names}} of a Windows DLL, from its import table."""
+    objdump = shutil.which("x86_64-w64-mingw32-objdump")
+    assert objdump, "x86_64-w64-mingw32-objdump missing (tests/setup_env.sh installs binutils-mingw-w64-x86-64)"
+    imports, dll = {}, None
+    for line in run([objdump, "-p", str(path)]).stdout.splitlines():
+        m = re.match(r"\s*DLL Name: (\S+)", line)
+        if m:
+            dll = m.group(1).lower()
+            imports[dll] = set()
+        elif dll and line.strip() == "":
+            dll = None
+        elif dll:
+            m = re.match(r"\s+[0-9a-f]+\s+\d+\s+(\S+)\s*$", line)
+            if m:
+                imports[dll].add(m.group(1))
+    return imports
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_no_library_takes_math_from_the_c_runtime(version, tmp_path):
+    """Every FMU's three libraries: the Linux ones leave no math function for the dynamic
+    loader (glibc's libm) to bind, the Windows DLL imports none from msvcrt.dll."""
+    paths = sorted(DIST.glob("*.fmu")) if version == 2 else sorted((DIST / "fmi3").glob("*.fmu"))
+    assert paths, f"no FMUs in {DIST}: run `cargo run --release --bin mbcosim -- pack` first"
+    for path in paths:
+        with zipfile.ZipFile(path) as z:
+            for name in z.namelist():
+                if not name.startswith("binaries/") or name.endswith("/"):
+                    continue
+                lib = tmp_path / name.replace("/", "_")
+                lib.write_bytes(z.read(name))
+                if name.endswith(".dll"):
+                    imports = pe_imports(lib)
+                    assert "kernel32.dll" in imports, (path, name, imports)
+                    taken = {(dll, f) for dll, names in imports.items() for f in names & MATH_FUNCTIONS}
+                else:
+                    undefined = elf_undefined(lib)
+                    assert "malloc" in undefined, (path, name)
+                    taken = undefined & MATH_FUNCTIONS
+                assert not taken, f"{path.name} {name} takes math functions from the C runtime: {taken}"
+
+
+def test_windows_dll_has_no_static_copy_of_the_c_runtime_math():
+    """mingw-w64 links some math functions statically (libmingwex): the DLL's symbols (its debug
+    file) define none of them, and do define the trampolines of src/fmi/c_math.rs."""
+    debug = DIST / "debug" / "x86_64-windows" / "mbcosim.dll.debug"
+    assert debug.is_file(), debug
+    nm = shutil.which("x86_64-w64-mingw32-nm")
+    assert nm, "x86_64-w64-mingw32-nm missing (tests/setup_env.sh installs binutils-mingw-w64-x86-64)"
+    defined = {f[2] for f in (line.split() for line in run([nm, "--defined-only", str(debug)]).stdout.splitlines())
+               if len(f) == 3}
+    assert not defined & MATH_FUNCTIONS, defined & MATH_FUNCTIONS
+    assert {"__wrap_" + f for f in IMPORTED_BEFORE} <= defined
+
+
+def test_native_executable_takes_no_math_from_the_c_runtime():
+    """The native `mbcosim` (whose runs the FMU runs are compared with bit for bit) is linked
+    the same way (the test binaries check it on themselves: src/fmi/c_math.rs)."""
+    undefined = elf_undefined(BIN)
+    assert "malloc" in undefined, BIN
+    assert not undefined & MATH_FUNCTIONS, undefined & MATH_FUNCTIONS
