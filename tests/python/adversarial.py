@@ -364,6 +364,13 @@ def envelope(m, rng, index):
     return run, {"case": label, "steps": steps}
 
 
+def named_as(name):
+    """The names a refusal may use for parameter `name`: its own, and for the Integer twin
+    `<choice>_number` of an Enumeration (docs/choice_parameters.md) the choice's name, which the
+    solver's messages and remedies use (`use integrator = bdf or gen_alpha`)."""
+    return [name, name[: -len("_number")]] if name.endswith("_number") else [name]
+
+
 def run_values(m, chosen, label, logging_on=False, steps_max=3):
     """Sets `chosen` (over the baseline), initializes and takes up to `steps_max` steps; a
     refusal must name one of the chosen parameters. Returns the Run and the steps taken."""
@@ -386,7 +393,8 @@ def run_values(m, chosen, label, logging_on=False, steps_max=3):
         t += m.h
     if run.refused:
         text = " ".join(run.messages(inst))
-        if not any(re.search(rf"(?<![\w.]){re.escape(name)}(?![\w])", text) for name in chosen):
+        if not any(re.search(rf"(?<![\w.]){re.escape(spoken)}(?![\w])", text)
+                   for name in chosen for spoken in named_as(name)):
             run.violations.append(("unnamed-parameter", f"{label}: refused without naming {sorted(chosen)}: {text[:400]}"))
     run.text = " ".join(run.messages(inst))
     inst.free()

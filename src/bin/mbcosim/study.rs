@@ -29,17 +29,24 @@ pub fn report(a: &ReportArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// The span of every deployment run of `table1` and `calibrate`.
 #[derive(clap::Args)]
-pub struct Table1Args {
-    /// Folder for the CSV, SVG plots and markdown table (relative to the current directory).
-    #[arg(long, value_name = "DIR", default_value = "docs")]
-    out: PathBuf,
-    /// Stop time [s].
+pub struct DeploymentRun {
+    /// Stop time [s] of every run.
     #[arg(long, value_name = "T", default_value_t = 80.0)]
     stop: f64,
     /// Communication step [s].
     #[arg(long, value_name = "H", default_value_t = 0.01)]
     step: f64,
+}
+
+#[derive(clap::Args)]
+pub struct Table1Args {
+    /// Folder for the CSV, SVG plots and markdown table (relative to the current directory).
+    #[arg(long, value_name = "DIR", default_value = "docs")]
+    out: PathBuf,
+    #[command(flatten)]
+    run: DeploymentRun,
     /// Craig-Bampton modes per flexible panel.
     #[arg(long, value_name = "N", default_value_t = 10)]
     modes: usize,
@@ -91,7 +98,7 @@ fn base_params(
 pub fn table1(a: &Table1Args) -> Result<(), String> {
     use mbcosim::scene::panel_lock::study;
     let p = base_params(a.rigid, a.modes, a.paper_setup, &a.sets)?;
-    let md = study::table1(&a.out, &p, a.stop, a.step)?;
+    let md = study::table1(&a.out, &p, a.run.stop, a.run.step)?;
     println!("{md}");
     println!(
         "wrote {}/panel_lock_table1.* and SVG plots",
@@ -105,12 +112,8 @@ pub struct CalibrateArgs {
     /// Folder for panel_lock_calibration.md and .csv (relative to the current directory).
     #[arg(long, value_name = "DIR", default_value = "docs")]
     out: PathBuf,
-    /// Stop time [s] of every run.
-    #[arg(long, value_name = "T", default_value_t = 80.0)]
-    stop: f64,
-    /// Communication step [s].
-    #[arg(long, value_name = "H", default_value_t = 0.01)]
-    step: f64,
+    #[command(flatten)]
+    run: DeploymentRun,
     /// Runs at a time (threads).
     #[arg(long, value_name = "N", default_value_t = 2)]
     threads: usize,
@@ -136,7 +139,7 @@ pub fn calibrate(a: &CalibrateArgs) -> Result<(), String> {
         preload_scale: a.preload_scale.clone(),
         cam_radius: a.cam_radius.clone(),
     };
-    let md = calibration::write(&a.out, &p, &grid, a.stop, a.step, a.threads)?;
+    let md = calibration::write(&a.out, &p, &grid, a.run.stop, a.run.step, a.threads)?;
     println!("{md}");
     println!(
         "wrote {}/panel_lock_calibration.md and .csv",
