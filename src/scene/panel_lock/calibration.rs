@@ -137,9 +137,9 @@ pub fn fit(base: &PanelLockParams, s: Setting, t_end: f64, dt: f64) -> Result<Fi
     let mut freqs = [f64::NAN; 2];
     let mut cpu = 0.0;
     for (i, &(k, n, _, _)) in PAPER_TABLE1.iter().enumerate() {
-        let p = s.apply(base, k, n);
-        p.validate().map_err(|e| format!("{s:?}: {e}"))?;
-        let r = run_case(p, t_end, dt).map_err(|e| format!("{s:?}, k {k:e}: {e}"))?;
+        // run_case validates the parameters (build does), naming the one at fault
+        let r =
+            run_case(s.apply(base, k, n), t_end, dt).map_err(|e| format!("{s:?}, k {k:e}: {e}"))?;
         peaks[i] = r.peak_forces[0];
         freqs[i] = r.linear_frequency.unwrap_or(f64::NAN);
         cpu += r.cpu;
