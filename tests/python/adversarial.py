@@ -52,10 +52,11 @@ import struct
 import subprocess
 import sys
 import tempfile
+import time
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import fmi2raw as R
-from adversarial_run import ANNOUNCE, TALLIES, Run, count_class, counts_line  # noqa: F401 - re-exported
+from adversarial_run import ANNOUNCE, BUDGET, TALLIES, Run, count_class, counts_line  # noqa: F401 - re-exported
 from adversarial_continuation import continuation
 from adversarial_files import files
 from adversarial_files import prepare as prepare_files
@@ -78,6 +79,15 @@ BIG = 1e300  # the envelope's bound where the description gives none
 # Cheap settings the forge and envelope runs start from (the parameter under test overrides
 # them): RopeBlock's default 100 segments per sling cost ~100x more per step than 4.
 BASELINE = {"RopeBlock": {"segments": 4}}
+# CPU seconds one integrator step may take, per model, for the watchdog's bound on a run whose
+# `h_max` forces many steps (`forced_step_cpu`): about 3x the cost measured on 2 loaded cores
+# (2026-12-07): PanelLock 25 us per step with rigid panels, 75 us with flexible ones; RopeBlock
+# 3.2 ms per step at 382 segments per sling with gravity off (its dearest: 8.4 us per segment),
+# 0.7 ms at 400 with gravity on.
+STEP_CPU = {
+    "PanelLock": lambda values: 3e-4 if values.get("flexible_panels") else 1e-4,
+    "RopeBlock": lambda values: 2.5e-5 * values["segments"],
+}
 # Base states: (name, parameter values, steps taken before the state is saved, terminate after).
 BASE_STATES = {
     "PidController": [("instantiated", None, 0, False),
@@ -364,11 +374,47 @@ def envelope(m, rng, index):
     return run, {"case": label, "steps": steps}
 
 
+def forced_step_cpu(m, values, span):
+    """The CPU seconds a run over `span` seconds of simulated time may take when `values` sets an
+    `h_max` that forces span / h_max integrator steps (each at the model's STEP_CPU), plus the
+    harness's own bound's worth of set-up; 0 when the model has no `h_max` or no step cost.
+    The FMU refuses at once a communication step that would need more than its max_steps, so the
+    bound is finite (PanelLock: 3 steps x 200,000 x 0.3 ms = 180 s at most)."""
+    if "h_max" not in m.vars or m.id not in STEP_CPU:
+        return 0.0
+    def start(v):
+        return v.start in ("true", "1", True) if v.type == "Boolean" else float(v.start)
+
+    known = {n: start(m.vars[n]) for n in ("h_max", "segments", "flexible_panels")
+             if n in m.vars and m.vars[n].start is not None}
+    known.update(values)
+    try:
+        h_max, segments = float(known["h_max"]), int(known.get("segments", 1))
+    except (TypeError, ValueError):
+        return 0.0
+    if not (h_max > 0 and math.isfinite(h_max)):
+        return 0.0
+    steps = span / h_max
+    return steps * STEP_CPU[m.id]({**known, "segments": segments})
+
+
 def named_as(name):
     """The names a refusal may use for parameter `name`: its own, and for the Integer twin
     `<choice>_number` of an Enumeration (docs/choice_parameters.md) the choice's name, which the
     solver's messages and remedies use (`use integrator = bdf or gen_alpha`)."""
     return [name, name[: -len("_number")]] if name.endswith("_number") else [name]
+
+
+# The solver's knobs a refusal may name as its remedy instead of a chosen parameter, and only
+# when the integration itself failed ("solver failed"): a combination of valid parameters can
+# make a scene stiffer than the tolerance resolves, and then the knob to turn is the tolerance or
+# the integrator, not one of the parameters (decision, docs/adversarial_harness.md).
+SOLVER_KNOBS = ("rtol", "atol", "integrator", "h_max")
+
+
+def solver_remedy(text):
+    """True when `text` is a solver failure whose remedy names one of SOLVER_KNOBS."""
+    return "solver failed" in text and any(re.search(rf"(?<![\w.]){k}(?![\w])", text) for k in SOLVER_KNOBS)
 
 
 def run_values(m, chosen, label, logging_on=False, steps_max=3):
@@ -379,6 +425,7 @@ def run_values(m, chosen, label, logging_on=False, steps_max=3):
     inst = m.new(logging_on=logging_on)
     run.call(inst, "fmi2SetupExperiment", inst.setup, 0.0, 10.0)
     values = {**BASELINE.get(m.id, {}), **chosen}
+    BUDGET[0](forced_step_cpu(m, values, steps_max * m.h))
     for name, value in values.items():
         run.call(inst, f"set {name}", m.set_value, inst, name, value)
     if not run.refused:
@@ -394,7 +441,7 @@ def run_values(m, chosen, label, logging_on=False, steps_max=3):
     if run.refused:
         text = " ".join(run.messages(inst))
         if not any(re.search(rf"(?<![\w.]){re.escape(spoken)}(?![\w])", text)
-                   for name in chosen for spoken in named_as(name)):
+                   for name in chosen for spoken in named_as(name)) and not solver_remedy(text):
             run.violations.append(("unnamed-parameter", f"{label}: refused without naming {sorted(chosen)}: {text[:400]}"))
     run.text = " ".join(run.messages(inst))
     inst.free()
@@ -542,9 +589,11 @@ def main():
                 t = m.vars[name].type
                 chosen[name] = float(text) if t == "Real" else int(text) if t in ("Integer", "Enumeration") else \
                     text in ("1", "true", "True") if t == "Boolean" else text
+            cpu0 = time.process_time()
             run, steps = run_values(m, chosen, " ".join(a.values))
             summary = {"case": a.values, "refused": run.refused, "steps": steps, "violations": run.violations,
-                       "messages": run.text}
+                       "messages": run.text, "cpu": time.process_time() - cpu0,
+                       "budget": forced_step_cpu(m, {**BASELINE.get(m.id, {}), **chosen}, 3 * m.h)}
         elif a.forge is not None:
             summary = forge_one(models[0], int(a.forge[0]), a.forge[1], float(a.forge[2]))
         elif a.inline and a.stream:

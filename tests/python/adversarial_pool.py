@@ -6,8 +6,9 @@ sequence starts, what it is doing, and its result (with the CPU seconds the sequ
 parent reads the child's CPU time from /proc/<pid>/stat. A sequence is stopped (SIGKILL, the
 worker restarted at the next sequence) and becomes a *candidate* when it
 
-- uses more than `cpu_limit` CPU seconds ("cpu"),
-- runs for more than 10x `cpu_limit` in wall time ("wall": a loaded machine, or a stall), or
+- uses more than its CPU bound ("cpu"): `cpu_limit`, or more where the sequence announced the
+  work it asks for (`BUDGET`: the steps a small `h_max` forces, each at a measured cost),
+- runs for more than 10x its CPU bound in wall time ("wall": a loaded machine, or a stall), or
 - sleeps in the kernel (state S or D) without using CPU for `cpu_limit` wall seconds
   ("blocked": an open() of a FIFO, a read that waits).
 
@@ -28,7 +29,7 @@ import sys
 import tempfile
 import time
 
-from adversarial_run import ANNOUNCE, TALLIES, count_class
+from adversarial_run import ANNOUNCE, BUDGET, TALLIES, count_class
 
 WALL_FACTOR = 10  # the wall bound is this times the CPU bound
 
@@ -59,10 +60,14 @@ class Watch:
     """The watch over one running sequence of process `pid`."""
 
     def __init__(self, pid, cpu_limit):
-        self.pid, self.cpu_limit = pid, cpu_limit
+        self.pid, self.cpu_limit, self.base_limit = pid, cpu_limit, cpu_limit
         self.cpu0 = cpu_seconds(pid)
         self.wall0 = time.time()
         self.cpu_seen, self.cpu_seen_at = self.cpu0, self.wall0
+
+    def allow(self, seconds):
+        """Raises this sequence's CPU bound to `seconds` (never below the harness's bound)."""
+        self.cpu_limit = max(self.base_limit, float(seconds))
 
     def used(self):
         """(CPU seconds, wall seconds) of the sequence so far."""
@@ -131,6 +136,7 @@ class Worker:
 def stream(job, indices, out):
     """Runs `indices` of `job` writing the protocol's lines to `out`; the exit code."""
     ANNOUNCE[0] = lambda text, field=None: out.write(json.dumps({"doing": text[:600], "field": field}) + "\n")
+    BUDGET[0] = lambda seconds: out.write(json.dumps({"budget": seconds}) + "\n")
     try:
         for i in indices:
             out.write(json.dumps({"start": i, **job.describe(i)}) + "\n")
@@ -233,6 +239,8 @@ def run_all(job, first, count, workers, cpu_limit, replay_cmd, progress=None):
                     for msg in lines:
                         if "doing" in msg:
                             wk.case, wk.field = msg["doing"], msg["field"]
+                        elif "budget" in msg:
+                            wk.watch.allow(msg["budget"])
                         elif "start" in msg:
                             wk.current, wk.case, wk.field = msg["start"], "", None
                             wk.meta = {"model": msg.get("model"), "kind": msg.get("kind")}
@@ -252,7 +260,8 @@ def run_all(job, first, count, workers, cpu_limit, replay_cmd, progress=None):
                     os.kill(wk.pid, signal.SIGKILL)
                     os.waitpid(wk.pid, 0)
                     candidates.append({"i": wk.current, **wk.meta, "case": wk.case, "field": wk.field,
-                                       "first": {"why": why, "cpu": round(cpu, 2), "wall": round(wall, 1)}})
+                                       "first": {"why": why, "cpu": round(cpu, 2), "wall": round(wall, 1),
+                                                 "bound": wk.watch.cpu_limit}})
                     replacement = rest_of(wk)
             if replacement is not None:
                 nxt.append(replacement)
@@ -267,8 +276,8 @@ def run_all(job, first, count, workers, cpu_limit, replay_cmd, progress=None):
 
 def replay(cmd, i, cpu_limit):
     """Runs sequence `i` alone in a fresh process (`cmd --first i --count 1`, inline, streaming
-    the protocol's lines) under the same watch. (verdict, result, CPU s, wall s): verdict None
-    with the sequence's result, or "cpu" / "wall" / "blocked: ..." / "crash"."""
+    the protocol's lines) under the same watch. (verdict, result, CPU s, wall s, CPU bound s):
+    verdict None with the sequence's result, or "cpu" / "wall" / "blocked: ..." / "crash"."""
     err = tempfile.TemporaryFile()  # a file, not a pipe: a chatty FMU must not block on it
     p = subprocess.Popen([*cmd, "--first", str(i), "--count", "1", "--inline", "--stream"],
                          stdout=subprocess.PIPE, stderr=err)
@@ -283,6 +292,8 @@ def replay(cmd, i, cpu_limit):
             for msg in got:
                 if "start" in msg:
                     watch = Watch(p.pid, cpu_limit)
+                elif "budget" in msg:
+                    watch.allow(msg["budget"])
                 elif "harness_error" in msg:
                     raise RuntimeError(f"harness error in replay {i}: {msg['harness_error']}")
                 elif "outcome" in msg:
@@ -293,29 +304,30 @@ def replay(cmd, i, cpu_limit):
                 cpu, wall = watch.used()
                 p.kill()
                 p.communicate()
-                return why, None, cpu, wall
+                return why, None, cpu, wall, watch.cpu_limit
     p.communicate()
     err.seek(0)
     err = err.read().decode(errors="replace")
     cpu, wall = watch.used() if watch else (0.0, 0.0)
+    bound = watch.cpu_limit if watch else cpu_limit
     if result is None:
-        return "crash", {"stderr": err[-1500:], "exit": p.returncode}, cpu, wall
-    return None, result, result["cpu"], wall
+        return "crash", {"stderr": err[-1500:], "exit": p.returncode}, cpu, wall, bound
+    return None, result, result["cpu"], wall, bound
 
 
 def replay_candidate(c, cmd, cpu_limit, tally):
     """Replays candidate `c` and counts it by the replay's verdict."""
-    why, res, cpu, wall = replay(cmd, c["i"], cpu_limit)
+    why, res, cpu, wall, bound = replay(cmd, c["i"], cpu_limit)
     first = c["first"]
     entry = {"i": c["i"], "model": c.get("model"), "kind": c.get("kind"), "case": c["case"][:300], "first": first,
-             "replay": {"why": why or "finished", "cpu": round(cpu, 2), "wall": round(wall, 1)}}
+             "replay": {"why": why or "finished", "cpu": round(cpu, 2), "wall": round(wall, 1), "bound": bound}}
     meta = {"model": c.get("model"), "kind": c.get("kind"), "case": c["case"]}
     told = (f"{c['case']}: first run stopped ({first['why']}) at {first['cpu']} s CPU / {first['wall']} s wall; "
             f"replay alone: ")
     if why == "cpu" or (why or "").startswith("blocked"):
         entry["verdict"] = "hang"
         tally.lost(c["i"], meta, "hang", told + f"{why} at {cpu:.2f} s CPU / {wall:.1f} s wall "
-                                         f"(bound {cpu_limit} s CPU)", c.get("field"))
+                                         f"(bound {bound:.3g} s CPU)", c.get("field"))
     elif why == "crash":
         entry["verdict"] = "crash"
         tally.lost(c["i"], meta, "crash", told + f"crashed (exit {res['exit']}): {res['stderr']}", c.get("field"))

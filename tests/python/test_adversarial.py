@@ -517,3 +517,36 @@ def test_forged_lug_point_off_the_block_is_refused(models):
                 inst.free()
                 tried += 1
     assert tried >= 4
+
+
+# Envelope cases whose h_max forces many integrator steps (benchmark seed 8: 8:57181, PanelLock
+# at h_max 1.7e-7 s; 8:44621, RopeBlock at 382 segments with gravity off at h_max 1e-4 s), at a
+# size CI can afford: the watchdog's bound for such a run (adversarial.forced_step_cpu) must
+# cover what it really costs, or the harness counts slow runs as hangs.
+FORCED_STEP_CASES = [
+    ("PanelLock", ["h_max=1e-5"]),
+    ("PanelLock", ["flexible_panels=1", "h_max=1e-5"]),
+    ("RopeBlock", ["segments=40", "gravity_on=0", "h_max=0.0001"]),
+]
+
+
+@pytest.mark.parametrize("model,values", FORCED_STEP_CASES, ids=[" ".join(c[1]) for c in FORCED_STEP_CASES])
+def test_forced_step_bound_covers_the_cost_of_a_small_h_max(model, values, tmp_path):
+    """The run completes; its CPU time stays below the bound the harness gives it, and that bound
+    is above the harness's plain 5 s only through the forced steps (a bound that grew without
+    them would hide hangs)."""
+    packed(model)
+    out = tmp_path / "case.json"
+    r = subprocess.run([sys.executable, str(HERE / "adversarial.py"), "--dist", str(DIST), "--bin", mbcosim(),
+                        "--models", model, "--json", str(out), "--values", *values],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr[-2000:]
+    case = json.loads(out.read_text())
+    assert not case["refused"] and not case["violations"], case
+    assert case["steps"] == 3, case
+    assert 0 < case["cpu"] < case["budget"], case
+    default = subprocess.run([sys.executable, str(HERE / "adversarial.py"), "--dist", str(DIST), "--bin", mbcosim(),
+                              "--models", model, "--json", str(out), "--values", *values[:-1]],
+                             capture_output=True, text=True, timeout=120)
+    assert default.returncode == 0, default.stderr[-2000:]
+    assert json.loads(out.read_text())["budget"] < 1.0, "the default h_max forces no bound above the harness's"
