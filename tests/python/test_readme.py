@@ -117,3 +117,25 @@ def test_readme_calibration_figure_is_what_calibrate_gives(tmp_path):
     row = dict(zip(lines[0].split(","), map(float, lines[1].split(","))))
     assert round(100 * row["worst"], 1) == float(worst), row
     assert row["worst"] <= 0.10, row
+
+
+def test_readme_adversarial_figures_are_the_recorded_run():
+    """The README's figures of the latest adversarial benchmark run are those of the summaries the
+    run wrote (docs/adversarial/summary-seed<S>.json, summary3-seed<S>.json), to the digit."""
+    import json
+
+    text = " ".join((ROOT / "README.md").read_text().split())
+    m = re.search(r"Its latest run \(seed (\d+), .*?\): FMI 2\.0 ([\d,]+) sequences, (\d+) crashes, (\d+) hangs, "
+                  r"(\d+) NaN with status OK, ([\d,]+) refused with a message, ([\d,]+) completed, (\d+) other "
+                  r"violations?\b.*?largest CPU time ([\d.]+) s .*?FMI 3\.0 ([\d,]+) sequences, nothing found "
+                  r"\(largest CPU time ([\d.]+) s\)", text)
+    assert m, "the README's adversarial paragraph changed shape"
+    seed, *figures = m.groups()
+    num = [float(x.replace(",", "")) for x in figures]
+    s2 = json.loads((ROOT / f"docs/adversarial/summary-seed{seed}.json").read_text())
+    s3 = json.loads((ROOT / f"docs/adversarial/summary3-seed{seed}.json").read_text())
+    assert num[:7] == [s2[k] for k in ("tried", "crashes", "hangs", "nan_with_ok", "refused_with_message",
+                                       "completed", "other_violations")], (num, s2)
+    assert abs(num[7] - s2["max_cpu"]["seconds"]) < 0.05, (num[7], s2["max_cpu"])
+    assert num[8] == s3["tried"] and s3["crashes"] == s3["hangs"] == s3["nan_with_ok"] == 0, s3
+    assert s3["other_violations"] == 0 and abs(num[9] - s3["max_cpu"]["seconds"]) < 0.005, (num[9], s3["max_cpu"])
