@@ -84,8 +84,8 @@ def test_hoist_speed_dominates_the_daf(tmp_path):
     daf = sorted(r["daf.peak"] for r in rows)
     assert ex["P95"]["low"] <= ex["P95"]["value"] <= ex["P95"]["high"] <= daf[-1]
     (al,) = pq.read_table(out / "allowances.parquet").to_pylist()
-    assert (al["over"], al["n"]) == (sum(d > 1.05 for d in daf), 40)
-    assert 0 < al["over"] < 40  # the range of hoist speeds straddles the allowance
+    assert (al["side"], al["count"], al["n"]) == ("over", sum(d > 1.05 for d in daf), 40)
+    assert 0 < al["count"] < 40  # the range of hoist speeds straddles the allowance
     for name in ("sensitivity.svg", "daf.svg", "sensitivity.csv", "extremes.csv", "allowances.csv"):
         assert (out / name).stat().st_size > 0, name
     assert "ST(hoist_speed)" in run.stdout

@@ -131,11 +131,12 @@ def test_quantiles_and_most_probable_maximum_inside_their_bootstrap_intervals(tm
 
 
 def test_fraction_over_allowance_against_a_hand_count(tmp_path):
-    study = load(tmp_path, "[allowances]\ny = 1.05  # user-given\n")
-    values = [1.00, 1.04, 1.05, 1.06, 1.20]  # 1.05 itself is not over: 2 of 5
-    rows = [{"status": "done", "y": v} for v in values] + [{"status": "failed", "y": None}]
-    (r,) = analysis.allowances(study, rows)
-    assert (r["over"], r["n"], r["fraction"]) == (2, 5, 0.4)
+    study = load(tmp_path, "[allowances]\ny = 1.05  # user-given\nz = { below = 1.04 }\n")
+    values = [1.00, 1.04, 1.05, 1.06, 1.20]  # 1.05 itself is not over: 2 of 5; below 1.04: 1
+    rows = [{"status": "done", "y": v, "z": v} for v in values] + [{"status": "failed", "y": None, "z": None}]
+    r, below = analysis.allowances(study, rows)
+    assert (r["side"], r["count"], r["n"], r["fraction"]) == ("over", 2, 5, 0.4)
+    assert (below["side"], below["count"], below["n"], below["fraction"]) == ("below", 1, 5, 0.2)
     # Wilson score interval, closed form, z of the 95 % two-sided level
     z, k, n = 1.959963984540054, 2, 5
     centre, half = (k + z * z / 2) / (n + z * z), z / (n + z * z) * math.sqrt(k * (n - k) / n + z * z / 4)

@@ -7,8 +7,8 @@ results as long tables (one row per figure, with its interval):
   Morris), value, conf (half-width of SALib's bootstrap interval at conf_level), low, high;
 - extremes: column, statistic (P90, P95, ..., MPM), value, low, high (bootstrap percentile
   interval, scipy.stats.bootstrap), n (finished cases with a finite value);
-- allowances: column, allowance, over (cases strictly above), n, fraction, low, high (Wilson
-  interval of scipy.stats.binomtest).
+- allowances: column, side ("over" or "below"), allowance, count (cases strictly above, or
+  strictly below), n, fraction, low, high (Wilson interval of scipy.stats.binomtest).
 The most probable maximum (MPM) is the mode of a Gumbel distribution fitted to the column's
 values by maximum likelihood (scipy.stats.gumbel_r.fit: the mode is its location): meaningful
 for a column of per-case maxima (a peak, a DAF)."""
@@ -103,19 +103,21 @@ def extremes(study, rows) -> list[dict]:
 
 
 def allowances(study, rows) -> list[dict]:
-    """The fraction of finished cases strictly over each allowance, with its Wilson interval."""
+    """The fraction of finished cases strictly over (or below) each allowance, with its Wilson
+    interval."""
     level = float(study.extremes.get("conf_level", 0.95))
     out = []
-    for column, allowance in study.allowances.items():
+    for column, limit in study.allowances.items():
+        (side, allowance), = limit.items()
         x = _done_values(rows, column)
         x = x[np.isfinite(x)]
-        k, n = int(np.sum(x > allowance)), len(x)
+        k, n = int(np.sum(x > allowance if side == "over" else x < allowance)), len(x)
         if n:
             ci = stats.binomtest(k, n).proportion_ci(confidence_level=level, method="wilson")
             low, high = float(ci.low), float(ci.high)
         else:
             low = high = float("nan")
-        out.append(dict(column=column, allowance=allowance, over=k, n=n,
+        out.append(dict(column=column, side=side, allowance=allowance, count=k, n=n,
                         fraction=k / n if n else float("nan"), low=low, high=high))
     return out
 

@@ -73,7 +73,8 @@ def _print_found(found):
     for r in found["extremes"]:
         print(f"  {r['column']}: {r['statistic']} = {r['value']:.5g} [{r['low']:.5g}, {r['high']:.5g}] (n {r['n']})")
     for r in found["allowances"]:
-        print(f"  {r['column']} > {r['allowance']:g}: {r['over']} of {r['n']} = {r['fraction']:.3f} "
+        print(f"  {r['column']} {'>' if r['side'] == 'over' else '<'} {r['allowance']:g}: {r['count']} of {r['n']} = "
+              f"{r['fraction']:.3f} "
               f"[{r['low']:.3f}, {r['high']:.3f}]")
 
 

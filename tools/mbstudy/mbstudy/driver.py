@@ -25,6 +25,7 @@ def _settings(study):
         "outputs": study.outputs,
         "spectrum": study.spectrum,
         "keep_series": study.keep_series,
+        "scene": study.scene,
     }
 
 

@@ -132,6 +132,6 @@ def _histogram(ax, p, rows, allowances=()):
         for a in allowances:
             if a["column"] == p["column"]:
                 ax.axvline(a["allowance"], color="r", linestyle="-",
-                           label=f"allowance {a['allowance']:g}: {a['over']} of {a['n']} over")
+                           label=f"allowance {a['allowance']:g}: {a['count']} of {a['n']} {a['side']}")
         _legend_outside(ax)
     return [], []

@@ -3,6 +3,7 @@
 import dataclasses
 import hashlib
 import pathlib
+import string
 import tomllib
 
 FIGURES = ("peak", "min", "final", "initial", "mean", "spectrum_peak")
@@ -27,7 +28,8 @@ class Study:
     plots: list  # [{"kind": "xy" | "histogram" | "sensitivity", ...}]
     sensitivity: dict = dataclasses.field(default_factory=dict)  # {"columns": [...], "resamples", "conf_level", "seed"}
     extremes: dict = dataclasses.field(default_factory=dict)  # {"columns", "quantiles", "most_probable_maximum", ...}
-    allowances: dict = dataclasses.field(default_factory=dict)  # column -> allowance (same unit as the column)
+    allowances: dict = dataclasses.field(default_factory=dict)  # column -> {"over" | "below": allowance}
+    scene: str = ""  # scene template: resources/scene.toml of every case, `$variable` filled in
 
     def run_settings(self) -> dict:
         """What every case shares and what changes its results (part of every case id): the
@@ -43,6 +45,7 @@ class Study:
             "outputs": self.outputs,
             "spectrum": self.spectrum,
             "keep_series": self.keep_series,
+            "scene": self.scene,
         }
 
 
@@ -94,7 +97,9 @@ def load(path, fmu=None) -> Study:
     extremes = {"columns": [], "quantiles": [0.9, 0.95], "most_probable_maximum": True,
                 "resamples": 999, "conf_level": 0.95, "seed": 0}
     extremes.update(d.get("extremes", {}))
-    allowances = {k: float(v) for k, v in d.get("allowances", {}).items()}
+    allowances = {k: _allowance(k, v) for k, v in d.get("allowances", {}).items()}
+    scene = (path.parent / s["scene"]).read_text() if "scene" in s else ""
+    _check_scene(scene, set(grid) | set(random.get("vary", {})) if random else set(grid))
     spectrum = {"start": 0.0, "after_final_of": [], "settle": 0.0, "band": [0.0, float("inf")]}
     spectrum.update(d.get("spectrum", {}))
     return Study(
@@ -104,6 +109,7 @@ def load(path, fmu=None) -> Study:
         stop_time=stop,
         step=step,
         keep_series=bool(s.get("keep_series", False)),
+        scene=scene,
         fixed=d.get("fixed", {}),
         grid=grid,
         random=random,
@@ -117,6 +123,27 @@ def load(path, fmu=None) -> Study:
         extremes=extremes,
         allowances=allowances,
     )
+
+
+def _check_scene(scene, varied):
+    """A scene template may name only varied variables (`$name`), and only as placeholders."""
+    if not scene:
+        return
+    template = string.Template(scene)
+    if not template.is_valid():
+        raise ValueError("[study] scene: a dollar sign that is not a placeholder `$name` (write `$$`)")
+    unknown = sorted(set(template.get_identifiers()) - varied)
+    if unknown:
+        raise ValueError(f"[study] scene names {unknown}, which are not [grid] or [random.vary] variables")
+
+
+def _allowance(column, value):
+    """`column = x` (cases over x count) or `column = { below = x }` (cases under x count)."""
+    if isinstance(value, dict):
+        if set(value) != {"below"}:
+            raise ValueError(f"[allowances] {column}: a number (over) or {{ below = number }}")
+        return {"below": float(value["below"])}
+    return {"over": float(value)}
 
 
 def _check_design(random):
