@@ -6,7 +6,9 @@ results as long tables (one row per figure, with its interval):
 - sensitivity: column, method, variable, index (S1, ST for Sobol'; mu, mu_star, sigma for
   Morris), value, conf (half-width of SALib's bootstrap interval at conf_level), low, high;
 - extremes: column, statistic (P90, P95, ..., MPM), value, low, high (bootstrap percentile
-  interval, scipy.stats.bootstrap), n (finished cases with a finite value);
+  interval, scipy.stats.bootstrap), n (finished cases with a value that is not NaN); the
+  quantiles are order statistics (numpy's `inverted_cdf`), so +inf values (a deployment that
+  never came) count as the largest;
 - allowances: column, side ("over" or "below"), allowance, count (cases strictly above, or
   strictly below), n, fraction, low, high (Wilson interval of scipy.stats.binomtest).
 The most probable maximum (MPM) is the mode of a Gumbel distribution fitted to the column's
@@ -20,9 +22,11 @@ from . import cases as cases_mod
 
 
 def _done_values(rows, column):
-    """The column over the finished cases, as floats (failed cases left out)."""
-    return np.array([float(r[column]) for r in rows if r["status"] == "done" and r.get(column) is not None],
-                    float)
+    """The column over the finished cases, as floats (failed cases and NaN left out; +inf, a
+    time that never came, stays: it is over every allowance and above every finite quantile)."""
+    x = np.array([float(r[column]) for r in rows if r["status"] == "done" and r.get(column) is not None],
+                 float)
+    return x[~np.isnan(x)]
 
 
 def sensitivity(study, rows) -> list[dict]:
@@ -69,7 +73,9 @@ def sensitivity(study, rows) -> list[dict]:
 
 def _quantile_statistic(q):
     def statistic(x, axis=-1):
-        return np.quantile(x, q, axis=axis)
+        # an order statistic (the smallest value with at least q of the cases at or below it):
+        # a +inf case counts as the largest value instead of turning an interpolation into NaN
+        return np.quantile(x, q, axis=axis, method="inverted_cdf")
 
     return statistic
 
@@ -84,21 +90,22 @@ def extremes(study, rows) -> list[dict]:
     out = []
     for column in ex["columns"]:
         x = _done_values(rows, column)
-        x = x[np.isfinite(x)]
         stats_wanted = [(f"P{round(100 * q):d}", _quantile_statistic(float(q)), True) for q in ex["quantiles"]]
         if ex["most_probable_maximum"]:
             stats_wanted.append(("MPM", _gumbel_mode, False))
         for label, f, vectorized in stats_wanted:
-            if len(x) < 2:
+            if len(x) < 2 or (label == "MPM" and not np.isfinite(x).all()):
                 out.append(dict(column=column, statistic=label, value=float("nan"), low=float("nan"),
                                 high=float("nan"), n=len(x)))
                 continue
-            res = stats.bootstrap((x,), f, vectorized=vectorized, n_resamples=int(ex["resamples"]),
-                                  confidence_level=float(ex["conf_level"]), method="percentile",
-                                  rng=np.random.default_rng(ex["seed"]))
-            ci = res.confidence_interval
-            out.append(dict(column=column, statistic=label, value=float(f(x)), low=float(ci.low),
-                            high=float(ci.high), n=len(x)))
+            with np.errstate(invalid="ignore"):  # its standard error of +inf values is NaN: unused
+                res = stats.bootstrap((x,), f, vectorized=vectorized, n_resamples=int(ex["resamples"]),
+                                      confidence_level=float(ex["conf_level"]), method="percentile",
+                                      rng=np.random.default_rng(ex["seed"]))
+            # a bound between two +inf resampled statistics comes back NaN (inf - inf): it is +inf
+            low, high = (float(b) if not (np.isnan(b) and np.isinf(x).any()) else float("inf")
+                         for b in (res.confidence_interval.low, res.confidence_interval.high))
+            out.append(dict(column=column, statistic=label, value=float(f(x)), low=low, high=high, n=len(x)))
     return out
 
 
@@ -110,7 +117,6 @@ def allowances(study, rows) -> list[dict]:
     for column, limit in study.allowances.items():
         (side, allowance), = limit.items()
         x = _done_values(rows, column)
-        x = x[np.isfinite(x)]
         k, n = int(np.sum(x > allowance if side == "over" else x < allowance)), len(x)
         if n:
             ci = stats.binomtest(k, n).proportion_ci(confidence_level=level, method="wilson")

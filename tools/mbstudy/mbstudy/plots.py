@@ -1,6 +1,7 @@
 """The plots a study asks for ([[plot]] tables), drawn from its results table as SVG.
 
-kind = "xy": `y` against `x`, one line per value of `group`, marked cases labelled;
+kind = "xy": `y` against `x`, one line per value of `group`, marked cases labelled (only the
+cases that match `where = { variable = value }`, when given);
 kind = "histogram": the distribution of `column` over the finished cases, with its 95th
 percentile and, when the study gives one, the column's allowance and the fraction over it;
 kind = "sensitivity": SALib's indices of `column` per variable with their confidence intervals
@@ -76,6 +77,7 @@ def _legend_outside(ax):
 
 
 def _xy(ax, p, rows):
+    rows = [r for r in rows if all(r.get(k) == v for k, v in p.get("where", {}).items())]
     groups = sorted({r[p["group"]] for r in rows}) if "group" in p else [None]
     for g in groups:
         sel = sorted((r for r in rows if g is None or r[p["group"]] == g), key=lambda r: r[p["x"]])
