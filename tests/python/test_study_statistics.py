@@ -200,6 +200,8 @@ def test_refusals(tmp_path):
     with pytest.raises(ValueError, match="uniform or loguniform"):
         load(tmp_path, '[random]\ndesign = "morris"\nseed = 1\nsamples = 4\n[random.vary]\n'
              'x = { normal = [0.0, 1.0] }\n')
+    with pytest.raises(ValueError, match=r"unknown keys \['quantile'\]"):
+        load(tmp_path, '[extremes]\ncolumns = ["y"]\nquantile = [0.9]\n')
     with pytest.raises(ValueError, match="design"):
         load(tmp_path, '[random]\ndesign = "halton"\nseed = 1\nsamples = 4\n' + ISHIGAMI_VARS)
 

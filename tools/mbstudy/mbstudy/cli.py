@@ -37,6 +37,7 @@ def main(argv=None):
         study = spec.load(args.study)
         table = pacsv.read_csv(args.results)
         found = analysis.analyse(study, table)
+        pathlib.Path(args.out).mkdir(parents=True, exist_ok=True)
         for path in plots.draw(study, table, pathlib.Path(args.out), prefix=args.prefix, found=found):
             print(f"wrote {path}")
         return 0

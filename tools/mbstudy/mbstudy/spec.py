@@ -23,7 +23,7 @@ class Study:
     inputs: dict  # input -> [[t, value or variable name], ...] (piecewise constant)
     outputs: dict  # output -> [figure, ...]
     spectrum: dict  # {"start": s, "after_final_of": [...], "settle": s, "band": [f0, f1]}
-    derived: dict  # column -> {"ratio": [a, b]} or {"max": [...]}
+    derived: dict  # column -> {"ratio": [a, b]}, {"max" | "min" | "mean": [...]}, {"if_else_inf": [c, v]}
     marks: list  # [{"label": str, "where": {variable: value}, ...}]
     plots: list  # [{"kind": "xy" | "histogram" | "sensitivity", ...}]
     sensitivity: dict = dataclasses.field(default_factory=dict)  # {"columns": [...], "resamples", "conf_level", "seed"}
@@ -90,12 +90,12 @@ def load(path, fmu=None) -> Study:
     for name, values in grid.items():
         if not isinstance(values, list) or not values:
             raise ValueError(f"[grid] {name}: a non-empty list of values")
-    grid_and_sa = grid and d.get("sensitivity")
-    if grid_and_sa:
+    if grid and d.get("sensitivity"):
         raise ValueError("[sensitivity] needs a study without [grid] (the indices are of the [random] design alone)")
     sensitivity = _sensitivity(d.get("sensitivity", {}), random)
     extremes = {"columns": [], "quantiles": [0.9, 0.95], "most_probable_maximum": True,
                 "resamples": 999, "conf_level": 0.95, "seed": 0}
+    _known_keys(d.get("extremes", {}), extremes, "[extremes]")
     extremes.update(d.get("extremes", {}))
     allowances = {k: _allowance(k, v) for k, v in d.get("allowances", {}).items()}
     scene = (path.parent / s["scene"]).read_text() if "scene" in s else ""
@@ -123,6 +123,12 @@ def load(path, fmu=None) -> Study:
         extremes=extremes,
         allowances=allowances,
     )
+
+
+def _known_keys(table, defaults, where):
+    unknown = sorted(set(table) - set(defaults))
+    if unknown:
+        raise ValueError(f"{where}: unknown keys {unknown} (known: {sorted(defaults)})")
 
 
 def _check_scene(scene, varied):
@@ -169,6 +175,7 @@ def _sensitivity(table, random):
         raise ValueError("[sensitivity] needs [random] design = 'saltelli' (Sobol' indices) or 'morris'")
     out = {"columns": list(_need(table, "columns", "[sensitivity]")), "resamples": 1000,
            "conf_level": 0.95, "seed": random["seed"]}
+    _known_keys(table, out, "[sensitivity]")
     out.update(table)
     out["method"] = "sobol" if design == "saltelli" else "morris"
     return out
