@@ -19,10 +19,13 @@ import pytest
 from conftest import ROOT, packed
 from fmpy import simulate_fmu
 
-from mbstudy import cases, driver, spec, summary
-from mbstudy.store import RUN_COLUMNS
+sys.path.insert(0, str(ROOT / "tools" / "mbstudy"))  # this tree's mbstudy, not an installed one
+from mbstudy import cases, driver, spec, summary  # noqa: E402
+from mbstudy.store import RUN_COLUMNS  # noqa: E402
 
-MBSTUDY = pathlib.Path(sys.executable).parent / "mbstudy"
+# the command of this tree's mbstudy (the installed console script may be another tree's)
+MBSTUDY = [sys.executable, "-m", "mbstudy.cli"]
+MBSTUDY_ENV = {**os.environ, "PYTHONPATH": str(ROOT / "tools" / "mbstudy")}
 
 # 5 block masses (the first one refused by the FMU: below its minimum) x 4 hoist speeds
 STUDY = """
@@ -82,8 +85,8 @@ def test_cluster_run_equals_serial_bit_for_bit_and_records_the_failing_cases(ser
     study, ref = serial
     out = tmp_path / "out"
     # the one command, as a user runs it: an embedded LocalCluster of 2 workers
-    done = subprocess.run([str(MBSTUDY), "run", str(study.path), "--workers", "2", "--out", str(out)],
-                          capture_output=True, text=True, timeout=300)
+    done = subprocess.run([*MBSTUDY, "run", str(study.path), "--workers", "2", "--out", str(out)],
+                          capture_output=True, text=True, timeout=300, env=MBSTUDY_ENV)
     assert done.returncode == 0, done.stderr
     assert "16 done, 4 failed of 20 cases" in done.stdout, done.stdout
     table = pq.read_table(out / "results.parquet")
@@ -110,9 +113,9 @@ def test_an_existing_cluster_given_by_its_scheduler_address(serial, tmp_path):
     study, ref = serial
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, host="127.0.0.1",
                       dashboard_address=None) as cluster:
-        done = subprocess.run([str(MBSTUDY), "run", str(study.path), "--scheduler", cluster.scheduler_address,
+        done = subprocess.run([*MBSTUDY, "run", str(study.path), "--scheduler", cluster.scheduler_address,
                                "--out", str(tmp_path / "out"), "--no-progress"],
-                              capture_output=True, text=True, timeout=300)
+                              capture_output=True, text=True, timeout=300, env=MBSTUDY_ENV)
         assert done.returncode == 0, done.stderr
     table = pq.read_table(tmp_path / "out" / "results.parquet")
     assert results(table).equals(results(ref))

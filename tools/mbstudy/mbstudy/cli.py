@@ -7,7 +7,8 @@ import pathlib
 import sys
 import time
 
-from . import driver, plots, spec
+from . import analysis, driver, plots, spec
+from .store import Store
 
 
 def main(argv=None):
@@ -35,7 +36,9 @@ def main(argv=None):
 
         study = spec.load(args.study)
         table = pacsv.read_csv(args.results)
-        for path in plots.draw(study, table, pathlib.Path(args.out), prefix=args.prefix):
+        found = analysis.analyse(study, table)
+        pathlib.Path(args.out).mkdir(parents=True, exist_ok=True)
+        for path in plots.draw(study, table, pathlib.Path(args.out), prefix=args.prefix, found=found):
             print(f"wrote {path}")
         return 0
 
@@ -46,7 +49,13 @@ def main(argv=None):
                        serial=args.serial, retry_failed=args.retry_failed,
                        progress=not args.no_progress)
     status = table.column("status").to_pylist()
-    written = plots.draw(study, table, out)
+    found = analysis.analyse(study, table)
+    written = []
+    for name, rows in found.items():  # sensitivity, extremes, allowances (.parquet and .csv)
+        if rows:
+            Store(out).write_named(name, rows)
+            written.append(out / f"{name}.parquet")
+    written += plots.draw(study, table, out, found=found)
     print(f"{study.name}: {status.count('done')} done, {len(status) - status.count('done')} failed "
           f"of {len(status)} cases in {time.perf_counter() - t0:.1f} s -> "
           f"{out / 'results.parquet'}, {out / 'results.csv'}"
@@ -54,7 +63,20 @@ def main(argv=None):
     for row in table.to_pylist():
         if row["status"] != "done":
             print(f"  case {row['case_index']} ({row['case_id']}) failed: {row['message']}", file=sys.stderr)
+    _print_found(found)
     return 0
+
+
+def _print_found(found):
+    for r in found["sensitivity"]:
+        if r["index"] in ("ST", "mu_star"):
+            print(f"  {r['column']}: {r['index']}({r['variable']}) = {r['value']:.4g} +- {r['conf']:.2g}")
+    for r in found["extremes"]:
+        print(f"  {r['column']}: {r['statistic']} = {r['value']:.5g} [{r['low']:.5g}, {r['high']:.5g}] (n {r['n']})")
+    for r in found["allowances"]:
+        print(f"  {r['column']} {'>' if r['side'] == 'over' else '<'} {r['allowance']:g}: {r['count']} of {r['n']} = "
+              f"{r['fraction']:.3f} "
+              f"[{r['low']:.3f}, {r['high']:.3f}]")
 
 
 if __name__ == "__main__":

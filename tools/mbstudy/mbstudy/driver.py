@@ -25,6 +25,7 @@ def _settings(study):
         "outputs": study.outputs,
         "spectrum": study.spectrum,
         "keep_series": study.keep_series,
+        "scene": study.scene,
     }
 
 
@@ -36,7 +37,7 @@ def _row(study, case, result):
     row.update(figures)
     if r["status"] == "done":
         try:
-            row.update(summary.derived(study.derived, figures))
+            row.update(summary.derived(study.derived, {**case.values, **figures}))  # varied values too
         except Exception as e:
             row.update(status="failed", message=f"derived columns: {e}")
     row.update(seconds=r["seconds"], worker=r["worker"])

@@ -9,7 +9,9 @@ import ctypes
 import hashlib
 import io
 import os
+import shutil
 import socket
+import string
 import tempfile
 import time
 import zipfile
@@ -103,8 +105,40 @@ def run_case(fmu_bytes, settings, case_index, case_id, values):
     return {"row": row, "series": series}
 
 
+def scene_variables(scene):
+    """The case variables a scene template names (`$name` or `${name}`)."""
+    return set(string.Template(scene).get_identifiers()) if scene else set()
+
+
+def _case_directory(directory, scene, values):
+    """A per-case copy of the unzipped FMU (hard links) whose resources/scene.toml is the study's
+    scene template with the case's values put in (`$name` -> the value as TOML text)."""
+    text = string.Template(scene).substitute({k: repr(float(v)) if isinstance(v, float) else str(v)
+                                              for k, v in values.items()})
+    case_dir = tempfile.mkdtemp(prefix="mbstudy-case-")
+    shutil.copytree(directory, case_dir, copy_function=os.link, dirs_exist_ok=True)
+    target = os.path.join(case_dir, "resources", "scene.toml")
+    if os.path.exists(target):
+        os.unlink(target)  # a hard link to the shared copy: never write through it
+    os.makedirs(os.path.dirname(target), exist_ok=True)
+    with open(target, "w") as f:
+        f.write(text)
+    return case_dir
+
+
 def _simulate(fmu_bytes, settings, values):
     directory, md = unzipped(fmu_bytes)
+    scene = settings.get("scene", "")
+    if not scene:
+        return _simulate_in(directory, md, settings, values)
+    case_dir = _case_directory(directory, scene, values)
+    try:
+        return _simulate_in(case_dir, md, settings, values)
+    finally:
+        shutil.rmtree(case_dir, ignore_errors=True)
+
+
+def _simulate_in(directory, md, settings, values):
     by_name = {v.name: v for v in md.modelVariables}
     schedules = {name: _schedule(points, values) for name, points in settings["inputs"].items()}
     start = {**settings["fixed"], **{k: v for k, v in values.items() if k in by_name}}
@@ -112,9 +146,11 @@ def _simulate(fmu_bytes, settings, values):
         if name not in by_name:
             raise ValueError(f"{md.modelName} has no variable {name!r}")
     scheduled = {v for points in settings["inputs"].values() for _, v in points if isinstance(v, str)}
+    scheduled |= scene_variables(settings.get("scene", ""))
     unused = [k for k in values if k not in by_name and k not in scheduled]
     if unused:
-        raise ValueError(f"{unused} are neither {md.modelName} variables nor used by an input schedule")
+        raise ValueError(f"{unused} are neither {md.modelName} variables nor used by an input schedule "
+                         "or the scene")
     outputs = [by_name[n] for n in settings["outputs"]]
 
     env = _next_env[0]

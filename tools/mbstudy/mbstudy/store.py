@@ -57,9 +57,17 @@ class Store:
         for r in rows:
             columns += [c for c in r if c not in columns and c not in RUN_COLUMNS]
         columns += list(RUN_COLUMNS)
+        return self.write_named("results", rows, columns)
+
+    def write_named(self, name, rows, columns=None):
+        """NAME.parquet and NAME.csv from `rows` (dicts), columns in first-seen order."""
+        if columns is None:
+            columns = []
+            for r in rows:
+                columns += [c for c in r if c not in columns]
         table = pa.table({c: _column(c, [r.get(c) for r in rows]) for c in columns})
-        pq.write_table(table, self.dir / "results.parquet")
-        with open(self.dir / "results.csv", "w", newline="") as f:
+        pq.write_table(table, self.dir / f"{name}.parquet")
+        with open(self.dir / f"{name}.csv", "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(columns)
             for r in rows:

@@ -53,15 +53,24 @@ def figures(name, wanted, t, x, window_start, band):
 
 
 def derived(spec, row):
-    """Columns computed from a row's figures: {"ratio": [a, b]} is a / b, {"max": [...]} the
-    largest of the named columns."""
+    """Columns computed from a row's figures and the derived columns above them: {"ratio":
+    [a, b]} is a / b, {"max": [...]} the largest, {"min": [...]} the smallest, {"mean": [...]} the
+    mean of the named columns, {"if_else_inf": [c, v]} v where c is not 0 and +inf elsewhere
+    (a deployment time that never came)."""
     out = {}
     for name, d in spec.items():
         (kind, cols), = d.items()
+        have = {**row, **out}
         if kind == "ratio":
-            out[name] = row[cols[0]] / row[cols[1]] if row[cols[1]] != 0 else float("nan")
+            out[name] = have[cols[0]] / have[cols[1]] if have[cols[1]] != 0 else float("nan")
         elif kind == "max":
-            out[name] = max(row[c] for c in cols)
+            out[name] = max(have[c] for c in cols)
+        elif kind == "min":
+            out[name] = min(have[c] for c in cols)
+        elif kind == "mean":
+            out[name] = float(np.mean([have[c] for c in cols]))
+        elif kind == "if_else_inf":  # [condition, value]: value where condition != 0, else +inf
+            out[name] = float(have[cols[1]]) if have[cols[0]] != 0 else float("inf")
         else:
-            raise ValueError(f"[derived] {name}: unknown kind {kind} (ratio, max)")
+            raise ValueError(f"[derived] {name}: unknown kind {kind} (ratio, max, min, mean, if_else_inf)")
     return out
