@@ -106,6 +106,9 @@ pub struct RealSpec<P> {
     pub variability: Variability,
     /// The accepted range.
     pub bounds: Bounds,
+    /// The value acts only once the model moves: no output depends on it at initialization (the
+    /// model's `dependencies` of its initial unknowns leave it out).
+    pub motion_only: bool,
     /// Start value where it is not `get` of `P`'s default (an effect switched off by default
     /// that keeps a value for when it is switched on).
     pub start: Option<f64>,
@@ -133,6 +136,7 @@ impl<P> RealSpec<P> {
             note: None,
             variability: Variability::Fixed,
             bounds,
+            motion_only: false,
             start: None,
             get,
             set,
@@ -148,6 +152,18 @@ impl<P> RealSpec<P> {
     /// The same with the model's sentence after the description ([`RealSpec::note`]).
     pub const fn note(mut self, note: &'static str) -> Self {
         self.note = Some(note);
+        self
+    }
+
+    /// The same, tunable (settable between communication steps).
+    pub const fn tunable(mut self) -> Self {
+        self.variability = Variability::Tunable;
+        self
+    }
+
+    /// The same, acting only once the model moves ([`RealSpec::motion_only`]).
+    pub const fn motion_only(mut self) -> Self {
+        self.motion_only = true;
         self
     }
 
@@ -207,6 +223,12 @@ impl<P> RealSpec<P> {
     }
 }
 
+/// Names of the parameters in `table` that act only once the model moves
+/// ([`RealSpec::motion_only`]).
+pub fn motion_only_names<P>(table: &[RealSpec<P>]) -> impl Iterator<Item = &'static str> + '_ {
+    table.iter().filter(|s| s.motion_only).map(|s| s.name)
+}
+
 /// The spec named `name` in a model's table.
 pub fn find<'a, P>(table: &'a [RealSpec<P>], name: &str) -> Option<&'a RealSpec<P>> {
     table.iter().find(|s| s.name == name)
@@ -247,7 +269,8 @@ pub mod solver {
         *knobs[I] = v;
     }
 
-    /// `rtol`: relative error tolerance.
+    /// `rtol`: relative error tolerance (like `atol` and `h_max`, it acts only once the model
+    /// moves).
     pub const fn rtol<P: SolverKnobs>() -> RealSpec<P> {
         RealSpec::new(
             "rtol",
@@ -257,6 +280,7 @@ pub mod solver {
             get::<P, 0>,
             set::<P, 0>,
         )
+        .motion_only()
     }
 
     /// `atol`: absolute error tolerance.
@@ -269,6 +293,7 @@ pub mod solver {
             get::<P, 1>,
             set::<P, 1>,
         )
+        .motion_only()
         .unit_note("m, rad, m/s, rad/s")
     }
 
@@ -282,6 +307,7 @@ pub mod solver {
             get::<P, 2>,
             set::<P, 2>,
         )
+        .motion_only()
     }
 }
 

@@ -149,7 +149,8 @@ pub static REAL_PARAMS: &[RealSpec<PanelLockParams>] = &[
         Some("N.m.s/rad"),
         NON_NEGATIVE,
         "Viscous damping of every hinge shaft."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "root_lock_angle",
         root_lock_angle,
@@ -191,35 +192,40 @@ pub static REAL_PARAMS: &[RealSpec<PanelLockParams>] = &[
         Some("N.m.s/rad"),
         NON_NEGATIVE,
         "Damping of the stow stops."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "cam_radius",
         cam_radius,
         Some("m"),
         POSITIVE,
         "Latch cam radius; larger than groove_depth + groove_width / 2 (with latches)."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "groove_width",
         groove_width,
         Some("m"),
         POSITIVE,
         "Latch groove width; at least 2 pin_radius (with latches)."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "groove_depth",
         groove_depth,
         Some("m"),
         POSITIVE,
         "Latch groove depth; at least pin_radius, below cam_radius (with latches)."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "pin_radius",
         pin_radius,
         Some("m"),
         POSITIVE,
         "Latch pin radius."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "contact_stiffness",
         contact_stiffness,
@@ -227,6 +233,7 @@ pub static REAL_PARAMS: &[RealSpec<PanelLockParams>] = &[
         POSITIVE,
         "Pin/groove contact stiffness k in N/m^n with n = contact_exponent (F = k delta^n ...); no unit is declared because its dimension depends on n."
     )
+    .motion_only()
     .unit_note("N/m^n"),
     real_param!(
         "contact_exponent",
@@ -234,14 +241,16 @@ pub static REAL_PARAMS: &[RealSpec<PanelLockParams>] = &[
         None,
         POSITIVE,
         "Contact force exponent n (1.5 for metals)."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "restitution",
         restitution,
         None,
         Bounds::Positive { cap: Some(1.0) },
         "Coefficient of restitution of the damped contact laws, in (0, 1]."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "cable_stiffness",
         cable_stiffness,
@@ -255,7 +264,8 @@ pub static REAL_PARAMS: &[RealSpec<PanelLockParams>] = &[
         Some("N.m.s/rad"),
         NON_NEGATIVE,
         "Closed cable loop damping."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "satellite_mass",
         satellite_mass,
@@ -329,7 +339,8 @@ pub static REAL_PARAMS: &[RealSpec<PanelLockParams>] = &[
             open: [false, true],
         }),
         "Modal damping ratio of the flexible panels' modes (flexible_panels only)."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "panel_youngs_modulus",
         panel_youngs_modulus,
@@ -364,7 +375,8 @@ pub static REAL_PARAMS: &[RealSpec<PanelLockParams>] = &[
             cap: Some(MAX_HINGE_FRICTION_TORQUE),
         },
         "Coulomb friction torque of every hinge shaft, opposing the hinge rate (regularized over a slip rate of 1e-4 rad/s); 0: no friction effect. Per hinge: [[hinge]] friction_torque in the scene file."
-    ),
+    )
+    .motion_only(),
 ];
 
 /// Value reference of the motor-torque input (after the real parameters).

@@ -139,7 +139,8 @@ pub static REAL_PARAMS: &[RealSpec<RopeBlockParams>] = &[
         1e9,
         "Axial (Kelvin-Voigt) damping of every sling: tension += damping x strain rate.",
         rope.axial_damping
-    ),
+    )
+    .motion_only(),
     rp!(
         "rope_diameter",
         Some("m"),
@@ -147,7 +148,8 @@ pub static REAL_PARAMS: &[RealSpec<RopeBlockParams>] = &[
         0.3,
         "Nominal sling diameter (drag area).",
         rope.diameter
-    ),
+    )
+    .motion_only(),
     rp!(
         "mu",
         None,
@@ -155,7 +157,8 @@ pub static REAL_PARAMS: &[RealSpec<RopeBlockParams>] = &[
         2.0,
         "Coulomb friction coefficient rope on plate edge [-]; used only when `friction`.",
         rope.friction
-    ),
+    )
+    .motion_only(),
     rp!(
         "bending_stiffness",
         Some("N.m2"),
@@ -173,6 +176,7 @@ pub static REAL_PARAMS: &[RealSpec<RopeBlockParams>] = &[
         "Drag coefficient of the rope cross-section [-]; used only when `drag`.",
         rope.drag_coefficient
     )
+    .motion_only()
     .start(1.2),
     rp!(
         "fluid_density",
@@ -181,7 +185,8 @@ pub static REAL_PARAMS: &[RealSpec<RopeBlockParams>] = &[
         2000.0,
         "Density of the surrounding fluid (air 1.225, sea water 1025); used only when `drag`.",
         rope.fluid_density
-    ),
+    )
+    .motion_only(),
     rp!(
         "gravity",
         Some("m/s2"),
@@ -226,7 +231,8 @@ pub static REAL_PARAMS: &[RealSpec<RopeBlockParams>] = &[
         1.0,
         "Coefficient of restitution of the block hitting the ground; used only when `ground_contact`.",
         restitution
-    ),
+    )
+    .motion_only(),
     ground!(
         "ground_mu",
         None,
@@ -234,7 +240,8 @@ pub static REAL_PARAMS: &[RealSpec<RopeBlockParams>] = &[
         2.0,
         "Coulomb friction coefficient of the block on the ground; used only when `ground_contact`.",
         mu
-    ),
+    )
+    .motion_only(),
     ground!(
         "ground_slip_speed",
         Some("m/s"),
@@ -242,7 +249,8 @@ pub static REAL_PARAMS: &[RealSpec<RopeBlockParams>] = &[
         1.0,
         "Speed below which ground friction turns viscous (no sticking: a block held at a fraction r of the friction limit creeps at ground_slip_speed r / sqrt(1 - r^2)); used only when `ground_contact`.",
         slip_speed
-    ),
+    )
+    .motion_only(),
     rp!(
         "rope_breaking_load",
         Some("N"),
@@ -258,7 +266,8 @@ pub static REAL_PARAMS: &[RealSpec<RopeBlockParams>] = &[
         60.0,
         "Time over which a hook reaches a new velocity or pay-out command, linearly from the current one (0: at once, the integrator restarts at every change; > 0: hook position and velocity stay continuous and the integrator keeps its history); with hook_command = position, the shortest duration of a move to a new position target.",
         hook_ramp
-    ),
+    )
+    .motion_only(),
 ];
 
 /// Integer value references (parameters first, then outputs; slot `i`'s sling and slip at
