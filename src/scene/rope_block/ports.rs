@@ -263,7 +263,7 @@ pub static REAL_PARAMS: &[RealSpec<RopeBlockParams>] = &[
         "hook_ramp_time",
         Some("s"),
         0.0,
-        60.0,
+        super::params::MAX_HOOK_RAMP,
         "Time over which a hook reaches a new velocity or pay-out command, linearly from the current one (0: at once, the integrator restarts at every change; > 0: hook position and velocity stay continuous and the integrator keeps its history); with hook_command = position, the shortest duration of a move to a new position target.",
         hook_ramp
     )
