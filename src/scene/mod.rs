@@ -21,6 +21,7 @@ pub mod choice;
 pub mod clock;
 pub mod native;
 pub mod panel_lock;
+pub mod param_spec;
 pub mod pid;
 pub mod port;
 pub mod rope_block;

@@ -29,6 +29,7 @@ use std::sync::OnceLock;
 
 use super::bytes::{ByteReader, ByteWriter};
 use super::clock::Clock;
+use super::param_spec::{Bounds, Range, RealSpec};
 use super::port::{ModelInfo, PortSpec, ValueRef, Variability};
 use super::store::PortStore;
 use super::{CoSimModel, LogLevel, LogRecord, ModelError};
@@ -40,15 +41,23 @@ const STATE_FORMAT: u32 = 2;
 /// Model identifier (also the state tag).
 pub const IDENTIFIER: &str = "PidController";
 
-/// Real value references.
+/// Real value references (the parameters take 0..=6, [`REAL_PARAMS`] in order; the tests set
+/// them by these names).
 mod vr {
     use super::ValueRef;
+    #[cfg(test)]
     pub const KP: ValueRef = 0;
+    #[cfg(test)]
     pub const KI: ValueRef = 1;
+    #[cfg(test)]
     pub const KD: ValueRef = 2;
+    #[cfg(test)]
     pub const TF: ValueRef = 3;
+    #[cfg(test)]
     pub const TT: ValueRef = 4;
+    #[cfg(test)]
     pub const U_MIN: ValueRef = 5;
+    #[cfg(test)]
     pub const U_MAX: ValueRef = 6;
     pub const SETPOINT: ValueRef = 7;
     pub const MEASUREMENT: ValueRef = 8;
@@ -63,26 +72,19 @@ mod vr {
 pub fn info() -> &'static ModelInfo {
     static INFO: OnceLock<ModelInfo> = OnceLock::new();
     INFO.get_or_init(|| {
-        use Variability::{Fixed, Tunable};
+        use Variability::Fixed;
         ModelInfo {
             identifier: IDENTIFIER,
             guid: "{d3273808-9b6c-429a-8343-c6d18db11dab}",
             description: "Discrete-time PID controller sampled at the communication step: filtered derivative (backward Euler), exact integral of the held error, output limits with back-calculation anti-windup.",
-            ports: vec![
-                PortSpec::real_parameter("kp", vr::KP, Tunable, 1.0, None, "Proportional gain (output units per error unit)."),
-                PortSpec::real_parameter("ki", vr::KI, Tunable, 0.5, Some("1/s"), "Integral gain (output units per error unit and second)."),
-                PortSpec::real_parameter("kd", vr::KD, Tunable, 0.0, Some("s"), "Derivative gain (output units per error unit per second of rate)."),
-                PortSpec::real_parameter("Tf", vr::TF, Tunable, 0.01, Some("s"), "Time constant of the first-order filter on the derivative; 0 gives a plain difference quotient.").with_min(0.0),
-                PortSpec::real_parameter("Tt", vr::TT, Tunable, 0.1, Some("s"), "Anti-windup tracking time constant: how fast the integral follows the saturated output; 0 resets it at once.").with_min(0.0),
-                PortSpec::real_parameter("u_min", vr::U_MIN, Tunable, -1.0e9, None, "Lower output limit (must not exceed u_max)."),
-                PortSpec::real_parameter("u_max", vr::U_MAX, Tunable, 1.0e9, None, "Upper output limit (must not be below u_min)."),
+            ports: REAL_PARAMS.iter().enumerate().map(|(i, p)| p.port(i as ValueRef, &Params::default())).chain([
                 PortSpec::boolean_parameter("d_on_measurement", vr::D_ON_MEASUREMENT, Fixed, false, "Derivative acts on minus the measurement instead of the error (no kick on setpoint steps)."),
                 PortSpec::real_input("setpoint", vr::SETPOINT, 0.0, None, "Reference value the measurement should follow."),
                 PortSpec::real_input("measurement", vr::MEASUREMENT, 0.0, None, "Measured value of the controlled quantity."),
                 PortSpec::real_output("u", vr::U, None, "Control output, clamped to [u_min, u_max]."),
                 PortSpec::real_output("error", vr::ERROR, None, "Control error setpoint - measurement at the last sample."),
                 PortSpec::boolean_output("saturated", vr::SATURATED, "True while the output is clamped to one of its limits."),
-            ],
+            ]).collect(),
             default_stop_time: 10.0,
             default_step: 0.01,
             initial_dependencies,
@@ -135,15 +137,110 @@ impl Default for Pid {
 }
 
 /// Parameters read from the port store for one sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct Params {
+    /// Proportional gain [output units per error unit].
     kp: f64,
+    /// Integral gain [1/s].
     ki: f64,
+    /// Derivative gain [s].
     kd: f64,
+    /// Derivative filter time constant [s].
     tf: f64,
+    /// Anti-windup tracking time constant [s].
     tt: f64,
+    /// Output limits [output units].
     u_min: f64,
     u_max: f64,
 }
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            kp: 1.0,
+            ki: 0.5,
+            kd: 0.0,
+            tf: 0.01,
+            tt: 0.1,
+            u_min: -1.0e9,
+            u_max: 1.0e9,
+        }
+    }
+}
+
+/// Any finite value.
+const ANY: Bounds = Bounds::Fixed(Range::closed(None, None));
+/// Finite and >= 0.
+const NON_NEGATIVE: Bounds = Bounds::Fixed(Range::closed(Some(0.0), None));
+
+macro_rules! pid_param {
+    ($name:literal, $unit:expr, $bounds:expr, $desc:literal, $field:ident) => {
+        RealSpec::new(
+            $name,
+            $unit,
+            $bounds,
+            $desc,
+            |p: &Params| p.$field,
+            |p: &mut Params, v| p.$field = v,
+        )
+        .tunable()
+    };
+}
+
+const _: () = assert!(REAL_PARAMS.len() == vr::SETPOINT as usize);
+
+/// Real parameters, value references 0.. in this order ([`vr`]).
+static REAL_PARAMS: [RealSpec<Params>; 7] = [
+    pid_param!(
+        "kp",
+        None,
+        ANY,
+        "Proportional gain (output units per error unit).",
+        kp
+    ),
+    pid_param!(
+        "ki",
+        Some("1/s"),
+        ANY,
+        "Integral gain (output units per error unit and second).",
+        ki
+    ),
+    pid_param!(
+        "kd",
+        Some("s"),
+        ANY,
+        "Derivative gain (output units per error unit per second of rate).",
+        kd
+    ),
+    pid_param!(
+        "Tf",
+        Some("s"),
+        NON_NEGATIVE,
+        "Time constant of the first-order filter on the derivative; 0 gives a plain difference quotient.",
+        tf
+    ),
+    pid_param!(
+        "Tt",
+        Some("s"),
+        NON_NEGATIVE,
+        "Anti-windup tracking time constant: how fast the integral follows the saturated output; 0 resets it at once.",
+        tt
+    ),
+    pid_param!(
+        "u_min",
+        None,
+        ANY,
+        "Lower output limit (must not exceed u_max).",
+        u_min
+    ),
+    pid_param!(
+        "u_max",
+        None,
+        ANY,
+        "Upper output limit (must not be below u_min).",
+        u_max
+    ),
+];
 
 impl Pid {
     /// A controller at its default parameters, not initialized.
@@ -156,15 +253,10 @@ impl Pid {
     }
 
     fn params(&self) -> Result<Params, ModelError> {
-        let p = Params {
-            kp: self.ports.get_real(vr::KP)?,
-            ki: self.ports.get_real(vr::KI)?,
-            kd: self.ports.get_real(vr::KD)?,
-            tf: self.ports.get_real(vr::TF)?,
-            tt: self.ports.get_real(vr::TT)?,
-            u_min: self.ports.get_real(vr::U_MIN)?,
-            u_max: self.ports.get_real(vr::U_MAX)?,
-        };
+        let mut p = Params::default();
+        for (i, spec) in REAL_PARAMS.iter().enumerate() {
+            (spec.set)(&mut p, self.ports.get_real(i as ValueRef)?);
+        }
         if p.u_min > p.u_max {
             return Err(ModelError::InvalidValue(format!(
                 "u_min = {} exceeds u_max = {}: set u_min <= u_max",

@@ -114,6 +114,15 @@ def test_enumeration_takes_an_item_name_or_its_number():
     assert "not an item number" in refused("simulate", "PanelLock", "--stop", "0", "--set", "contact_law=9")
 
 
+def test_set_rtol_above_its_range_is_refused():
+    """Issue #43 item 3: `simulate PanelLock --set rtol=50` ran; rtol has one declared range for
+    every model, [1e3 eps, 0.1] (docs/parameter_spec.md)."""
+    for model in ["PanelLock", "RopeBlock"]:
+        err = refused("simulate", model, "--stop", "0", "--set", "rtol=50")
+        assert "`rtol` = 50.0 is above its maximum 0.1" in err, (model, err)
+        ok("simulate", model, "--stop", "0", "--set", "rtol=0.1")
+
+
 def test_boolean_takes_true_false_1_0_only():
     for v in ["true", "false", "1", "0"]:
         ok("simulate", "PidController", "--stop", "0", "--set", f"d_on_measurement={v}")

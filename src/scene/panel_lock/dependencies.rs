@@ -24,33 +24,29 @@
 //! known in several configurations: the input dependencies are exact there, the parameter
 //! dependencies a superset of what the perturbations show (never missing one).
 
-use super::ports::SATELLITE_LOAD_INPUTS;
+use super::ports::{REAL_PARAMS, SATELLITE_LOAD_INPUTS};
+use crate::scene::param_spec::motion_only_names;
 use crate::scene::port::{ModelInfo, PortSpec};
 
 /// Knowns that do not act on the initial (stowed, resting) state but for `integrator`
-/// ([`ROUND_OFF_ONLY`]); a choice's Integer twin ([`crate::scene::choice`]) with its choice.
-const MOTION_ONLY: [&str; 20] = [
+/// ([`ROUND_OFF_ONLY`]): the real parameters declared motion-only
+/// ([`crate::scene::param_spec::RealSpec::motion_only`]: the solver knobs, damping, latch and
+/// contact parameters) and these choices and switches (a choice's Integer twin
+/// ([`crate::scene::choice`]) with its choice).
+const MOTION_ONLY_CHOICES: [&str; 5] = [
     "load_frame",
     "load_frame_number",
     "contact_law",
     "contact_law_number",
     "latches",
-    "rtol",
-    "atol",
-    "h_max",
-    "hinge_damping",
-    "hinge_friction_torque",
-    "stop_damping",
-    "cam_radius",
-    "groove_width",
-    "groove_depth",
-    "pin_radius",
-    "contact_stiffness",
-    "contact_exponent",
-    "restitution",
-    "cable_damping",
-    "modal_damping_ratio",
 ];
+
+/// Every known that does not act on the initial state (see [`MOTION_ONLY_CHOICES`]).
+fn motion_only() -> Vec<&'static str> {
+    let mut names = MOTION_ONLY_CHOICES.to_vec();
+    names.extend(motion_only_names(REAL_PARAMS));
+    names
+}
 
 /// The integrator choice and its Integer twin: act on the root-hinge reactions at initialization
 /// at round-off only (the starts of the joint-coordinate and maximal integrators differ in the
@@ -86,9 +82,9 @@ pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<
     } else if name.starts_with("hinge") && name.ends_with("_angle") {
         names(&["n_panels", "panel_stowed_angle", "panel_lock_angle"])
     } else if MOTOR_DRIVEN.contains(&name) {
-        info.knowns_except(&MOTION_ONLY)
+        info.knowns_except(&motion_only())
     } else if name == "potential_energy" || name == AXIAL_TORQUE {
-        let mut excluded = MOTION_ONLY.to_vec();
+        let mut excluded = motion_only();
         if name == "potential_energy" {
             excluded.extend(ROUND_OFF_ONLY);
             excluded.push("root_motor_torque");

@@ -3,6 +3,8 @@
 use crate::contact::LawKind;
 pub use crate::effect::body_load::LoadFrame;
 use crate::integrator::{IntegratorKind, Settings};
+pub use crate::scene::param_spec::ENVELOPE_DECADES;
+use crate::scene::param_spec::{Bounds, Range, SolverKnobs, find};
 
 /// How a flexible panel's finite-element model is reduced to modal coordinates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -135,6 +137,17 @@ pub struct PanelLockParams {
     pub integrator: IntegratorKind,
     pub settings: Settings,
     pub error_control: ErrorControl,
+}
+
+impl SolverKnobs for PanelLockParams {
+    fn knobs(&self) -> [f64; 3] {
+        [self.settings.rtol, self.settings.atol, self.settings.h_max]
+    }
+
+    fn knobs_mut(&mut self) -> [&mut f64; 3] {
+        let s = &mut self.settings;
+        [&mut s.rtol, &mut s.atol, &mut s.h_max]
+    }
 }
 
 impl Default for PanelLockParams {
@@ -373,47 +386,19 @@ impl PanelLockParams {
         self.panel_areal_density * self.panel_length * self.panel_width
     }
 
-    /// The parameters [`Self::validate`] wants finite and > 0, within [`ENVELOPE_DECADES`]
-    /// either side of their default.
-    fn positive_values(&self) -> [(&'static str, f64); 19] {
-        [
-            ("panel_length", self.panel_length),
-            ("panel_width", self.panel_width),
-            ("panel_areal_density", self.panel_areal_density),
-            ("panel_thickness", self.panel_thickness),
-            ("yoke_length", self.yoke_length),
-            ("yoke_mass", self.yoke_mass),
-            ("hinge_mass", self.hinge_mass),
-            ("hinge_gyration_radius", self.hinge_gyration_radius),
-            ("cam_radius", self.cam_radius),
-            ("groove_width", self.groove_width),
-            ("groove_depth", self.groove_depth),
-            ("pin_radius", self.pin_radius),
-            ("contact_stiffness", self.contact_stiffness),
-            ("contact_exponent", self.contact_exponent),
-            ("restitution", self.restitution),
-            ("satellite_mass", self.satellite_mass),
-            ("satellite_inertia_x", self.satellite_inertia[0]),
-            ("satellite_inertia_y", self.satellite_inertia[1]),
-            ("satellite_inertia_z", self.satellite_inertia[2]),
-        ]
-    }
-
-    /// The parameters [`Self::validate`] wants finite and >= 0, at most [`ENVELOPE_DECADES`]
-    /// above their default.
-    fn non_negative_values(&self) -> [(&'static str, f64); 10] {
-        [
-            ("root_spring_preload", self.root_spring_preload),
-            ("root_spring_stiffness", self.root_spring_stiffness),
-            ("panel_spring_preload", self.panel_spring_preload),
-            ("panel_spring_stiffness", self.panel_spring_stiffness),
-            ("hinge_damping", self.hinge_damping),
-            ("hinge_friction_torque", self.hinge_friction_torque),
-            ("cable_stiffness", self.cable_stiffness),
-            ("cable_damping", self.cable_damping),
-            ("stop_stiffness", self.stop_stiffness),
-            ("stop_damping", self.stop_damping),
-        ]
+    /// `(name, value, default)` of the parameters declared [`Bounds::Positive`] (`positive`)
+    /// or [`Bounds::NonNegative`], in declaration order.
+    fn envelope_values(&self, positive: bool) -> Vec<(&'static str, f64, f64)> {
+        let d = Self::default();
+        super::ports::REAL_PARAMS
+            .iter()
+            .filter(|s| match s.bounds {
+                Bounds::Positive { .. } => positive,
+                Bounds::NonNegative { .. } => !positive,
+                Bounds::Fixed(_) => false,
+            })
+            .map(|s| (s.name, (s.get)(self), (s.get)(&d)))
+            .collect()
     }
 
     /// Checks every value; `Err` names the parameter and the accepted range.
@@ -421,9 +406,8 @@ impl PanelLockParams {
         if !(1..=6).contains(&self.n_panels) {
             return Err(format!("n_panels must be 1..=6, got {}", self.n_panels));
         }
-        let d = Self::default();
-        let positive = self.positive_values();
-        for (name, v) in positive {
+        let positive = self.envelope_values(true);
+        for &(name, v, _) in &positive {
             if !(v.is_finite() && v > 0.0) {
                 return Err(format!("{name} must be finite and > 0, got {v}"));
             }
@@ -431,17 +415,17 @@ impl PanelLockParams {
         // The envelope (issue #25, docs/adversarial_harness.md): three decades either side of
         // the default (six until the declared ranges came from it, docs/fmu_docs.md). Beyond it mass and stiffness ratios overflow the inertia tensors or make the
         // Newton matrix singular, and the failure could not name the parameter.
-        for ((name, v), (_, d)) in positive.iter().zip(d.positive_values()) {
-            envelope(name, *v, d, true)?;
+        for &(name, v, d) in &positive {
+            envelope(name, v, d, true)?;
         }
-        let non_negative = self.non_negative_values();
-        for (name, v) in non_negative {
+        let non_negative = self.envelope_values(false);
+        for &(name, v, _) in &non_negative {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(format!("{name} must be finite and >= 0, got {v}"));
             }
         }
-        for ((name, v), (_, d)) in non_negative.iter().zip(d.non_negative_values()) {
-            envelope(name, *v, d, false)?;
+        for &(name, v, d) in &non_negative {
+            envelope(name, v, d, false)?;
         }
         if self.hinge_friction_torque > MAX_HINGE_FRICTION_TORQUE {
             return Err(format!(
@@ -663,81 +647,14 @@ pub const MAX_DEPLOYMENT_TIP_SPEED: f64 = 100.0;
 
 /// The range [`PanelLockParams::validate`] accepts for the real parameter `name` on its own (the
 /// others at their defaults; relations between parameters, such as the latch geometry or
-/// `panel_nonstructural_mass < panel_areal_density`, are in the parameters' descriptions):
-/// inclusive bounds, and which of them are open (the bound itself refused). `None` for names
-/// the checks below do not cover.
+/// `panel_nonstructural_mass < panel_areal_density`, are in the parameters' descriptions), as
+/// its declaration in [`super::ports::REAL_PARAMS`] gives it. `None` for names not declared.
 pub fn declared_range(name: &str) -> Option<DeclaredRange> {
-    let d = PanelLockParams::default();
-    let k = 10f64.powi(ENVELOPE_DECADES);
-    let closed = |lo: Option<f64>, hi: Option<f64>| DeclaredRange {
-        min: lo,
-        max: hi,
-        open: [false; 2],
-    };
-    if let Some((_, v)) = d.positive_values().iter().find(|(n, _)| *n == name) {
-        // restitution: also <= 1
-        let hi = if name == "restitution" { 1.0 } else { v * k };
-        return Some(closed(Some(v / k), Some(hi)));
-    }
-    if name == "hinge_friction_torque" {
-        return Some(closed(Some(0.0), Some(MAX_HINGE_FRICTION_TORQUE)));
-    }
-    if let Some((_, v)) = d.non_negative_values().iter().find(|(n, _)| *n == name) {
-        return Some(closed(Some(0.0), (*v > 0.0).then_some(v * k)));
-    }
-    let pi = std::f64::consts::PI;
-    Some(match name {
-        // lock - 0.2 > stowed >= 0
-        "root_lock_angle" | "panel_lock_angle" => DeclaredRange {
-            min: Some(0.2),
-            max: Some(pi),
-            open: [true, false],
-        },
-        // stowed < lock - 0.2 <= pi - 0.2
-        "root_stowed_angle" | "panel_stowed_angle" => DeclaredRange {
-            min: Some(0.0),
-            max: Some(pi - 0.2),
-            open: [false, true],
-        },
-        "gravity" => closed(Some(-9.81 * k), Some(9.81 * k)),
-        "modal_damping_ratio" => DeclaredRange {
-            min: Some(0.0),
-            max: Some(1.0),
-            open: [false, true],
-        },
-        "atol" => closed(Some(crate::integrator::MIN_ATOL), None),
-        // three decades either side, like the other stiffnesses: a subnormal modulus made the
-        // plate's bending rigidity underflow to 0 (adversarial seed 25 #853)
-        "panel_youngs_modulus" => closed(
-            Some(d.panel_youngs_modulus / k),
-            Some(d.panel_youngs_modulus * k),
-        ),
-        // the isotropic range (-1, 0.5) less 0.01 at each end: at 1 + nu ~ 1e-16 the plate's
-        // shear stiffness E / (2 (1 + nu)) made the reduction singular or the run take minutes
-        // (adversarial seed 7 #28537, #54955)
-        "panel_poisson" => closed(Some(MIN_PANEL_POISSON), Some(MAX_PANEL_POISSON)),
-        "panel_nonstructural_mass" => closed(Some(0.0), None),
-        "satellite_cg_x" | "satellite_cg_y" | "satellite_cg_z" => closed(
-            Some(-super::satellite::MAX_CG_OFFSET),
-            Some(super::satellite::MAX_CG_OFFSET),
-        ),
-        "rtol" => closed(Some(crate::integrator::MIN_RTOL), None),
-        "h_max" => closed(Some(crate::integrator::MIN_H_MAX), None),
-        _ => return None,
-    })
+    find(super::ports::REAL_PARAMS, name).map(|s| s.range(&PanelLockParams::default()))
 }
 
-/// A parameter's range as [`declared_range`] gives it: bounds as the validation writes them,
-/// `open[0]` / `open[1]` when it refuses the bound itself.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DeclaredRange {
-    pub min: Option<f64>,
-    pub max: Option<f64>,
-    pub open: [bool; 2],
-}
-
-/// Decades either side of a parameter's default that [`PanelLockParams::validate`] accepts.
-pub const ENVELOPE_DECADES: i32 = 3;
+/// A parameter's range as [`declared_range`] gives it.
+pub type DeclaredRange = Range;
 
 /// Smallest and largest `panel_poisson` [-] (see [`declared_range`]).
 pub const MIN_PANEL_POISSON: f64 = -0.99;

@@ -1,10 +1,15 @@
 //! The PanelLock variable table: parameters (mapped onto [`PanelLockParams`]), the motor input and
 //! the outputs, with value references by base type.
 
-use super::params::{LoadFrame, PanelLockParams};
+use super::params::{
+    DEFAULT_PANEL_E, LoadFrame, MAX_HINGE_FRICTION_TORQUE, MAX_PANEL_POISSON, MIN_PANEL_POISSON,
+    PanelLockParams,
+};
+use super::satellite::MAX_CG_OFFSET;
 use crate::contact::LawKind;
 use crate::integrator::IntegratorKind;
 use crate::scene::choice;
+use crate::scene::param_spec::{Bounds, ENVELOPE_DECADES, Range, RealSpec, solver};
 use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, ValueRef, Variability};
 use std::sync::OnceLock;
 
@@ -13,310 +18,365 @@ pub const IDENTIFIER: &str = "PanelLock";
 /// Largest number of hinges the outputs cover (6 panels plus the root hinge).
 pub const MAX_HINGES: usize = 7;
 
-/// A real parameter: its port and how it maps onto the scene parameters.
-pub struct RealParam {
-    pub name: &'static str,
-    pub unit: Option<&'static str>,
-    pub description: &'static str,
-    pub get: fn(&PanelLockParams) -> f64,
-    pub set: fn(&mut PanelLockParams, f64),
-    /// Unit shown in the documentation where none can be declared.
-    pub unit_note: Option<&'static str>,
+/// Envelope factor: [`ENVELOPE_DECADES`] decades.
+const ENVELOPE: f64 = 1e3;
+const _: () = assert!(ENVELOPE_DECADES == 3);
+/// Finite and > 0, three decades either side of the default.
+const POSITIVE: Bounds = Bounds::Positive { cap: None };
+/// Finite and >= 0, up to three decades above the default.
+const NON_NEGATIVE: Bounds = Bounds::NonNegative { cap: None };
+/// Lock angles: lock - 0.2 > stowed >= 0, and at most pi.
+const LOCK_ANGLE: Bounds = Bounds::Fixed(Range {
+    min: Some(0.2),
+    max: Some(std::f64::consts::PI),
+    open: [true, false],
+});
+/// Stowed angles: stowed < lock - 0.2 <= pi - 0.2.
+const STOWED_ANGLE: Bounds = Bounds::Fixed(Range {
+    min: Some(0.0),
+    max: Some(std::f64::consts::PI - 0.2),
+    open: [false, true],
+});
+/// Satellite centre-of-mass offsets [m].
+const CG: Bounds = fixed(-MAX_CG_OFFSET, MAX_CG_OFFSET);
+
+const fn fixed(min: f64, max: f64) -> Bounds {
+    Bounds::Fixed(Range::closed(Some(min), Some(max)))
 }
 
 macro_rules! real_param {
-    ($name:literal, $field:ident, $unit:expr, $desc:literal) => {
-        real_param!($name, $field, $unit, None, $desc)
-    };
-    ($name:literal, $field:ident, $unit:expr, $note:expr, $desc:literal) => {
-        RealParam {
-            name: $name,
-            unit: $unit,
-            description: $desc,
-            get: |p| p.$field,
-            set: |p, v| p.$field = v,
-            unit_note: $note,
-        }
+    ($name:literal, $field:ident, $unit:expr, $bounds:expr, $desc:literal) => {
+        RealSpec::new(
+            $name,
+            $unit,
+            $bounds,
+            $desc,
+            |p: &PanelLockParams| p.$field,
+            |p: &mut PanelLockParams, v| p.$field = v,
+        )
     };
 }
 
 /// Real parameters, value references 0.. in this order.
-pub static REAL_PARAMS: &[RealParam] = &[
+pub static REAL_PARAMS: &[RealSpec<PanelLockParams>] = &[
     real_param!(
         "panel_length",
         panel_length,
         Some("m"),
+        POSITIVE,
         "Panel length along the deployment direction."
     ),
     real_param!(
         "panel_width",
         panel_width,
         Some("m"),
+        POSITIVE,
         "Panel width along the hinge axis."
     ),
     real_param!(
         "panel_areal_density",
         panel_areal_density,
         Some("kg/m2"),
+        POSITIVE,
         "Panel mass per area (honeycomb with cells)."
     ),
     real_param!(
         "panel_thickness",
         panel_thickness,
         Some("m"),
+        POSITIVE,
         "Panel thickness (for its inertia)."
     ),
     real_param!(
         "yoke_length",
         yoke_length,
         Some("m"),
+        POSITIVE,
         "Yoke length from root hinge to first panel hinge."
     ),
-    real_param!("yoke_mass", yoke_mass, Some("kg"), "Yoke mass."),
+    real_param!(
+        "yoke_mass",
+        yoke_mass,
+        Some("kg"),
+        POSITIVE,
+        "Yoke mass."
+    ),
     real_param!(
         "hinge_mass",
         hinge_mass,
         Some("kg"),
+        POSITIVE,
         "Mass of each hinge body."
     ),
     real_param!(
         "hinge_gyration_radius",
         hinge_gyration_radius,
         Some("m"),
+        POSITIVE,
         "Radius of gyration of each hinge body."
     ),
     real_param!(
         "root_spring_preload",
         root_spring_preload,
         Some("N.m"),
+        NON_NEGATIVE,
         "Root deployment spring torque at the lock angle."
     ),
     real_param!(
         "root_spring_stiffness",
         root_spring_stiffness,
         Some("N.m/rad"),
+        NON_NEGATIVE,
         "Root deployment spring stiffness."
     ),
     real_param!(
         "panel_spring_preload",
         panel_spring_preload,
         Some("N.m"),
+        NON_NEGATIVE,
         "Panel-hinge deployment spring torque at the lock angle."
     ),
     real_param!(
         "panel_spring_stiffness",
         panel_spring_stiffness,
         Some("N.m/rad"),
+        NON_NEGATIVE,
         "Panel-hinge deployment spring stiffness."
     ),
     real_param!(
         "hinge_damping",
         hinge_damping,
         Some("N.m.s/rad"),
+        NON_NEGATIVE,
         "Viscous damping of every hinge shaft."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "root_lock_angle",
         root_lock_angle,
         Some("rad"),
+        LOCK_ANGLE,
         "Root hinge deployment angle at lock-up; more than 0.2 rad above root_stowed_angle, and less than pi rad above it."
     ),
     real_param!(
         "panel_lock_angle",
         panel_lock_angle,
         Some("rad"),
+        LOCK_ANGLE,
         "Panel hinge deployment angle at lock-up; more than 0.2 rad above panel_stowed_angle, and less than pi rad above it."
     ),
     real_param!(
         "root_stowed_angle",
         root_stowed_angle,
         Some("rad"),
+        STOWED_ANGLE,
         "Root hinge angle when stowed (t = 0); below root_lock_angle - 0.2 rad."
     ),
     real_param!(
         "panel_stowed_angle",
         panel_stowed_angle,
         Some("rad"),
+        STOWED_ANGLE,
         "Panel hinge angle when stowed (t = 0); below panel_lock_angle - 0.2 rad."
     ),
     real_param!(
         "stop_stiffness",
         stop_stiffness,
         Some("N.m/rad"),
+        NON_NEGATIVE,
         "Stiffness of the stow stops (folded stack on its snubbers)."
     ),
     real_param!(
         "stop_damping",
         stop_damping,
         Some("N.m.s/rad"),
+        NON_NEGATIVE,
         "Damping of the stow stops."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "cam_radius",
         cam_radius,
         Some("m"),
+        POSITIVE,
         "Latch cam radius; larger than groove_depth + groove_width / 2 (with latches)."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "groove_width",
         groove_width,
         Some("m"),
+        POSITIVE,
         "Latch groove width; at least 2 pin_radius (with latches)."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "groove_depth",
         groove_depth,
         Some("m"),
+        POSITIVE,
         "Latch groove depth; at least pin_radius, below cam_radius (with latches)."
-    ),
-    real_param!("pin_radius", pin_radius, Some("m"), "Latch pin radius."),
+    )
+    .motion_only(),
+    real_param!(
+        "pin_radius",
+        pin_radius,
+        Some("m"),
+        POSITIVE,
+        "Latch pin radius."
+    )
+    .motion_only(),
     real_param!(
         "contact_stiffness",
         contact_stiffness,
         None,
-        Some("N/m^n"),
+        POSITIVE,
         "Pin/groove contact stiffness k in N/m^n with n = contact_exponent (F = k delta^n ...); no unit is declared because its dimension depends on n."
-    ),
+    )
+    .motion_only()
+    .unit_note("N/m^n"),
     real_param!(
         "contact_exponent",
         contact_exponent,
         None,
+        POSITIVE,
         "Contact force exponent n (1.5 for metals)."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "restitution",
         restitution,
         None,
+        Bounds::Positive { cap: Some(1.0) },
         "Coefficient of restitution of the damped contact laws, in (0, 1]."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "cable_stiffness",
         cable_stiffness,
         Some("N.m/rad"),
+        NON_NEGATIVE,
         "Closed cable loop stiffness (per rad of the inboard hinge); > 0 with cable_loop."
     ),
     real_param!(
         "cable_damping",
         cable_damping,
         Some("N.m.s/rad"),
+        NON_NEGATIVE,
         "Closed cable loop damping."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "satellite_mass",
         satellite_mass,
         Some("kg"),
+        POSITIVE,
         "Satellite mass (free-floating satellite only)."
     ),
-    RealParam {
-        name: "satellite_inertia_x",
-        unit: Some("kg.m2"),
-        description: "Satellite principal moment of inertia about its body x axis, at its centre of mass (free-floating satellite only); at most satellite_inertia_y + satellite_inertia_z.",
-        get: |p| p.satellite_inertia[0],
-        set: |p, v| p.satellite_inertia[0] = v,
-        unit_note: None,
-    },
-    RealParam {
-        name: "satellite_inertia_y",
-        unit: Some("kg.m2"),
-        description: "Satellite principal moment of inertia about its body y axis (free-floating satellite only); at most satellite_inertia_x + satellite_inertia_z.",
-        get: |p| p.satellite_inertia[1],
-        set: |p, v| p.satellite_inertia[1] = v,
-        unit_note: None,
-    },
-    RealParam {
-        name: "satellite_inertia_z",
-        unit: Some("kg.m2"),
-        description: "Satellite principal moment of inertia about its body z axis (parallel to the hinge axes at t = 0; free-floating satellite only); at most satellite_inertia_x + satellite_inertia_y.",
-        get: |p| p.satellite_inertia[2],
-        set: |p, v| p.satellite_inertia[2] = v,
-        unit_note: None,
-    },
-    RealParam {
-        name: "satellite_cg_x",
-        unit: Some("m"),
-        description: "Satellite centre of mass relative to the root-hinge attachment point, satellite body x (parallel to world x at t = 0; the array deploys along +x).",
-        get: |p| p.satellite_cg[0],
-        set: |p, v| p.satellite_cg[0] = v,
-        unit_note: None,
-    },
-    RealParam {
-        name: "satellite_cg_y",
-        unit: Some("m"),
-        description: "Satellite centre of mass relative to the root-hinge attachment point, satellite body y.",
-        get: |p| p.satellite_cg[1],
-        set: |p, v| p.satellite_cg[1] = v,
-        unit_note: None,
-    },
-    RealParam {
-        name: "satellite_cg_z",
-        unit: Some("m"),
-        description: "Satellite centre of mass relative to the root-hinge attachment point, satellite body z (along the hinge axes at t = 0).",
-        get: |p| p.satellite_cg[2],
-        set: |p, v| p.satellite_cg[2] = v,
-        unit_note: None,
-    },
-    RealParam {
-        name: "gravity",
-        unit: Some("m/s2"),
-        description: "Gravity along -z (the hinge axes) when gravity_on.",
-        get: |p| p.gravity.unwrap_or(9.81),
-        set: |p, v| p.gravity = p.gravity.map(|_| v),
-        unit_note: None,
-    },
+    RealSpec::new(
+        "satellite_inertia_x",
+        Some("kg.m2"),
+        POSITIVE,
+        "Satellite principal moment of inertia about its body x axis, at its centre of mass (free-floating satellite only); at most satellite_inertia_y + satellite_inertia_z.",
+        |p| p.satellite_inertia[0],
+        |p, v| p.satellite_inertia[0] = v,
+    ),
+    RealSpec::new(
+        "satellite_inertia_y",
+        Some("kg.m2"),
+        POSITIVE,
+        "Satellite principal moment of inertia about its body y axis (free-floating satellite only); at most satellite_inertia_x + satellite_inertia_z.",
+        |p| p.satellite_inertia[1],
+        |p, v| p.satellite_inertia[1] = v,
+    ),
+    RealSpec::new(
+        "satellite_inertia_z",
+        Some("kg.m2"),
+        POSITIVE,
+        "Satellite principal moment of inertia about its body z axis (parallel to the hinge axes at t = 0; free-floating satellite only); at most satellite_inertia_x + satellite_inertia_y.",
+        |p| p.satellite_inertia[2],
+        |p, v| p.satellite_inertia[2] = v,
+    ),
+    RealSpec::new(
+        "satellite_cg_x",
+        Some("m"),
+        CG,
+        "Satellite centre of mass relative to the root-hinge attachment point, satellite body x (parallel to world x at t = 0; the array deploys along +x).",
+        |p| p.satellite_cg[0],
+        |p, v| p.satellite_cg[0] = v,
+    ),
+    RealSpec::new(
+        "satellite_cg_y",
+        Some("m"),
+        CG,
+        "Satellite centre of mass relative to the root-hinge attachment point, satellite body y.",
+        |p| p.satellite_cg[1],
+        |p, v| p.satellite_cg[1] = v,
+    ),
+    RealSpec::new(
+        "satellite_cg_z",
+        Some("m"),
+        CG,
+        "Satellite centre of mass relative to the root-hinge attachment point, satellite body z (along the hinge axes at t = 0).",
+        |p| p.satellite_cg[2],
+        |p, v| p.satellite_cg[2] = v,
+    ),
+    RealSpec::new(
+        "gravity",
+        Some("m/s2"),
+        fixed(-9.81 * ENVELOPE, 9.81 * ENVELOPE),
+        "Gravity along -z (the hinge axes) when gravity_on.",
+        |p| p.gravity.unwrap_or(9.81),
+        |p, v| p.gravity = p.gravity.map(|_| v),
+    ),
     real_param!(
         "modal_damping_ratio",
         modal_damping_ratio,
         None,
+        Bounds::Fixed(Range {
+            min: Some(0.0),
+            max: Some(1.0),
+            open: [false, true],
+        }),
         "Modal damping ratio of the flexible panels' modes (flexible_panels only)."
-    ),
+    )
+    .motion_only(),
     real_param!(
         "panel_youngs_modulus",
         panel_youngs_modulus,
         Some("Pa"),
+        fixed(DEFAULT_PANEL_E / ENVELOPE, DEFAULT_PANEL_E * ENVELOPE),
         "Equivalent Young's modulus of the honeycomb panel plate (flexible_panels only)."
     ),
     real_param!(
         "panel_poisson",
         panel_poisson,
         None,
+        fixed(MIN_PANEL_POISSON, MAX_PANEL_POISSON),
         "Equivalent Poisson ratio of the panel plate (flexible_panels only)."
     ),
     real_param!(
         "panel_nonstructural_mass",
         panel_nonstructural_mass,
         Some("kg/m2"),
+        Bounds::Fixed(Range::closed(Some(0.0), None)),
         "Non-structural areal mass (cells, harness), part of panel_areal_density and below it (flexible_panels only)."
     ),
-    RealParam {
-        name: "rtol",
-        unit: None,
-        description: "Relative error tolerance of the adaptive integrators: held per second of simulated time with rigid panels, per step with flexible panels.",
-        get: |p| p.settings.rtol,
-        set: |p, v| p.settings.rtol = v,
-        unit_note: None,
-    },
-    RealParam {
-        name: "atol",
-        unit: None,
-        description: "Absolute error tolerance of the integrator (m, rad, m/s, rad/s).",
-        get: |p| p.settings.atol,
-        set: |p, v| p.settings.atol = v,
-        unit_note: Some("m, rad, m/s, rad/s"),
-    },
-    RealParam {
-        name: "h_max",
-        unit: Some("s"),
-        description: "Largest internal step.",
-        get: |p| p.settings.h_max,
-        set: |p, v| p.settings.h_max = v,
-        unit_note: None,
-    },
+    solver::rtol().note(
+        "Held per second of simulated time with rigid panels, per step with flexible panels."
+    ),
+    solver::atol(),
+    solver::h_max(),
     real_param!(
         "hinge_friction_torque",
         hinge_friction_torque,
         Some("N.m"),
+        Bounds::NonNegative {
+            cap: Some(MAX_HINGE_FRICTION_TORQUE),
+        },
         "Coulomb friction torque of every hinge shaft, opposing the hinge rate (regularized over a slip rate of 1e-4 rad/s); 0: no friction effect. Per hinge: [[hinge]] friction_torque in the scene file."
-    ),
+    )
+    .motion_only(),
 ];
 
 /// Value reference of the motor-torque input (after the real parameters).
@@ -774,20 +834,7 @@ pub fn info() -> &'static ModelInfo {
         ports.push(choice::number_twin("load_frame", LOAD_FRAMES, ivr::LOAD_FRAME_NUMBER));
         ports.push(integer("n_modes", ivr::N_MODES, Causality::Parameter, Variability::Fixed, PortType::Integer { start: Some(d.n_modes as i32), min: Some(0), max: Some(400) }, "Craig-Bampton modes per flexible panel (structure); 0 with flexible panels takes 10, the paper configuration's count; must be 0 with rigid panels."));
         for (i, p) in REAL_PARAMS.iter().enumerate() {
-            let mut spec = PortSpec::real_parameter(p.name, i as ValueRef, Variability::Fixed, (p.get)(&d), p.unit, p.description);
-            // the range the validation accepts (tests/declared_ranges.rs keeps them equal)
-            if let Some(r) = super::params::declared_range(p.name) {
-                if let Some(lo) = r.min {
-                    spec = if r.open[0] { spec.with_open_min(lo) } else { spec.with_min(lo) };
-                }
-                if let Some(hi) = r.max {
-                    spec = if r.open[1] { spec.with_open_max(hi) } else { spec.with_max(hi) };
-                }
-            }
-            if let Some(note) = p.unit_note {
-                spec = spec.with_unit_note(note);
-            }
-            ports.push(spec);
+            ports.push(p.port(i as ValueRef, &d));
         }
         ports.push(PortSpec::real_input("root_motor_torque", vr_motor(), 0.0, Some("N.m"), "Root hinge motor torque (positive deploys), held over each step."));
         for (j, (name, unit, desc)) in SATELLITE_LOAD_INPUTS.iter().enumerate() {
@@ -820,7 +867,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{d35f394e-5e08-4ec1-a39e-ecc8c680d7e2}",
+            guid: "{f7ac4f07-c777-4a69-978c-ec438fb4fa70}",
             description: "Deployment and lock-up of a solar array: yoke and panels joined by hinge bodies with preloaded torsion springs, pin/groove latches with a selectable contact law, stow stops, optional cable loops; rigid panels or flexible (Craig-Bampton modal) panels.",
             ports,
             default_stop_time: 60.0,

@@ -24,7 +24,6 @@
 //! ([`crate::scene::clock::Clock`]), so a run started at 1000 s gives the outputs of a run
 //! started at 0 s.
 
-use super::params::GroundParams;
 use super::persist::{read_sim, write_sim};
 use super::ports::*;
 use super::rig::BlockGeometry;
@@ -166,62 +165,43 @@ impl RopeBlockModel {
                 )));
             }
         };
-        let mut v = [0.0; REAL_PARAMS.len()];
-        for (i, rp) in REAL_PARAMS.iter().enumerate() {
+        let d = RopeBlockParams::default();
+        for (i, spec) in REAL_PARAMS.iter().enumerate() {
             let x = self.ports.get_real(i as ValueRef)?;
-            if !(x.is_finite() && x >= rp.min && x <= rp.max) {
+            let range = spec.range(&d);
+            if !range.contains(x) {
                 return Err(ModelError::InvalidValue(format!(
                     "{} = {x} refused: it must be in [{}, {}] whether or not its effect is switched on",
-                    rp.name, rp.min, rp.max
+                    spec.name,
+                    range.min.unwrap_or(f64::NEG_INFINITY),
+                    range.max.unwrap_or(f64::INFINITY)
                 )));
             }
-            v[i] = x;
+            (spec.set)(&mut p, x);
         }
         let on = |vr| self.ports.get_boolean(vr);
-        let r = |vr: ValueRef| v[vr as usize];
-        p.block_mass = r(rvr::BLOCK_MASS);
-        p.rope.ea = r(rvr::ROPE_EA);
-        p.rope.mass_per_length = r(rvr::ROPE_MASS_PER_LENGTH);
-        p.rope.axial_damping = r(rvr::ROPE_DAMPING);
-        p.rope.diameter = r(rvr::ROPE_DIAMETER);
-        p.rope.breaking_load = r(rvr::ROPE_BREAKING_LOAD);
-        p.hook_ramp = r(rvr::HOOK_RAMP_TIME);
-        p.rope.friction = if on(bvr::FRICTION)? { r(rvr::MU) } else { 0.0 };
-        p.rope.bending_stiffness = if on(bvr::BENDING)? {
-            r(rvr::BENDING_STIFFNESS)
-        } else {
-            0.0
-        };
-        p.rope.drag_coefficient = if on(bvr::DRAG)? {
-            r(rvr::DRAG_COEFFICIENT)
-        } else {
-            0.0
-        };
-        p.rope.fluid_density = r(rvr::FLUID_DENSITY);
-        p.gravity = if on(bvr::GRAVITY_ON)? {
-            r(rvr::GRAVITY)
-        } else {
-            0.0
-        };
+        let r = |vr: ValueRef| self.ports.get_real(vr);
+        // a value whose effect is switched off is not used
+        if !on(bvr::FRICTION)? {
+            p.rope.friction = 0.0;
+        }
+        if !on(bvr::BENDING)? {
+            p.rope.bending_stiffness = 0.0;
+        }
+        if !on(bvr::DRAG)? {
+            p.rope.drag_coefficient = 0.0;
+        }
+        if !on(bvr::GRAVITY_ON)? {
+            p.gravity = 0.0;
+        }
         p.contact = on(bvr::CONTACT)?;
-        p.ground = if on(bvr::GROUND_CONTACT)? {
-            Some(GroundParams {
-                height: r(rvr::GROUND_HEIGHT),
-                stiffness: r(rvr::GROUND_STIFFNESS),
-                restitution: r(rvr::GROUND_RESTITUTION),
-                mu: r(rvr::GROUND_MU),
-                slip_speed: r(rvr::GROUND_SLIP_SPEED),
-            })
-        } else {
-            None
-        };
+        if !on(bvr::GROUND_CONTACT)? {
+            p.ground = None;
+        }
         p.settle = true;
         p.segments = self.ports.get_integer(ivr::SEGMENTS)? as usize;
         p.integrator = integrator_of(self.choice(ivr::INTEGRATOR, ivr::INTEGRATOR_NUMBER)?);
         p.contact_outputs = self.ports.get_integer(ivr::CONTACT_OUTPUTS)? as usize;
-        p.rtol = r(rvr::RTOL);
-        p.atol = r(rvr::ATOL);
-        p.h_max = r(rvr::H_MAX);
         let file = self.ports.get_string(SVR_MESH_FILE)?;
         if let Some(rig) = &self.rig_file {
             if rig.block.is_some() && !file.is_empty() {
@@ -238,7 +218,7 @@ impl RopeBlockModel {
         if !file.is_empty() {
             p.rig.block.geometry = BlockGeometry::Mesh {
                 file: self.mesh_path(&file)?.to_string_lossy().into_owned(),
-                scale: r(rvr::MESH_SCALE),
+                scale: r(rvr::MESH_SCALE)?,
             };
         }
         p.validate().map_err(ModelError::InvalidValue)?;

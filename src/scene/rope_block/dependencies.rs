@@ -19,29 +19,28 @@
 //! perturbing every known in several configurations: the input dependencies (none) are exact,
 //! the parameter dependencies a superset of what the perturbations show (never missing one).
 
+use super::ports::REAL_PARAMS;
+use crate::scene::param_spec::motion_only_names;
 use crate::scene::port::{Causality, ModelInfo, PortSpec};
 
-/// Parameters that do not act on the initial equilibrium (nor does any input).
-const NOT_STATICS: [&str; 18] = [
+/// Parameters that do not act on the initial equilibrium (nor does any input): the real
+/// parameters declared motion-only ([`crate::scene::param_spec::RealSpec::motion_only`]: solver
+/// knobs, damping, friction, drag, the hook ramp) and these.
+const NOT_STATICS_CHOICES: [&str; 6] = [
     "integrator",
     "integrator_number",
-    "hook_ramp_time",
     "hook_command",
     "hook_command_number",
     "contact_outputs",
     "drag",
-    "rope_damping",
-    "mu",
-    "drag_coefficient",
-    "fluid_density",
-    "rtol",
-    "atol",
-    "h_max",
-    "ground_restitution",
-    "ground_mu",
-    "ground_slip_speed",
-    "rope_diameter",
 ];
+
+/// Every parameter that does not act on the initial equilibrium.
+fn not_statics() -> Vec<&'static str> {
+    let mut names = NOT_STATICS_CHOICES.to_vec();
+    names.extend(motion_only_names(REAL_PARAMS));
+    names
+}
 
 /// Knowns that place the contact nodes: the rigging geometry.
 const CONTACT_GEOMETRY: [&str; 6] = [
@@ -69,7 +68,7 @@ pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<
         n.push("friction".into());
         n
     } else if STATICS_OUTPUTS.iter().any(|s| name.contains(s)) {
-        let mut n = info.knowns_except(&NOT_STATICS);
+        let mut n = info.knowns_except(&not_statics());
         n.retain(|k| {
             info.port_by_name(k)
                 .is_some_and(|p| p.causality != Causality::Input)

@@ -142,6 +142,16 @@ pub struct RopeBlockParams {
     pub contact_outputs: usize,
 }
 
+impl crate::scene::param_spec::SolverKnobs for RopeBlockParams {
+    fn knobs(&self) -> [f64; 3] {
+        [self.rtol, self.atol, self.h_max]
+    }
+
+    fn knobs_mut(&mut self) -> [&mut f64; 3] {
+        [&mut self.rtol, &mut self.atol, &mut self.h_max]
+    }
+}
+
 impl Default for RopeBlockParams {
     fn default() -> Self {
         RopeBlockParams {

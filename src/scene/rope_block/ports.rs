@@ -13,6 +13,7 @@
 
 use super::params::RopeBlockParams;
 use crate::scene::choice;
+use crate::scene::param_spec::{Bounds, Range, RealSpec, solver};
 use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, ValueRef, Variability};
 use std::sync::OnceLock;
 
@@ -43,35 +44,39 @@ pub const MAX_SLINGS: usize = 4;
 /// Contact-node output slots in the table (`contact_outputs` selects how many are filled).
 pub const MAX_CONTACT_SLOTS: usize = 8;
 
-/// A real structural parameter: its port and how it maps onto [`RopeBlockParams`].
-pub struct RealParam {
-    pub name: &'static str,
-    pub unit: Option<&'static str>,
-    pub description: &'static str,
-    /// Start value (the default lift's value where the scene has one).
-    pub start: f64,
-    /// Inclusive range accepted by the FMU (physically meaningful for a ship-block lift, and
-    /// bounding the work of one step).
-    pub min: f64,
-    pub max: f64,
+/// A fixed range `[min, max]`.
+const fn range(min: f64, max: f64) -> Bounds {
+    Bounds::Fixed(Range::closed(Some(min), Some(max)))
 }
 
-const fn rp(
-    name: &'static str,
-    unit: Option<&'static str>,
-    start: f64,
-    min: f64,
-    max: f64,
-    description: &'static str,
-) -> RealParam {
-    RealParam {
-        name,
-        unit,
-        description,
-        start,
-        min,
-        max,
-    }
+/// A real parameter mapped onto a field of [`RopeBlockParams`] (range physically meaningful for
+/// a ship-block lift, and bounding the work of one step).
+macro_rules! rp {
+    ($name:literal, $unit:expr, $min:expr, $max:expr, $desc:literal, $($field:tt)+) => {
+        RealSpec::new(
+            $name,
+            $unit,
+            range($min, $max),
+            $desc,
+            |p: &RopeBlockParams| p.$($field)+,
+            |p: &mut RopeBlockParams, v| p.$($field)+ = v,
+        )
+    };
+}
+
+/// A ground parameter: a field of the ground (its defaults when the scene has none; the
+/// ground is dropped again when `ground_contact` is off, [`super::cosim`]).
+macro_rules! ground {
+    ($name:literal, $unit:expr, $min:expr, $max:expr, $desc:literal, $field:ident) => {
+        RealSpec::new(
+            $name,
+            $unit,
+            range($min, $max),
+            $desc,
+            |p: &RopeBlockParams| p.ground.clone().unwrap_or_default().$field,
+            |p: &mut RopeBlockParams, v| p.ground.get_or_insert_with(Default::default).$field = v,
+        )
+    };
 }
 
 /// Real parameter value references (indices into [`REAL_PARAMS`]).
@@ -102,168 +107,167 @@ pub mod rvr {
 
 /// Real parameters, value references 0.. in this order (see [`rvr`]). All are fixed (structural:
 /// set before initialization).
-pub static REAL_PARAMS: &[RealParam] = &[
-    rp("block_mass", Some("kg"), 200e3, 1e3, 1e7, "Block mass."),
-    rp(
+pub static REAL_PARAMS: &[RealSpec<RopeBlockParams>] = &[
+    rp!(
+        "block_mass",
+        Some("kg"),
+        1e3,
+        1e7,
+        "Block mass.",
+        block_mass
+    ),
+    rp!(
         "rope_ea",
         Some("N"),
-        1.6e8,
         1e5,
         1e10,
         "Axial stiffness EA of every sling.",
+        rope.ea
     ),
-    rp(
+    rp!(
         "rope_mass_per_length",
         Some("kg/m"),
-        15.0,
         0.1,
         200.0,
         "Sling mass per unstretched length.",
+        rope.mass_per_length
     ),
-    rp(
+    rp!(
         "rope_damping",
         Some("N.s"),
-        1.6e5,
         0.0,
         1e9,
         "Axial (Kelvin-Voigt) damping of every sling: tension += damping x strain rate.",
-    ),
-    rp(
+        rope.axial_damping
+    )
+    .motion_only(),
+    rp!(
         "rope_diameter",
         Some("m"),
-        0.06,
         0.005,
         0.3,
         "Nominal sling diameter (drag area).",
-    ),
-    rp(
+        rope.diameter
+    )
+    .motion_only(),
+    rp!(
         "mu",
         None,
-        0.15,
         0.0,
         2.0,
         "Coulomb friction coefficient rope on plate edge [-]; used only when `friction`.",
-    ),
-    rp(
+        rope.friction
+    )
+    .motion_only(),
+    rp!(
         "bending_stiffness",
         Some("N.m2"),
-        2.0e3,
         0.0,
         1e7,
         "Bending stiffness EI of the slings; used only when `bending`.",
-    ),
-    rp(
+        rope.bending_stiffness
+    )
+    .start(2.0e3),
+    rp!(
         "drag_coefficient",
         None,
-        1.2,
         0.0,
         5.0,
         "Drag coefficient of the rope cross-section [-]; used only when `drag`.",
-    ),
-    rp(
+        rope.drag_coefficient
+    )
+    .motion_only()
+    .start(1.2),
+    rp!(
         "fluid_density",
         Some("kg/m3"),
-        1.225,
         0.0,
         2000.0,
         "Density of the surrounding fluid (air 1.225, sea water 1025); used only when `drag`.",
-    ),
-    rp(
+        rope.fluid_density
+    )
+    .motion_only(),
+    rp!(
         "gravity",
         Some("m/s2"),
-        9.81,
         0.0,
         20.0,
         "Gravity along world -z; used only when `gravity_on`.",
+        gravity
     ),
-    rp(
-        "rtol",
-        None,
-        3e-5,
-        1e-10,
-        0.1,
-        "Relative error tolerance of the integrator.",
-    ),
-    rp(
-        "atol",
-        None,
-        1e-6,
-        1e-12,
-        1.0,
-        "Absolute error tolerance of the integrator (m, m/s, rad, rad/s).",
-    ),
-    rp(
-        "h_max",
-        Some("s"),
-        0.0125,
-        1e-4,
-        1.0,
-        "Largest internal step.",
-    ),
-    rp(
+    solver::rtol(),
+    solver::atol(),
+    solver::h_max(),
+    RealSpec::new(
         "mesh_scale",
         None,
-        1.0,
-        1e-6,
-        1e6,
+        range(1e-6, 1e6),
         "Factor from the units of `mesh_file` to metres.",
-    ),
-    rp(
+        // not a field of the parameters: read from its port with mesh_file (super::cosim)
+        |_| 1.0,
+        |_, _| {},
+    )
+    .start(1.0),
+    ground!(
         "ground_height",
         Some("m"),
-        0.0,
         -1e3,
         1e3,
         "Height of the level ground, world z; used only when `ground_contact`.",
+        height
     ),
-    rp(
+    ground!(
         "ground_stiffness",
         Some("N/m"),
-        1e9,
         1e5,
         1e13,
         "Ground stiffness per block hull vertex (linear Flores law); used only when `ground_contact`.",
+        stiffness
     ),
-    rp(
+    ground!(
         "ground_restitution",
         None,
-        0.5,
         0.01,
         1.0,
         "Coefficient of restitution of the block hitting the ground; used only when `ground_contact`.",
-    ),
-    rp(
+        restitution
+    )
+    .motion_only(),
+    ground!(
         "ground_mu",
         None,
-        0.3,
         0.0,
         2.0,
         "Coulomb friction coefficient of the block on the ground; used only when `ground_contact`.",
-    ),
-    rp(
+        mu
+    )
+    .motion_only(),
+    ground!(
         "ground_slip_speed",
         Some("m/s"),
-        1e-3,
         1e-6,
         1.0,
         "Speed below which ground friction turns viscous (no sticking: a block held at a fraction r of the friction limit creeps at ground_slip_speed r / sqrt(1 - r^2)); used only when `ground_contact`.",
-    ),
-    rp(
+        slip_speed
+    )
+    .motion_only(),
+    rp!(
         "rope_breaking_load",
         Some("N"),
-        2.5e6,
         1e3,
         1e9,
         "Minimum breaking load of every sling (a [[sling]] of the scene file may give its own): utilisation outputs, and a scene whose slings carry more at rest is refused.",
+        rope.breaking_load
     ),
-    rp(
+    rp!(
         "hook_ramp_time",
         Some("s"),
-        0.5,
         0.0,
-        60.0,
+        super::params::MAX_HOOK_RAMP,
         "Time over which a hook reaches a new velocity or pay-out command, linearly from the current one (0: at once, the integrator restarts at every change; > 0: hook position and velocity stay continuous and the integrator keeps its history); with hook_command = position, the shortest duration of a move to a new position target.",
-    ),
+        hook_ramp
+    )
+    .motion_only(),
 ];
 
 /// Integer value references (parameters first, then outputs; slot `i`'s sling and slip at
@@ -624,11 +628,7 @@ pub fn info() -> &'static ModelInfo {
             description: "OBJ or STL shell plate in the design frame, relative to the FMU resources folder or absolute; empty: the parametric 18 m x 12 m x 7 m block.".into(),
         });
         for (i, p) in REAL_PARAMS.iter().enumerate() {
-            ports.push(
-                PortSpec::real_parameter(p.name, i as ValueRef, Variability::Fixed, p.start, p.unit, p.description)
-                    .with_min(p.min)
-                    .with_max(p.max),
-            );
+            ports.push(p.port(i as ValueRef, &d));
         }
         for k in 0..MAX_HOOKS {
             for (j, (s, u, desc)) in HOOK_INPUTS.iter().enumerate() {
@@ -658,7 +658,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{09fdd287-a870-402d-bb2b-296e00423f28}",
+            guid: "{d0d2d6f8-762d-460d-82a9-781cb087d982}",
             description: "Ship-block lift with lumped-mass wire-rope slings contacting the block's shell plate edges through contact nodes with Coulomb friction; one-hook lift or two-hook turn-over.",
             ports,
             default_stop_time: 10.0,
