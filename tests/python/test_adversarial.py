@@ -519,14 +519,15 @@ def test_forged_lug_point_off_the_block_is_refused(models):
     assert tried >= 4
 
 
-# Envelope cases whose h_max forces many integrator steps (benchmark seed 8: 8:57181, PanelLock
-# at h_max 1.7e-7 s; 8:44621, RopeBlock at 382 segments with gravity off at h_max 1e-4 s), at a
+# Envelope cases whose h_max forces many integrator steps (benchmark seed 8: 8:44621, RopeBlock at
+# 382 segments with gravity off at h_max 1e-4 s), at a
 # size CI can afford: the watchdog's bound for such a run (adversarial.forced_step_cpu) must
 # cover what it really costs, or the harness counts slow runs as hangs.
+# (PanelLock's h_max floor is 1e-4 s since the one parameter specification: 300 forced steps at
+# most in an envelope run, far inside the plain bound.)
 FORCED_STEP_CASES = [
-    ("PanelLock", ["h_max=1e-5"]),
-    ("PanelLock", ["flexible_panels=1", "h_max=1e-5"]),
     ("RopeBlock", ["segments=40", "gravity_on=0", "h_max=0.0001"]),
+    ("RopeBlock", ["segments=24", "integrator=2", "h_max=0.0001"]),
 ]
 
 
