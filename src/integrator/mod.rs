@@ -16,6 +16,7 @@ pub mod bdf;
 pub mod dopri;
 pub mod error;
 mod events;
+mod explicit;
 pub mod gen_alpha;
 pub mod init;
 pub mod kkt;
