@@ -10,9 +10,19 @@ use super::IntegratorKind;
 /// Why integration stopped: the failure (boxed: the error travels in every `Result` of the step
 /// loop). The message a user reads is formatted from it on demand ([`std::fmt::Display`]:
 /// [`Failure::what`], then `"; "` and [`Failure::remedy`] when there is one); `String::from`
-/// (or `to_string`) gives it as text for the callers that pass it on as such.
-#[derive(Debug, Clone, PartialEq)]
+/// (or `to_string`) gives it as text for the callers that pass it on as such. `Debug` shows the
+/// message beside the failure, as when the message was a field (tests match it in `{e:?}`).
+#[derive(Clone, PartialEq)]
 pub struct SolverError(Box<Failure>);
+
+impl std::fmt::Debug for SolverError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("SolverError")
+            .field(&self.to_string())
+            .field(&self.0)
+            .finish()
+    }
+}
 
 impl SolverError {
     /// The error of `failure`.

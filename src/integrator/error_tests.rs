@@ -219,6 +219,11 @@ fn messages_join_what_happened_and_the_remedy() {
         assert_eq!(String::from(e.clone()), message);
         assert_eq!(e.cause(), &f.cause);
         assert_eq!(e.failure(), &f);
+        assert_eq!(
+            format!("{e:?}"),
+            format!("SolverError({message:?}, {f:?})"),
+            "Debug shows the message"
+        );
         assert!(!message.contains("NaN"), "{e}");
     }
 }
