@@ -18,6 +18,7 @@ pub mod error;
 mod events;
 mod explicit;
 pub mod gen_alpha;
+mod implicit;
 pub mod init;
 pub mod kkt;
 pub mod newton;
