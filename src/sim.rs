@@ -115,7 +115,7 @@ impl Simulation {
         let mut integrator = integrator::create(kind, settings);
         integrator
             .initialize(&mut system, &mut state, tol)
-            .map_err(|e| e.0)?;
+            .map_err(String::from)?;
         Ok(Simulation {
             system,
             state,

@@ -380,7 +380,7 @@ fn bdf_per_unit_step_starts_the_flexible_scene() {
         p.settings.atol = 1e-2 * rtol;
         let mut pl = PanelLock::new(p).unwrap();
         pl.advance_to(t_end)
-            .unwrap_or_else(|e| panic!("rtol {rtol:e}, {control:?}: {}", e.0));
+            .unwrap_or_else(|e| panic!("rtol {rtol:e}, {control:?}: {e}"));
         let steps = pl.sim.stats().steps;
         let angles: Vec<f64> = (0..3).map(|k| pl.hinge_angle(k).0).collect();
         (angles, steps)

@@ -57,11 +57,10 @@ fn a_non_finite_coordinate_ends_the_projection_with_a_message() {
     st.q[7] = f64::NAN;
     let mut lin = Kkt::new();
     let err = project_positions(&mut sys, &mut lin, &mut st, 1e-10).unwrap_err();
+    let message = err.to_string();
     assert!(
-        err.0
-            .contains("projection onto the joints failed at t = 0.000000000e0 s")
-            && err.0.contains("non-finite positions or joint data"),
-        "{}",
-        err.0
+        message.contains("projection onto the joints failed at t = 0.000000000e0 s")
+            && message.contains("non-finite positions or joint data"),
+        "{message}"
     );
 }

@@ -68,7 +68,7 @@ fn bounce(law: ContactLaw, speed: f64, kind: IntegratorKind) -> Result<(f64, f64
     let mut sim = Simulation::new(model, kind, settings, 0.0).map_err(|e| e.to_string())?;
     let mut peak_ke: f64 = 0.0;
     for k in 1..=300 {
-        sim.advance_to(k as f64 * 1e-3).map_err(|e| e.0)?;
+        sim.advance_to(k as f64 * 1e-3).map_err(String::from)?;
         let s = &sim.state;
         if !(s.q.iter().chain(&s.v).all(|x| x.is_finite())) {
             return Err("non-finite state without an error (defect)".into());
@@ -153,7 +153,7 @@ fn isolated_impacts_over_stiffness_exponent_restitution_speed_and_integrator() {
 fn panel_run(p: PanelLockParams, t_end: f64) -> Result<(f64, f64, f64), String> {
     let mut s = PanelLock::new(p)?;
     let e0 = s.sim.energy();
-    s.advance_to(t_end).map_err(|e| e.0)?;
+    s.advance_to(t_end).map_err(String::from)?;
     let o = s.outputs();
     let e1 = s.sim.energy();
     let finite = o

@@ -45,7 +45,7 @@ fn solve(
         ..Settings::default()
     };
     let mut sim = Simulation::new(model.clone(), kind, s, 0.0)?;
-    sim.advance_to(T_END).map_err(|e| e.0)?;
+    sim.advance_to(T_END).map_err(String::from)?;
     Ok(hinge_angles(&sim, frames, lock))
 }
 
@@ -69,7 +69,7 @@ fn solve_samples(
     times
         .iter()
         .map(|&t| {
-            sim.advance_to(t).map_err(|e| e.0)?;
+            sim.advance_to(t).map_err(String::from)?;
             Ok(hinge_angles(&sim, frames, lock))
         })
         .collect()

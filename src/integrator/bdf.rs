@@ -19,13 +19,14 @@ use super::ERROR_TIME_UNIT;
 use super::JacobianPoint;
 use super::dopri::Dopri5;
 use super::events::EventLocator;
+use super::implicit::{self, Flow, ImplicitMethod};
 use super::newton::{
     DIVERGENCE_RATE, MAX_ITERATIONS, NewtonTest, Progress, Verdict, factor_failure,
 };
 use super::step_control::{self, StepPolicy};
 use super::{
-    Cause, Collapse, Integrator, IntegratorKind, MemoryHook, NewtonCause, NewtonFailure, Settings,
-    SingularPassage, SolverError, Stats, StepAction, StepHook, time_eps, weights,
+    Integrator, IntegratorKind, MemoryHook, NewtonCause, NewtonFailure, Settings, SingularPassage,
+    SolverError, Stats, StepAction, StepHook, weights,
 };
 use crate::dae::System;
 use crate::dae::linear::LinearSolver;
@@ -916,175 +917,7 @@ impl Integrator for Bdf {
         t_end: f64,
         hook: &mut dyn StepHook,
     ) -> Result<(), SolverError> {
-        self.resize(sys.n_q(), sys.n_v(), sys.n_c());
-        if self.hist.is_empty() {
-            return Err(SolverError::other("bdf: advance_to before start"));
-        }
-        let fixed = self.s.fixed_step > 0.0;
-        self.note_start_vdot(st);
-        // a step size that cannot advance (a forged state) is chosen afresh, as at the start
-        if !fixed && step_control::collapsed(self.h, st.t) {
-            self.h = self.initial_step(sys, st);
-        }
-        if fixed && self.hist.len() == 1 && self.s.max_order > 1 {
-            self.bootstrap(sys, st)?;
-        }
-        self.resize_events(sys);
-        // contact onset: a step that closes or opens a contact is taken again to end there, so
-        // no step straddles the kink of the contact force and a damped law records the approach
-        // speed at the onset
-        let locate = !fixed && sys.n_contact_events() > 0;
-        // a step cut to end at a located contact event, to be taken next
-        let mut cut: Option<f64> = None;
-        let mut steps = 0u64;
-        let mut refreshed = false;
-        let mut fails = 0;
-        while t_end - st.t > time_eps(t_end) {
-            if hook.pause() {
-                return Ok(());
-            }
-            steps += 1;
-            if steps > self.s.max_steps {
-                return Err(SolverError::at(
-                    IntegratorKind::Bdf,
-                    st.t,
-                    Cause::StepBudget {
-                        max_steps: self.s.max_steps,
-                    },
-                ));
-            }
-            let natural = if fixed {
-                self.s.fixed_step
-            } else {
-                self.h.min(self.s.h_max)
-            };
-            let remaining = t_end - st.t;
-            let landing = self.events.begin_trial(&mut cut);
-            let landing_trial = landing.is_some();
-            let h = if let Some(h_on) = landing {
-                h_on
-            } else if fixed {
-                super::fixed_step_size(natural, remaining)
-            } else if natural >= remaining - time_eps(t_end) {
-                remaining
-            } else {
-                natural
-            };
-            let k = self.order.min(self.hist.len());
-            match self.try_step(sys, h) {
-                Ok([lo, errk, hi]) => {
-                    if !fixed && step_control::rejects(errk) {
-                        self.events.landing.clear();
-                        self.stats.rejected += 1;
-                        self.stats.rejected_error += 1;
-                        fails += 1;
-                        self.h = step_control::after_rejection(
-                            h,
-                            step_control::proposal(errk, self.estimate_order(k)),
-                        );
-                        if fails >= 3 {
-                            self.order = 1;
-                            self.steps_at_order = 0;
-                        }
-                        continue;
-                    }
-                    if locate && !landing_trial {
-                        let located = self.events_in_step(sys, st, k, h);
-                        if let Some(h_on) =
-                            located.and_then(|theta| self.events.landing_step(theta, st.t, h))
-                        {
-                            cut = Some(h_on);
-                            continue;
-                        }
-                    }
-                    fails = 0;
-                    refreshed = false;
-                    self.accept(sys, st, h, k);
-                    self.events.before_hook(st);
-                    let action = hook.after_step(sys, st)?;
-                    // the step ended on located events: the contacts close or open here
-                    let jump = self.events.record(sys, st);
-                    match action {
-                        StepAction::Continue if !jump => {}
-                        StepAction::Moved if !jump => self.translate_history(st),
-                        // forces that jump: the history's polynomial no longer describes the
-                        // motion
-                        StepAction::Continue | StepAction::Moved | StepAction::Restart => {
-                            self.restart(sys, st)?;
-                            continue;
-                        }
-                        StepAction::Stop => return Ok(()),
-                    }
-                    if fixed {
-                        continue;
-                    }
-                    self.steps_at_order += 1;
-                    // order and step selection
-                    // error per unit step lowers the estimates' order in h by one
-                    let shift = if self.per_unit_step { 0.0 } else { 1.0 };
-                    let ratio = |e: f64, ord: usize| step_control::proposal(e, ord as f64 + shift);
-                    let mut best = (ratio(errk, k), k);
-                    if self.steps_at_order > k {
-                        let rl = ratio(lo, k - 1) / 1.3;
-                        if k > 1 && rl > best.0 {
-                            best = (rl, k - 1);
-                        }
-                        let rh = ratio(hi, k + 1) / 1.4;
-                        if k < self.s.max_order && rh > best.0 {
-                            best = (rh, k + 1);
-                        }
-                    }
-                    // startup: raise the order as soon as enough points exist
-                    if self.since_start < 8
-                        && k < self.s.max_order
-                        && self.hist.len() > k
-                        && best.1 == k
-                    {
-                        best.1 = k + 1;
-                    }
-                    if best.1 != self.order {
-                        self.order = best.1;
-                        self.steps_at_order = 0;
-                    }
-                    self.h = STEP_POLICY.after_acceptance(h, natural, self.h, best.0);
-                }
-                Err(newton) => {
-                    self.stats.newton_failures += 1;
-                    if !refreshed && self.jac_valid {
-                        self.jac_valid = false;
-                        refreshed = true;
-                        continue;
-                    }
-                    refreshed = false;
-                    if fixed {
-                        return Err(SolverError::at(
-                            IntegratorKind::Bdf,
-                            st.t,
-                            Cause::FixedStepTooLarge { h, newton },
-                        ));
-                    }
-                    self.h = step_control::after_failure(h);
-                    self.order = 1;
-                    self.steps_at_order = 0;
-                    if step_control::collapsed(self.h, st.t) {
-                        let singular = self.singular_cause(sys, st);
-                        return Err(SolverError::at(
-                            IntegratorKind::Bdf,
-                            st.t,
-                            Cause::StepCollapse {
-                                h: self.h,
-                                why: Collapse::Newton { newton, singular },
-                            },
-                        ));
-                    }
-                }
-            }
-        }
-        st.t = t_end;
-        if let Some(p) = self.hist.front_mut() {
-            p.t = t_end;
-        }
-        Ok(())
+        implicit::advance(self, sys, st, t_end, hook)
     }
 
     fn restart(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
@@ -1243,5 +1076,172 @@ impl Integrator for Bdf {
             &mut self.lin,
             self.pending.as_mut(),
         )
+    }
+}
+
+/// BDF's step, rejection and order and step selection for the step loop
+/// ([`implicit::advance`]); the estimate is the order `k` the step was tried at and the errors
+/// at orders `k - 1`, `k`, `k + 1`.
+impl ImplicitMethod for Bdf {
+    type Estimate = (usize, [f64; 3]);
+
+    fn kind(&self) -> IntegratorKind {
+        IntegratorKind::Bdf
+    }
+
+    fn settings(&self) -> &Settings {
+        &self.s
+    }
+
+    fn h_mut(&mut self) -> &mut f64 {
+        &mut self.h
+    }
+
+    fn stats_mut(&mut self) -> &mut Stats {
+        &mut self.stats
+    }
+
+    fn events(&mut self) -> &mut EventLocator {
+        &mut self.events
+    }
+
+    fn matrix_valid(&self) -> bool {
+        self.jac_valid
+    }
+
+    fn invalidate_matrix(&mut self) {
+        self.jac_valid = false;
+    }
+
+    /// Also the start-up of a fixed-step run: its first points from a tight DOPRI5 run.
+    fn begin_call(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
+        self.resize(sys.n_q(), sys.n_v(), sys.n_c());
+        if self.hist.is_empty() {
+            return Err(SolverError::other("bdf: advance_to before start"));
+        }
+        let fixed = self.s.fixed_step > 0.0;
+        self.note_start_vdot(st);
+        // a step size that cannot advance (a forged state) is chosen afresh, as at the start
+        if !fixed && step_control::collapsed(self.h, st.t) {
+            self.h = self.initial_step(sys, st);
+        }
+        if fixed && self.hist.len() == 1 && self.s.max_order > 1 {
+            self.bootstrap(sys, st)?;
+        }
+        self.resize_events(sys);
+        Ok(())
+    }
+
+    fn try_step(
+        &mut self,
+        sys: &mut System,
+        _st: &State,
+        h: f64,
+    ) -> Result<(usize, [f64; 3]), NewtonFailure> {
+        let k = self.order.min(self.hist.len());
+        Bdf::try_step(self, sys, h).map(|errors| (k, errors))
+    }
+
+    fn rejects(&self, est: &(usize, [f64; 3])) -> bool {
+        step_control::rejects(est.1[1])
+    }
+
+    /// Three rejections in a row drop the order to 1.
+    fn rejected(
+        &mut self,
+        _st: &State,
+        h: f64,
+        &(k, [_, errk, _]): &(usize, [f64; 3]),
+        in_a_row: u32,
+    ) -> Result<(), SolverError> {
+        self.stats.rejected += 1;
+        self.stats.rejected_error += 1;
+        self.h =
+            step_control::after_rejection(h, step_control::proposal(errk, self.estimate_order(k)));
+        if in_a_row >= 3 {
+            self.order = 1;
+            self.steps_at_order = 0;
+        }
+        Ok(())
+    }
+
+    fn event_in_step(
+        &mut self,
+        sys: &mut System,
+        st: &State,
+        h: f64,
+        est: &(usize, [f64; 3]),
+    ) -> Option<f64> {
+        self.events_in_step(sys, st, est.0, h)
+    }
+
+    fn accept(&mut self, sys: &mut System, st: &mut State, h: f64, est: &(usize, [f64; 3])) {
+        Bdf::accept(self, sys, st, h, est.0);
+    }
+
+    /// A moved state translates the history; a restart (or forces that jump) skips the step
+    /// proposal: the history's polynomial no longer describes the motion.
+    fn on_action(
+        &mut self,
+        sys: &mut System,
+        st: &mut State,
+        action: StepAction,
+        jump: bool,
+    ) -> Result<Flow, SolverError> {
+        match action {
+            StepAction::Continue if !jump => {}
+            StepAction::Moved if !jump => self.translate_history(st),
+            StepAction::Continue | StepAction::Moved | StepAction::Restart => {
+                self.restart(sys, st)?;
+                return Ok(Flow::Next);
+            }
+            StepAction::Stop => return Ok(Flow::Stop),
+        }
+        Ok(Flow::Propose)
+    }
+
+    /// Order and step selection after every accepted step.
+    fn propose(&mut self, h: f64, natural: f64, &(k, [lo, errk, hi]): &(usize, [f64; 3])) {
+        self.steps_at_order += 1;
+        // error per unit step lowers the estimates' order in h by one
+        let shift = if self.per_unit_step { 0.0 } else { 1.0 };
+        let ratio = |e: f64, ord: usize| step_control::proposal(e, ord as f64 + shift);
+        let mut best = (ratio(errk, k), k);
+        if self.steps_at_order > k {
+            let rl = ratio(lo, k - 1) / 1.3;
+            if k > 1 && rl > best.0 {
+                best = (rl, k - 1);
+            }
+            let rh = ratio(hi, k + 1) / 1.4;
+            if k < self.s.max_order && rh > best.0 {
+                best = (rh, k + 1);
+            }
+        }
+        // startup: raise the order as soon as enough points exist
+        if self.since_start < 8 && k < self.s.max_order && self.hist.len() > k && best.1 == k {
+            best.1 = k + 1;
+        }
+        if best.1 != self.order {
+            self.order = best.1;
+            self.steps_at_order = 0;
+        }
+        self.h = STEP_POLICY.after_acceptance(h, natural, self.h, best.0);
+    }
+
+    /// A Newton failure drops the order to 1.
+    fn newton_failed(&mut self) {
+        self.order = 1;
+        self.steps_at_order = 0;
+    }
+
+    fn singular_cause(&mut self, sys: &mut System, st: &State) -> Option<SingularPassage> {
+        Bdf::singular_cause(self, sys, st)
+    }
+
+    /// The newest history point is at the end of the call.
+    fn end_call(&mut self, t_end: f64) {
+        if let Some(p) = self.hist.front_mut() {
+            p.t = t_end;
+        }
     }
 }

@@ -7,12 +7,13 @@
 //! bounds the step by the stiffest mode (contact, rope segments).
 
 use super::events::EventLocator;
+use super::explicit::{self, ExplicitMethod};
 use super::init::{
     ProjectionScratch, accelerations, project_positions_reusing, project_velocities_reusing,
 };
 use super::kkt::Kkt;
 use super::rank::{Passage, RankMonitor};
-use super::step_control::{self, StepPolicy};
+use super::step_control::StepPolicy;
 use super::{
     Cause, Collapse, Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction,
     StepHook, error, time_eps, weights,
@@ -594,158 +595,7 @@ impl Integrator for Dopri5 {
         t_end: f64,
         hook: &mut dyn StepHook,
     ) -> Result<(), SolverError> {
-        self.resize(sys);
-        // inputs may have changed at this communication point: recompute the first stage
-        self.k1_valid = false;
-        let adaptive = self.s.fixed_step == 0.0;
-        // a step size that cannot advance (a state saved before the start, or a forged one)
-        // is chosen afresh, as at the start
-        if adaptive && step_control::collapsed(self.h, st.t) {
-            self.start(sys, st)?;
-        }
-        let locate = adaptive && sys.n_contact_events() > 0;
-        // a step cut to end at a located contact event, to be taken next
-        let mut cut: Option<f64> = None;
-        self.watch_stages = locate;
-        let mut steps = 0u64;
-        while t_end - st.t > time_eps(t_end) {
-            if hook.pause() {
-                return Ok(());
-            }
-            steps += 1;
-            if steps > self.s.max_steps {
-                return Err(SolverError::at(
-                    IntegratorKind::Dopri5,
-                    st.t,
-                    Cause::StepBudget {
-                        max_steps: self.s.max_steps,
-                    },
-                ));
-            }
-            let natural = if adaptive {
-                self.h.min(self.s.h_max)
-            } else {
-                self.s.fixed_step
-            };
-            let remaining = t_end - st.t;
-            let landing = self.events.begin_trial(&mut cut);
-            let landing_trial = landing.is_some();
-            let h = if let Some(h_on) = landing {
-                h_on
-            } else if natural >= remaining - time_eps(t_end) {
-                remaining
-            } else {
-                natural
-            };
-            let err = match self.try_step(sys, st, h) {
-                Ok(e) if e.is_finite() => e,
-                Ok(_) | Err(_) => f64::INFINITY,
-            };
-            let (err, order) = if adaptive && self.s.error_per_unit_step {
-                (err / self.s.error_share(h).max(MIN_ERROR_SHARE), 4.0)
-            } else {
-                (err, 5.0)
-            };
-            if adaptive && step_control::rejects(err) {
-                self.events.landing.clear();
-                self.stats.rejected += 1;
-                self.stats.rejected_error += 1;
-                self.h = step_control::after_rejection(h, step_control::proposal(err, order));
-                if step_control::collapsed(self.h, st.t) {
-                    // name what was observed: inside a singular configuration the accelerations
-                    // are ill-conditioned and the estimate does not fall with the step
-                    if self.rank.inside() {
-                        let joints = self
-                            .rank
-                            .last_passage(sys)
-                            .map_or_else(|| "?".to_string(), |(j, _)| j);
-                        return Err(SolverError::at(
-                            IntegratorKind::Dopri5,
-                            st.t,
-                            Cause::SingularConfiguration {
-                                joints,
-                                how: error::Passage::StepCollapse { h: self.h },
-                            },
-                        ));
-                    }
-                    return Err(SolverError::at(
-                        IntegratorKind::Dopri5,
-                        st.t,
-                        Cause::StepCollapse {
-                            h: self.h,
-                            why: Collapse::ErrorEstimate,
-                        },
-                    ));
-                }
-                continue;
-            }
-            if !err.is_finite() {
-                return Err(SolverError::at(
-                    IntegratorKind::Dopri5,
-                    st.t,
-                    Cause::NonFinite { h },
-                ));
-            }
-            // a contact closing or opening inside the step: take the step again, ending at the
-            // event, so no step straddles the kink of the contact force and the approach speed
-            // is the one at the onset
-            if locate && !landing_trial {
-                if let Some(theta) = self.events_in_step(sys, st, h) {
-                    if let Some(h_on) = self.events.landing_step(theta, st.t, h) {
-                        cut = Some(h_on);
-                        continue;
-                    }
-                } else if self.hidden < 1.0 && self.hidden * h > time_eps(st.t) {
-                    // a contact closed within the step and opened again before its end: retry
-                    // up to that stage, until the closing shows at a step's end (not counted as a
-                    // rejection: `Stats` has no cause for it)
-                    self.h = self.hidden * h;
-                    continue;
-                }
-            }
-            if adaptive
-                && self.stiff.note(self.h_lambda(h))
-                && (t_end - st.t) / h > STIFF_CALL_STEPS
-            {
-                return Err(SolverError::at(
-                    IntegratorKind::Dopri5,
-                    st.t,
-                    Cause::Stiffness {
-                        steps: self.stiff.stiff,
-                        h_lambda: self.stiff.h_lambda,
-                        h,
-                        more: (t_end - st.t) / h,
-                        t_end,
-                    },
-                ));
-            }
-            self.accept(sys, st, h)?;
-            // a step cut to land on an event proposes nothing: its estimate is mostly round-off
-            // (see MIN_ERROR_SHARE)
-            if adaptive && !landing_trial {
-                self.h = STEP_POLICY.after_acceptance(
-                    h,
-                    natural,
-                    self.h,
-                    step_control::proposal(err, order),
-                );
-            }
-            self.events.before_hook(st);
-            let action = hook.after_step(sys, st)?;
-            // the step ended on located events: the contacts close or open here
-            if self.events.record(sys, st) {
-                self.k1_valid = false;
-            }
-            match action {
-                StepAction::Continue => {}
-                // the first stage (FSAL) was evaluated at the positions before the move
-                StepAction::Moved => self.k1_valid = false,
-                StepAction::Restart => self.restart(sys, st)?,
-                StepAction::Stop => return Ok(()),
-            }
-        }
-        st.t = t_end;
-        Ok(())
+        explicit::advance(self, sys, st, t_end, hook)
     }
 
     fn restart(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
@@ -785,6 +635,167 @@ impl Integrator for Dopri5 {
 
     fn restore_monitors(&mut self, m: &[f64]) -> Result<(), String> {
         super::read_monitors(m, &mut [&mut self.rank], self.lin.lu_mut(), None)
+    }
+}
+
+/// The stages, error estimate and acceptance of [`Dopri5`] for the step loop
+/// ([`explicit::advance`]), with its contact events, stiffness watch and singular
+/// configurations.
+impl ExplicitMethod for Dopri5 {
+    fn kind(&self) -> IntegratorKind {
+        IntegratorKind::Dopri5
+    }
+
+    fn settings(&self) -> &Settings {
+        &self.s
+    }
+
+    fn h_mut(&mut self) -> &mut f64 {
+        &mut self.h
+    }
+
+    fn stats_mut(&mut self) -> &mut Stats {
+        &mut self.stats
+    }
+
+    fn order(&self) -> f64 {
+        5.0
+    }
+
+    fn policy(&self) -> StepPolicy {
+        STEP_POLICY
+    }
+
+    fn min_error_share(&self) -> f64 {
+        MIN_ERROR_SHARE
+    }
+
+    fn begin_call(&mut self, sys: &mut System, _st: &State) -> Result<(), SolverError> {
+        self.resize(sys);
+        // inputs may have changed at this communication point: recompute the first stage
+        self.k1_valid = false;
+        Ok(())
+    }
+
+    fn start(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
+        Integrator::start(self, sys, st)
+    }
+
+    fn try_step(&mut self, sys: &mut System, st: &State, h: f64) -> f64 {
+        Dopri5::try_step(self, sys, st, h).unwrap_or(f64::INFINITY)
+    }
+
+    fn accept(&mut self, sys: &mut System, st: &mut State, h: f64) -> Result<(), SolverError> {
+        Dopri5::accept(self, sys, st, h)
+    }
+
+    fn on_action(
+        &mut self,
+        sys: &mut System,
+        st: &mut State,
+        action: StepAction,
+    ) -> Result<(), SolverError> {
+        match action {
+            StepAction::Restart => self.restart(sys, st),
+            // the first stage (FSAL) was evaluated at the positions before the move
+            _ => {
+                self.k1_valid = false;
+                Ok(())
+            }
+        }
+    }
+
+    fn locates_events(&mut self, sys: &System, adaptive: bool) -> bool {
+        self.watch_stages = adaptive && sys.n_contact_events() > 0;
+        self.watch_stages
+    }
+
+    fn landing(&mut self, cut: &mut Option<f64>) -> Option<f64> {
+        self.events.begin_trial(cut)
+    }
+
+    fn rejected(&mut self) {
+        self.events.landing.clear();
+    }
+
+    /// Names what was observed: inside a singular configuration the accelerations are
+    /// ill-conditioned and the estimate does not fall with the step.
+    fn collapse(&self, sys: &System, st: &State, h: f64) -> SolverError {
+        if self.rank.inside() {
+            let joints = self
+                .rank
+                .last_passage(sys)
+                .map_or_else(|| "?".to_string(), |(j, _)| j);
+            return SolverError::at(
+                IntegratorKind::Dopri5,
+                st.t,
+                Cause::SingularConfiguration {
+                    joints,
+                    how: error::Passage::StepCollapse { h },
+                },
+            );
+        }
+        SolverError::at(
+            IntegratorKind::Dopri5,
+            st.t,
+            Cause::StepCollapse {
+                h,
+                why: Collapse::ErrorEstimate,
+            },
+        )
+    }
+
+    /// A contact closing or opening inside the step: take the step again, ending at the event,
+    /// so no step straddles the kink of the contact force and the approach speed is the one at
+    /// the onset.
+    fn retry_for_event(
+        &mut self,
+        sys: &mut System,
+        st: &State,
+        h: f64,
+        cut: &mut Option<f64>,
+    ) -> bool {
+        if let Some(theta) = self.events_in_step(sys, st, h) {
+            if let Some(h_on) = self.events.landing_step(theta, st.t, h) {
+                *cut = Some(h_on);
+                return true;
+            }
+        } else if self.hidden < 1.0 && self.hidden * h > time_eps(st.t) {
+            // a contact closed within the step and opened again before its end: retry up to
+            // that stage, until the closing shows at a step's end (not counted as a rejection:
+            // `Stats` has no cause for it)
+            self.h = self.hidden * h;
+            return true;
+        }
+        false
+    }
+
+    fn check_stiffness(&mut self, st: &State, h: f64, t_end: f64) -> Result<(), SolverError> {
+        if self.stiff.note(self.h_lambda(h)) && (t_end - st.t) / h > STIFF_CALL_STEPS {
+            return Err(SolverError::at(
+                IntegratorKind::Dopri5,
+                st.t,
+                Cause::Stiffness {
+                    steps: self.stiff.stiff,
+                    h_lambda: self.stiff.h_lambda,
+                    h,
+                    more: (t_end - st.t) / h,
+                    t_end,
+                },
+            ));
+        }
+        Ok(())
+    }
+
+    fn before_hook(&mut self, st: &State) {
+        self.events.before_hook(st);
+    }
+
+    /// The step ended on located events: the contacts close or open here.
+    fn after_hook(&mut self, sys: &mut System, st: &mut State) {
+        if self.events.record(sys, st) {
+            self.k1_valid = false;
+        }
     }
 }
 

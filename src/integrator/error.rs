@@ -1,28 +1,33 @@
 //! Why an integrator stopped: the failure as a type ([`Failure`]: the integrator, the time and a
 //! [`Cause`], itself holding the [`NewtonFailure`] it grew from where there is one), and the one
 //! place where the message a user reads and its remedy are formatted from it
-//! ([`Failure::what`], [`Failure::remedy`], [`SolverError::new`]). Integrators decide what to do
+//! ([`Failure::what`], [`Failure::remedy`], `Display` of [`SolverError`]). Integrators decide what to do
 //! after a failure from its type, never from its text. Remedies name integrators by the
 //! spellings the FMUs' `integrator` parameter accepts ([`IntegratorKind::parameter_name`]).
 
 use super::IntegratorKind;
 
-/// Why integration stopped: the message (field 0, formatted by [`SolverError::new`] from field
-/// 1, kept as text for the callers that pass it on as such) and the failure itself (boxed: the
-/// error travels in every `Result` of the step loop).
-#[derive(Debug, Clone, PartialEq)]
-pub struct SolverError(pub String, pub Box<Failure>);
+/// Why integration stopped: the failure (boxed: the error travels in every `Result` of the step
+/// loop). The message a user reads is formatted from it on demand ([`std::fmt::Display`]:
+/// [`Failure::what`], then `"; "` and [`Failure::remedy`] when there is one); `String::from`
+/// (or `to_string`) gives it as text for the callers that pass it on as such. `Debug` shows the
+/// message beside the failure, as when the message was a field (tests match it in `{e:?}`).
+#[derive(Clone, PartialEq)]
+pub struct SolverError(Box<Failure>);
+
+impl std::fmt::Debug for SolverError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("SolverError")
+            .field(&self.to_string())
+            .field(&self.0)
+            .finish()
+    }
+}
 
 impl SolverError {
-    /// The error of `failure`, its message formatted: [`Failure::what`], then `"; "` and
-    /// [`Failure::remedy`] when there is one.
+    /// The error of `failure`.
     pub fn new(failure: Failure) -> Self {
-        let mut message = failure.what();
-        if let Some(remedy) = failure.remedy() {
-            message.push_str("; ");
-            message.push_str(&remedy);
-        }
-        SolverError(message, Box::new(failure))
+        SolverError(Box::new(failure))
     }
 
     /// A failure of `kind` at `t` [s].
@@ -44,20 +49,36 @@ impl SolverError {
         })
     }
 
+    /// The failure the message is formatted from.
+    pub fn failure(&self) -> &Failure {
+        &self.0
+    }
+
     /// When it failed [s], where known.
     pub fn t(&self) -> Option<f64> {
-        self.1.t
+        self.0.t
     }
 
     /// What failed.
     pub fn cause(&self) -> &Cause {
-        &self.1.cause
+        &self.0.cause
     }
 }
 
 impl std::fmt::Display for SolverError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
+        f.write_str(&self.0.what())?;
+        if let Some(remedy) = self.0.remedy() {
+            write!(f, "; {remedy}")?;
+        }
+        Ok(())
+    }
+}
+
+/// The message, for callers whose errors are text.
+impl From<SolverError> for String {
+    fn from(e: SolverError) -> String {
+        e.to_string()
     }
 }
 

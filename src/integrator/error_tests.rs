@@ -211,13 +211,20 @@ fn every_remedy_names_integrators_by_spellings_the_parameter_accepts() {
 fn messages_join_what_happened_and_the_remedy() {
     for f in every_failure() {
         let e = SolverError::new(f.clone());
+        let message = e.to_string();
         match f.remedy() {
-            Some(r) => assert_eq!(e.0, format!("{}; {r}", f.what())),
-            None => assert_eq!(e.0, f.what()),
+            Some(r) => assert_eq!(message, format!("{}; {r}", f.what())),
+            None => assert_eq!(message, f.what()),
         }
-        assert_eq!(e.to_string(), e.0);
+        assert_eq!(String::from(e.clone()), message);
         assert_eq!(e.cause(), &f.cause);
-        assert!(!e.0.contains("NaN"), "{e}");
+        assert_eq!(e.failure(), &f);
+        assert_eq!(
+            format!("{e:?}"),
+            format!("SolverError({message:?}, {f:?})"),
+            "Debug shows the message"
+        );
+        assert!(!message.contains("NaN"), "{e}");
     }
 }
 
@@ -235,7 +242,7 @@ fn a_newton_collapse_is_explained_by_the_type_of_its_failure() {
                 },
             },
         )
-        .0
+        .to_string()
     };
     let singular = collapse(NewtonCause::SingularMatrix(
         "Newton matrix is singular (pivot 3 of 9 vanishes)".into(),
@@ -280,7 +287,7 @@ fn the_stiffness_message_names_the_method_and_the_implicit_alternatives() {
         },
     );
     assert_eq!(
-        e.0,
+        e.to_string(),
         "dopri5 is stiff here: 40 steps in a row up to t = 5.000000000e-1 s were held at its \
          stability boundary (h |lambda| up to 3.3), not by the tolerance, and at their size \
          (1.00e-6 s) this call needs 1.5e6 more steps to reach t = 2 s; a stiff spring, damper or \

@@ -15,11 +15,12 @@
 
 use super::JacobianPoint;
 use super::events::EventLocator;
+use super::implicit::{self, Flow, ImplicitMethod};
 use super::newton::{MAX_ITERATIONS, NewtonTest, Progress, Verdict, factor_failure};
 use super::step_control::{self, StepPolicy};
 use super::{
     Cause, Collapse, Integrator, IntegratorKind, NewtonCause, NewtonFailure, Settings, SolverError,
-    Stats, StepAction, StepHook, time_eps, weights,
+    Stats, StepAction, StepHook, weights,
 };
 use crate::dae::System;
 use crate::dae::linear::LinearSolver;
@@ -747,183 +748,7 @@ impl Integrator for GenAlpha {
         t_end: f64,
         hook: &mut dyn StepHook,
     ) -> Result<(), SolverError> {
-        self.resize(sys.n_q(), sys.n_v(), sys.n_c());
-        self.resize_events(sys);
-        let adaptive = self.s.fixed_step == 0.0;
-        // a step size that cannot advance (a forged state) is chosen afresh, as at the start
-        if adaptive && step_control::collapsed(self.h, st.t) {
-            self.h = self.initial_step(sys, st);
-        }
-        // contact onset: a step that closes or opens a contact is taken again to end there, so
-        // no step straddles the kink of the contact force and a damped law records the approach
-        // speed at the onset, not at the end of the first step in contact
-        let locate = adaptive && sys.n_contact_events() > 0;
-        // a step cut to end at a located contact event, to be taken next
-        let mut cut: Option<f64> = None;
-        let mut steps = 0u64;
-        let mut refreshed = false;
-        while t_end - st.t > time_eps(t_end) {
-            if hook.pause() {
-                return Ok(());
-            }
-            steps += 1;
-            if steps > self.s.max_steps {
-                return Err(SolverError::at(
-                    IntegratorKind::GenAlpha,
-                    st.t,
-                    Cause::StepBudget {
-                        max_steps: self.s.max_steps,
-                    },
-                ));
-            }
-            let natural = if adaptive {
-                self.h.min(self.s.h_max)
-            } else {
-                self.s.fixed_step
-            };
-            let remaining = t_end - st.t;
-            let landing = self.events.begin_trial(&mut cut);
-            let landing_trial = landing.is_some();
-            let h = if let Some(h_on) = landing {
-                h_on
-            } else if !adaptive {
-                super::fixed_step_size(natural, remaining)
-            } else if natural >= remaining - time_eps(t_end) {
-                remaining
-            } else if !self.s.equal_steps {
-                if natural > 0.5 * remaining {
-                    0.5 * remaining
-                } else {
-                    natural
-                }
-            } else {
-                // equal steps to the end of the call: the same step size (and Newton matrix)
-                // for all of them, and for the next call when its length is the same
-                remaining / (remaining / natural).ceil()
-            };
-            match self.try_step(sys, st, h) {
-                StepOutcome::Converged(err) => {
-                    // a step that gains energy beyond the tolerance is rejected like one with too
-                    // large an error; every next step is proposed from the larger of the two
-                    // estimates (both O(h^3)), so an energy rejection is not followed by a step
-                    // grown from the position error alone that the energy check rejects again
-                    let reject = err.max(self.gain_ratio);
-                    if adaptive && step_control::rejects(reject) {
-                        self.events.landing.clear();
-                        self.stats.rejected += 1;
-                        if self.gain_ratio > err {
-                            self.stats.rejected_energy += 1;
-                        } else {
-                            self.stats.rejected_error += 1;
-                        }
-                        self.h = step_control::after_rejection(
-                            h,
-                            step_factor(err, self.gain_ratio, self.s.error_per_unit_step),
-                        );
-                        // inside a singular configuration the positions' round-off grows
-                        // with the conditioning for a while: the allowance widens the test
-                        // there instead of stopping the run
-                        if err >= self.gain_ratio
-                            && self.s.error_per_unit_step
-                            && !self.rank.inside()
-                            && (self.err_roundoff * h / self.h >= ROUNDOFF_SHARE_LIMIT
-                                || step_control::collapsed(self.h, st.t))
-                        {
-                            return Err(SolverError::at(
-                                IntegratorKind::GenAlpha,
-                                st.t,
-                                Cause::Tolerance {
-                                    rtol: self.s.rtol,
-                                    atol: self.s.atol,
-                                    h: self.h,
-                                    share: self.err_roundoff * h / self.h,
-                                },
-                            ));
-                        }
-                        if self.gain_ratio > 1.0 && step_control::collapsed(self.h, st.t) {
-                            return Err(SolverError::at(
-                                IntegratorKind::GenAlpha,
-                                st.t,
-                                Cause::StepCollapse {
-                                    h: self.h,
-                                    why: Collapse::EnergyGain {
-                                        gain: self.gain_ratio,
-                                    },
-                                },
-                            ));
-                        }
-                    } else {
-                        let located = if locate && !landing_trial {
-                            self.events_in_step(sys, st, h)
-                        } else {
-                            None
-                        };
-                        if let Some(h_on) =
-                            located.and_then(|theta| self.events.landing_step(theta, st.t, h))
-                        {
-                            cut = Some(h_on);
-                            continue;
-                        }
-                        self.accept(sys, st, h);
-                        refreshed = false;
-                        self.events.before_hook(st);
-                        let action = hook.after_step(sys, st)?;
-                        // the step ended on located events: the contacts close or open here
-                        let jump = self.events.record(sys, st);
-                        match action {
-                            // the step starts from the state itself (positions, speeds and
-                            // the algorithmic accelerations), so a moved state needs nothing
-                            StepAction::Continue | StepAction::Moved if !jump => {}
-                            // forces that jump need accelerations consistent with them
-                            StepAction::Continue | StepAction::Moved | StepAction::Restart => {
-                                self.restart(sys, st)?
-                            }
-                            StepAction::Stop => return Ok(()),
-                        }
-                        if adaptive {
-                            self.h = self.step_policy().after_acceptance(
-                                h,
-                                natural,
-                                self.h,
-                                step_factor(err, self.gain_ratio, self.s.error_per_unit_step),
-                            );
-                        }
-                    }
-                }
-                StepOutcome::Failed(newton) => {
-                    self.stats.newton_failures += 1;
-                    if !refreshed && self.jac_valid {
-                        self.jac_valid = false;
-                        refreshed = true;
-                        continue;
-                    }
-                    refreshed = false;
-                    if !adaptive {
-                        return Err(SolverError::at(
-                            IntegratorKind::GenAlpha,
-                            st.t,
-                            Cause::FixedStepTooLarge { h, newton },
-                        ));
-                    }
-                    self.h = step_control::after_failure(h);
-                    if step_control::collapsed(self.h, st.t) {
-                        return Err(SolverError::at(
-                            IntegratorKind::GenAlpha,
-                            st.t,
-                            Cause::StepCollapse {
-                                h: self.h,
-                                why: Collapse::Newton {
-                                    newton,
-                                    singular: None,
-                                },
-                            },
-                        ));
-                    }
-                }
-            }
-        }
-        st.t = t_end;
-        Ok(())
+        implicit::advance(self, sys, st, t_end, hook)
     }
 
     fn restart(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
@@ -1007,5 +832,163 @@ impl Integrator for GenAlpha {
             &mut self.lin,
             self.pending.as_mut(),
         )
+    }
+}
+
+/// Generalized-alpha's step, rejection and proposal for the step loop
+/// ([`implicit::advance`]): halves the last step of a call or divides the call into equal
+/// steps, rejects steps that gain energy, stops when the tolerance is below round-off.
+impl ImplicitMethod for GenAlpha {
+    type Estimate = f64;
+
+    fn kind(&self) -> IntegratorKind {
+        IntegratorKind::GenAlpha
+    }
+
+    fn settings(&self) -> &Settings {
+        &self.s
+    }
+
+    fn h_mut(&mut self) -> &mut f64 {
+        &mut self.h
+    }
+
+    fn stats_mut(&mut self) -> &mut Stats {
+        &mut self.stats
+    }
+
+    fn events(&mut self) -> &mut EventLocator {
+        &mut self.events
+    }
+
+    fn matrix_valid(&self) -> bool {
+        self.jac_valid
+    }
+
+    fn invalidate_matrix(&mut self) {
+        self.jac_valid = false;
+    }
+
+    fn begin_call(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
+        self.resize(sys.n_q(), sys.n_v(), sys.n_c());
+        self.resize_events(sys);
+        // a step size that cannot advance (a forged state) is chosen afresh, as at the start
+        if self.s.fixed_step == 0.0 && step_control::collapsed(self.h, st.t) {
+            self.h = self.initial_step(sys, st);
+        }
+        Ok(())
+    }
+
+    /// At most half the rest of the call (so the call does not end on a sliver), or equal
+    /// steps to its end: the same step size (and Newton matrix) for all of them, and for the
+    /// next call when its length is the same.
+    fn trial_step(&self, natural: f64, remaining: f64) -> f64 {
+        if !self.s.equal_steps {
+            if natural > 0.5 * remaining {
+                0.5 * remaining
+            } else {
+                natural
+            }
+        } else {
+            remaining / (remaining / natural).ceil()
+        }
+    }
+
+    fn try_step(&mut self, sys: &mut System, st: &State, h: f64) -> Result<f64, NewtonFailure> {
+        match GenAlpha::try_step(self, sys, st, h) {
+            StepOutcome::Converged(err) => Ok(err),
+            StepOutcome::Failed(newton) => Err(newton),
+        }
+    }
+
+    /// A step that gains energy beyond the tolerance is rejected like one with too large an
+    /// error; every next step is proposed from the larger of the two estimates (both O(h^3)),
+    /// so an energy rejection is not followed by a step grown from the position error alone
+    /// that the energy check rejects again.
+    fn rejects(&self, err: &f64) -> bool {
+        step_control::rejects(err.max(self.gain_ratio))
+    }
+
+    fn rejected(&mut self, st: &State, h: f64, err: &f64, _: u32) -> Result<(), SolverError> {
+        let err = *err;
+        self.stats.rejected += 1;
+        if self.gain_ratio > err {
+            self.stats.rejected_energy += 1;
+        } else {
+            self.stats.rejected_error += 1;
+        }
+        self.h = step_control::after_rejection(
+            h,
+            step_factor(err, self.gain_ratio, self.s.error_per_unit_step),
+        );
+        // inside a singular configuration the positions' round-off grows with the conditioning
+        // for a while: the allowance widens the test there instead of stopping the run
+        if err >= self.gain_ratio
+            && self.s.error_per_unit_step
+            && !self.rank.inside()
+            && (self.err_roundoff * h / self.h >= ROUNDOFF_SHARE_LIMIT
+                || step_control::collapsed(self.h, st.t))
+        {
+            return Err(SolverError::at(
+                IntegratorKind::GenAlpha,
+                st.t,
+                Cause::Tolerance {
+                    rtol: self.s.rtol,
+                    atol: self.s.atol,
+                    h: self.h,
+                    share: self.err_roundoff * h / self.h,
+                },
+            ));
+        }
+        if self.gain_ratio > 1.0 && step_control::collapsed(self.h, st.t) {
+            return Err(SolverError::at(
+                IntegratorKind::GenAlpha,
+                st.t,
+                Cause::StepCollapse {
+                    h: self.h,
+                    why: Collapse::EnergyGain {
+                        gain: self.gain_ratio,
+                    },
+                },
+            ));
+        }
+        Ok(())
+    }
+
+    fn event_in_step(&mut self, sys: &mut System, st: &State, h: f64, _: &f64) -> Option<f64> {
+        self.events_in_step(sys, st, h)
+    }
+
+    fn accept(&mut self, sys: &mut System, st: &mut State, h: f64, _: &f64) {
+        GenAlpha::accept(self, sys, st, h);
+    }
+
+    fn on_action(
+        &mut self,
+        sys: &mut System,
+        st: &mut State,
+        action: StepAction,
+        jump: bool,
+    ) -> Result<Flow, SolverError> {
+        match action {
+            // the step starts from the state itself (positions, speeds and the algorithmic
+            // accelerations), so a moved state needs nothing
+            StepAction::Continue | StepAction::Moved if !jump => {}
+            // forces that jump need accelerations consistent with them
+            StepAction::Continue | StepAction::Moved | StepAction::Restart => {
+                self.restart(sys, st)?
+            }
+            StepAction::Stop => return Ok(Flow::Stop),
+        }
+        Ok(Flow::Propose)
+    }
+
+    fn propose(&mut self, h: f64, natural: f64, err: &f64) {
+        self.h = self.step_policy().after_acceptance(
+            h,
+            natural,
+            self.h,
+            step_factor(*err, self.gain_ratio, self.s.error_per_unit_step),
+        );
     }
 }

@@ -16,13 +16,11 @@
 //! ([`JointTree::detect`]).
 
 use super::dopri::{MIN_ERROR_SHARE, STEP_POLICY};
+use super::explicit::{self, ExplicitMethod};
 use super::kkt::Kkt;
-use super::step_control;
+use super::step_control::StepPolicy;
 use super::tree_tableau::{DOPRI5, Tableau, VERNER65, VERNER87};
-use super::{
-    Cause, Collapse, Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction,
-    StepHook, time_eps,
-};
+use super::{Integrator, IntegratorKind, Settings, SolverError, Stats, StepAction, StepHook};
 use crate::dae::System;
 use crate::math::wrms;
 use crate::state::State;
@@ -338,92 +336,7 @@ impl Integrator for TreeRk {
         t_end: f64,
         hook: &mut dyn StepHook,
     ) -> Result<(), SolverError> {
-        self.prepare(sys, st)?;
-        // the joint state is read from the state at every call (a restored or changed state),
-        // and inputs may have changed: the first stage is evaluated afresh
-        self.extract(st);
-        self.k1_valid = false;
-        let adaptive = self.s.fixed_step == 0.0;
-        if adaptive && step_control::collapsed(self.h, st.t) {
-            self.start(sys, st)?;
-        }
-        let mut steps = 0u64;
-        while t_end - st.t > time_eps(t_end) {
-            if hook.pause() {
-                return self.finish(sys, st);
-            }
-            steps += 1;
-            if steps > self.s.max_steps {
-                return Err(SolverError::at(
-                    self.kind(),
-                    st.t,
-                    Cause::StepBudget {
-                        max_steps: self.s.max_steps,
-                    },
-                ));
-            }
-            let natural = if adaptive {
-                self.h.min(self.s.h_max)
-            } else {
-                self.s.fixed_step
-            };
-            let remaining = t_end - st.t;
-            let h = if natural >= remaining - time_eps(t_end) {
-                remaining
-            } else {
-                natural
-            };
-            let err = match self.try_step(sys, st.t, h) {
-                Ok(e) if e.is_finite() => e,
-                Ok(_) | Err(_) => f64::INFINITY,
-            };
-            let (err, order) = if adaptive && self.s.error_per_unit_step {
-                (
-                    err / self.s.error_share(h).max(MIN_ERROR_SHARE),
-                    self.method.order - 1.0,
-                )
-            } else {
-                (err, self.method.order)
-            };
-            if adaptive && step_control::rejects(err) {
-                self.stats.rejected += 1;
-                self.stats.rejected_error += 1;
-                self.h = step_control::after_rejection(h, step_control::proposal(err, order));
-                if step_control::collapsed(self.h, st.t) {
-                    return Err(SolverError::at(
-                        self.kind(),
-                        st.t,
-                        Cause::StepCollapse {
-                            h: self.h,
-                            why: Collapse::ErrorEstimate,
-                        },
-                    ));
-                }
-                continue;
-            }
-            if !err.is_finite() {
-                return Err(SolverError::at(self.kind(), st.t, Cause::NonFinite { h }));
-            }
-            self.accept(sys, st, h)?;
-            if adaptive {
-                self.h = STEP_POLICY.after_acceptance(
-                    h,
-                    natural,
-                    self.h,
-                    step_control::proposal(err, order),
-                );
-            }
-            match hook.after_step(sys, st)? {
-                StepAction::Continue => {}
-                StepAction::Moved | StepAction::Restart => {
-                    self.extract(st);
-                    self.k1_valid = false;
-                }
-                StepAction::Stop => return self.finish(sys, st),
-            }
-        }
-        st.t = t_end;
-        self.finish(sys, st)
+        explicit::advance(self, sys, st, t_end, hook)
     }
 
     fn restart(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
@@ -459,6 +372,75 @@ impl Integrator for TreeRk {
         }
         self.k1_valid = false;
         self.h = h;
+        Ok(())
+    }
+}
+
+/// The stages, error estimate and acceptance of [`TreeRk`] for the step loop
+/// ([`explicit::advance`]); the accelerations and multipliers of the maximal form are solved
+/// at every return.
+impl ExplicitMethod for TreeRk {
+    fn kind(&self) -> IntegratorKind {
+        self.kind
+    }
+
+    fn settings(&self) -> &Settings {
+        &self.s
+    }
+
+    fn h_mut(&mut self) -> &mut f64 {
+        &mut self.h
+    }
+
+    fn stats_mut(&mut self) -> &mut Stats {
+        &mut self.stats
+    }
+
+    fn order(&self) -> f64 {
+        self.method.order
+    }
+
+    fn policy(&self) -> StepPolicy {
+        STEP_POLICY
+    }
+
+    fn min_error_share(&self) -> f64 {
+        MIN_ERROR_SHARE
+    }
+
+    /// The joint state is read from the state at every call (a restored or changed state), and
+    /// inputs may have changed: the first stage is evaluated afresh.
+    fn begin_call(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
+        self.prepare(sys, st)?;
+        self.extract(st);
+        self.k1_valid = false;
+        Ok(())
+    }
+
+    fn start(&mut self, sys: &mut System, st: &State) -> Result<(), SolverError> {
+        Integrator::start(self, sys, st)
+    }
+
+    fn try_step(&mut self, sys: &mut System, st: &State, h: f64) -> f64 {
+        TreeRk::try_step(self, sys, st.t, h).unwrap_or(f64::INFINITY)
+    }
+
+    fn accept(&mut self, sys: &mut System, st: &mut State, h: f64) -> Result<(), SolverError> {
+        TreeRk::accept(self, sys, st, h)
+    }
+
+    fn finish(&mut self, sys: &mut System, st: &mut State) -> Result<(), SolverError> {
+        TreeRk::finish(self, sys, st)
+    }
+
+    fn on_action(
+        &mut self,
+        _sys: &mut System,
+        st: &mut State,
+        _action: StepAction,
+    ) -> Result<(), SolverError> {
+        self.extract(st);
+        self.k1_valid = false;
         Ok(())
     }
 }

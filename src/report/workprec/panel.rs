@@ -14,7 +14,7 @@ fn simulate(s: &Setting, t_end: f64) -> Result<PanelLock, String> {
         ..PanelLockParams::default()
     };
     let mut scene = PanelLock::new(p)?;
-    scene.advance_to(t_end).map_err(|e| e.0)?;
+    scene.advance_to(t_end).map_err(String::from)?;
     Ok(scene)
 }
 
@@ -85,9 +85,9 @@ pub fn deployment(t_end: f64, quick: bool) -> Problem {
             // the root lock's own impact, before the next hinge locks
             scene
                 .advance_to(FIRST_LOCK_SETTLED.min(t_end))
-                .map_err(|e| e.0)?;
+                .map_err(String::from)?;
             let first_peak = scene.outputs().hinges[0].peak_force;
-            scene.advance_to(t_end).map_err(|e| e.0)?;
+            scene.advance_to(t_end).map_err(String::from)?;
             let o = scene.outputs();
             let e1 = scene.sim.energy();
             let released = e0.potential - e1.potential;

@@ -425,7 +425,9 @@ impl CoSimModel for PanelLockModel {
                 }
             } else {
                 // older states: the peaks from the restored point on
-                let now = scene.root_wrench().map_err(|e| ModelError::BadState(e.0))?;
+                let now = scene
+                    .root_wrench()
+                    .map_err(|e| ModelError::BadState(e.to_string()))?;
                 scene.interface_peaks = Default::default();
                 scene.interface_peaks.note(&now);
             }

@@ -71,7 +71,7 @@ impl PanelLock {
             sim,
             interface_peaks: InterfacePeaks::default(),
         };
-        let start = scene.root_wrench().map_err(|e| e.0)?;
+        let start = scene.root_wrench().map_err(String::from)?;
         scene.interface_peaks.note(&start);
         Ok(scene)
     }
@@ -123,7 +123,7 @@ impl PanelLock {
         if before.map(f64::to_bits) == Some(value.to_bits()) {
             return Ok(());
         }
-        let now = self.root_wrench().map_err(|e| e.0)?;
+        let now = self.root_wrench().map_err(String::from)?;
         self.interface_peaks.note(&now);
         Ok(())
     }

@@ -197,7 +197,9 @@ impl RopeBlockSim {
                 &mut self.slide_dissipation,
             );
             mgr.one_step = one_step;
-            self.sim.advance_with(t_end, &mut mgr).map_err(|e| e.0)?;
+            self.sim
+                .advance_with(t_end, &mut mgr)
+                .map_err(String::from)?;
             let edits = std::mem::take(&mut mgr.edits);
             if edits.is_empty() {
                 return Ok(());
@@ -222,7 +224,7 @@ impl RopeBlockSim {
                 &mut self.slide_dissipation,
             );
             if mgr.settle_cone(&mut self.sim.system, &mut self.sim.state) {
-                self.sim.restart().map_err(|e| e.0)?;
+                self.sim.restart().map_err(String::from)?;
             }
             if one_step {
                 return Ok(());
@@ -258,7 +260,7 @@ impl RopeBlockSim {
         // as after every accepted step
         sys.update_memory(state.t, &state.q, &state.v, &mut state.memory);
         self.map = map;
-        self.sim.replace_system(sys, state).map_err(|e| e.0)?;
+        self.sim.replace_system(sys, state).map_err(String::from)?;
         self.counters.rebuilds += 1;
         let after = self.sim.energy();
         self.event_energy +=
@@ -416,9 +418,9 @@ impl RopeBlockSim {
         crate::rope::RopeEffect::write_hook(&mut self.sim.state.memory[base..base + n], k, &h);
         if h.ramp > 0.0 {
             // continuous command: the system follows the new memory, the history stays
-            self.sim.sync_memory().map_err(|e| e.0)
+            self.sim.sync_memory().map_err(String::from)
         } else {
-            self.sim.restart().map_err(|e| e.0)
+            self.sim.restart().map_err(String::from)
         }
     }
 }

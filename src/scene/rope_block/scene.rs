@@ -71,7 +71,7 @@ pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
         m[o + 5] = 1.0;
         m[o + 4] = 0.0;
     }
-    sim.sim.restart().map_err(|e| e.0)?;
+    sim.sim.restart().map_err(String::from)?;
     statics::solve(sim, 1e-9 * weight, 300)?;
     check_breaking_loads(sim)?;
     // freeze the split of rope at each node where the free sliding left it
@@ -95,7 +95,7 @@ pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
             m[o + 3] = u0;
         }
     }
-    sim.sim.restart().map_err(|e| e.0)
+    sim.sim.restart().map_err(String::from)
 }
 
 /// Refuses a settled scene whose slings carry more than their breaking load at rest: a load that

@@ -93,7 +93,7 @@ fn solve_inner(
                 rope.set_taut_tangent(false);
                 s.state.vdot.fill(0.0);
                 s.state.lambda.copy_from_slice(&lam);
-                s.restart().map_err(|e| e.0)?;
+                s.restart().map_err(String::from)?;
                 return Ok(StaticReport {
                     iterations: it,
                     residual: fmax,
