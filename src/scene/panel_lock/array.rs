@@ -344,18 +344,8 @@ fn at_line(line: usize) -> String {
 
 /// `value` of `key` within the declared range of the global parameter `global` it overrides.
 fn in_range(who: &str, key: &str, value: f64, global: &str, unit: &str) -> Result<(), String> {
-    let r = declared_range(global).unwrap_or(super::params::DeclaredRange {
-        min: None,
-        max: None,
-        open: [false; 2],
-    });
-    let below = r
-        .min
-        .is_some_and(|lo| value < lo || (r.open[0] && value == lo));
-    let above = r
-        .max
-        .is_some_and(|hi| value > hi || (r.open[1] && value == hi));
-    if value.is_finite() && !below && !above {
+    let r = declared_range(global).unwrap_or(super::params::DeclaredRange::closed(None, None));
+    if r.contains(value) {
         return Ok(());
     }
     let lo = r.min.map_or("-inf".to_string(), |v| format!("{v}"));
