@@ -353,6 +353,12 @@ pub fn demo(a: &DemoArgs) -> Result<(), String> {
     for fmu in pack_all("demo", &a.dist, &platforms(&a.platforms)?)? {
         println!("packed {}", fmu.display());
     }
+    // three.js for `simulate --replay`, read at run time: after the quick start's first command
+    // `--replay` works without a rebuild; without npm only `--replay` lacks it, not the demo
+    match crate::replay::fetch_three(&repo_root("demo")?) {
+        Ok(done) => println!("replay: {done}"),
+        Err(e) => eprintln!("note: {e}"),
+    }
     demo_panel_lock(&a.out)?;
     demo_rope_block(&a.out)?;
     demo_pid()
