@@ -201,12 +201,12 @@ mod tests {
         )
         .unwrap();
         std::fs::remove_file(three.join("package.json")).ok();
-        assert!(load(&dir).unwrap_err().contains("not installed"));
+        assert!(load(&dir).err().unwrap().contains("not installed"));
         std::fs::write(three.join("package.json"), r#"{"version": "0.186.0"}"#).unwrap();
         let e = load(&dir).err().unwrap();
         assert!(e.contains("0.186.0") && e.contains("pins 0.187.0"), "{e}");
         std::fs::write(three.join("package.json"), r#"{"version": "0.187.0"}"#).unwrap();
-        assert!(load(&dir).unwrap_err().contains("build/three.core.js"));
+        assert!(load(&dir).err().unwrap().contains("build/three.core.js"));
         std::fs::remove_dir_all(&dir).ok();
     }
 }
