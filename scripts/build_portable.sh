@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
 # Builds the shared library that every FMU ships for one platform (run by `mbcosim pack` and
 # `mbcosim demo`, once per platform):
-#   1. x86_64 Linux (the default target): cargo-zigbuild links it against glibc 2.17 with zig from
-#      PyPI's `ziglang`, so the FMUs load on any x86_64 Linux with glibc >= 2.17 (RHEL/CentOS 7,
-#      Ubuntu 18.04 and newer). The pinned toolchain (scripts/portable-requirements.txt) is
-#      installed into .venv on first use, idempotently; python3-venv and binutils come from apt
-#      when missing. Fallback, only when that toolchain cannot be installed or the portable build
-#      fails: the host build, with a loud warning. Its FMUs need this machine's glibc, and
+#   1. x86_64 Linux (the default target): the host build's own libmbcosim.so (`cargo build
+#      --lib`, nothing to do after `cargo run --release --bin mbcosim`). scripts/link_host.sh,
+#      the linker of .cargo/config.toml, links it with zig (PyPI's `ziglang`, through the pinned
+#      cargo-zigbuild) against glibc 2.17, so the FMUs load on any x86_64 Linux with glibc >= 2.17
+#      (RHEL/CentOS 7, Ubuntu 18.04 and newer), and one compile serves `mbcosim`, the tests and
+#      the FMUs. The pinned toolchain (scripts/portable-requirements.txt) is installed into .venv
+#      on first use by scripts/portable_toolchain.sh. When the library was linked without zig
+#      (the toolchain could not be had), it is relinked once the toolchain is there, else packed
+#      as it is with a loud warning: its FMUs need this machine's glibc, and
 #      tests/python/test_portable_binary.py fails on them.
-#   2. aarch64 Linux (--target aarch64-unknown-linux-gnu): the same zig build for glibc 2.17 on
+#   2. aarch64 Linux (--target aarch64-unknown-linux-gnu): cargo-zigbuild for glibc 2.17 on
 #      aarch64; no fallback (there is no host build to fall back to).
 #   3. x86_64 Windows (--target x86_64-pc-windows-gnu): cargo with Debian's mingw-w64 gcc as the
 #      linker; the DLL links libgcc and winpthread statically (Rust's windows-gnu default), and
@@ -21,7 +24,7 @@
 # Usage: scripts/build_portable.sh [--target TRIPLE] [--profile P] [--target-dir DIR]
 #                                  [--debug-dir DIR]
 # Prints the stripped library's path, the only line on stdout; everything else goes to stderr.
-# MBCOSIM_PORTABLE=0 asks for the host build of x86_64 Linux (no warning). See
+# MBCOSIM_PORTABLE=0 asks for the host linker for x86_64 Linux (no warning). See
 # docs/portable_binary.md and docs/platforms.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -76,28 +79,7 @@ glibc_needed() {
 }
 
 # The pinned cargo-zigbuild and zig in .venv; returns non-zero when they cannot be had.
-portable_toolchain() {
-    local req=scripts/portable-requirements.txt stamp=.venv/.portable-requirements.sha hash
-    hash="$(sha256sum "$req" | cut -d' ' -f1)"
-    if [ "$(cat "$stamp" 2>/dev/null)" = "$hash" ] && [ -x .venv/bin/cargo-zigbuild ] &&
-        .venv/bin/python -m ziglang version >/dev/null 2>&1; then
-        return 0
-    fi
-    if ! .venv/bin/python -c 'import sys' >/dev/null 2>&1; then
-        command -v python3 >/dev/null || { say "no python3"; return 1; }
-        if ! python3 -c 'import ensurepip, venv' >/dev/null 2>&1; then
-            say "installing python3-venv"
-            apt_install python3-venv || return 1
-        fi
-        rm -rf .venv
-        python3 -m venv .venv >&2 || return 1
-    fi
-    say "installing the portable toolchain into .venv ($(grep -v '^#' "$req" | xargs))"
-    .venv/bin/python -m pip install -q --retries 2 -r "$req" >&2 || return 1
-    .venv/bin/cargo-zigbuild --version >/dev/null && .venv/bin/python -m ziglang version >/dev/null ||
-        return 1
-    echo "$hash" >"$stamp"
-}
+portable_toolchain() { bash scripts/portable_toolchain.sh; }
 
 if ! command -v "${tools}objcopy" >/dev/null 2>&1 || ! command -v "${tools}objdump" >/dev/null 2>&1
 then
@@ -147,36 +129,39 @@ aarch64_so() {
 }
 
 lib=""
-why=""
 if [ "$triple" = x86_64-pc-windows-gnu ]; then
     windows_dll
 elif [ "$triple" = aarch64-unknown-linux-gnu ]; then
     aarch64_so
-elif [ "${MBCOSIM_PORTABLE:-1}" = "0" ]; then
-    why="MBCOSIM_PORTABLE=0"
-elif ! portable_toolchain; then
-    why="the pinned cargo-zigbuild/ziglang could not be installed into .venv"
 else
-    # cargo-zigbuild runs zig as `<CARGO_ZIGBUILD_PYTHON_PATH> -m ziglang`; the build ID ties the
-    # stripped library to its debug file (zig's linker writes none unless asked).
-    flags="${CARGO_TARGET_X86_64_UNKNOWN_LINUX_GNU_RUSTFLAGS:-} -C link-arg=-Wl,--build-id=sha1"
-    if CARGO_ZIGBUILD_PYTHON_PATH="$PWD/.venv/bin/python" \
-        CARGO_TARGET_X86_64_UNKNOWN_LINUX_GNU_RUSTFLAGS="$flags" \
-        .venv/bin/cargo-zigbuild zigbuild --lib --quiet --profile "$profile" \
-        --target "$triple.$glibc_floor" --manifest-path Cargo.toml --target-dir "$target_dir" >&2; then
-        lib="$target_dir/$triple/$profile_dir/libmbcosim.so"
-    else
-        why="cargo zigbuild failed"
-    fi
-fi
-
-if [ -z "$lib" ]; then
-    "$cargo" build --lib --quiet --profile "$profile" --manifest-path Cargo.toml \
-        --target-dir "$target_dir" >&2
+    # x86_64 Linux: the host build's own cdylib, which scripts/link_host.sh (the linker of
+    # .cargo/config.toml) links with zig against glibc 2.17. After `cargo run --release --bin
+    # mbcosim` this cargo has nothing to do.
+    host_build() {
+        "$cargo" build --lib --quiet --profile "$profile" --manifest-path Cargo.toml \
+            --target-dir "$target_dir" >&2
+    }
+    host_build
     lib="$target_dir/$profile_dir/libmbcosim.so"
-    if [ "$why" != "MBCOSIM_PORTABLE=0" ]; then
+    # portable: it asks for no glibc symbol version above the floor
+    portable() {
+        local need
+        need="$(glibc_needed "$lib")"
+        [ "$(printf '%s\n' "${need#GLIBC_}" "$glibc_floor" | sort -V | tail -n 1)" = "$glibc_floor" ]
+    }
+    if [ "${MBCOSIM_PORTABLE:-1}" != "0" ] && ! portable && portable_toolchain; then
+        # linked by cc before the toolchain could be had (or by a cargo that did not read
+        # .cargo/config.toml): remove the library so that cargo builds and links it again
+        say "$lib is not portable; linking it again with zig"
+        rm -f "$target_dir/$profile_dir/deps/libmbcosim.so"
+        host_build
+    fi
+    if [ "${MBCOSIM_PORTABLE:-1}" = "0" ]; then
+        :
+    elif ! portable; then
         say "################################################################################"
-        say "WARNING: NOT PORTABLE: $why."
+        say "WARNING: NOT PORTABLE: the library was not linked with zig (scripts/link_host.sh:"
+        say "the pinned cargo-zigbuild/ziglang could not be installed into .venv, or zig failed)."
         say "The FMUs get the host build, which needs $(glibc_needed "$lib") or newer instead of"
         say "GLIBC_$glibc_floor. See docs/portable_binary.md; tests/python/test_portable_binary.py"
         say "fails on these FMUs."

@@ -3,8 +3,8 @@
 # Installs what it needs itself, idempotently, on a fresh Debian machine:
 #   - apt: libclang-dev (bindgen for the fmi-sys/fmi dev-dependencies), python3-venv, libtbb12
 #     (ecospy's native library), chromium (the replay page test); only if missing
-#   - three.js in tools/replay/node_modules (`npm ci`, the pinned version; embedded into mbcosim
-#     for `simulate --replay`)
+#   - three.js in tools/replay/node_modules (`npm ci`, the pinned version; read by mbcosim at run
+#     time for `simulate --replay`)
 #   - a Python venv in .venv with the pinned tools of tests/python/requirements.txt
 # Honours CARGO_TARGET_DIR. Exit status: 0 only if everything passed.
 set -euo pipefail

@@ -12,7 +12,7 @@
 #     binutils-aarch64-linux-gnu, wine and wine64 (runs the Windows DLL), qemu-user and
 #     libc6-arm64-cross (runs the aarch64 library); only if missing
 #   - three.js for the replay pages: `npm ci` in tools/replay (the version pinned in its
-#     package-lock.json, embedded into mbcosim at build time, docs/replay.md); only if another or
+#     package-lock.json, read by mbcosim at run time, docs/replay.md); only if another or
 #     no version is installed
 #   - a Python venv in .venv with the pinned tools of tests/python/requirements.txt
 #   - the mbstudy command (tools/mbstudy, an editable install into .venv)

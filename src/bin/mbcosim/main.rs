@@ -7,11 +7,13 @@
 //! checked-in descriptions): they find it in the current directory or above it, or at
 //! `MBCOSIM_REPO`.
 //!
-//! Packing needs a fresh cdylib, which `cargo run --bin mbcosim` does not build, so `pack` and
-//! `demo` first run `scripts/build_portable.sh` for the same profile and target directory as this
-//! executable: a glibc 2.17 build through cargo-zigbuild (installed into `.venv` on first use),
-//! stripped, its debug info in `dist/debug/` (docs/portable_binary.md). Set `MBCOSIM_NO_BUILD=1`
-//! to skip that and pack the last stripped library as it is.
+//! Packing needs a fresh cdylib: `pack` and `demo` first run `scripts/build_portable.sh` for the
+//! same profile and target directory as this executable. For x86_64 Linux that is the cdylib of
+//! the same host build (`cargo run --release --bin mbcosim` built it; .cargo/config.toml links it
+//! with zig against glibc 2.17 through scripts/link_host.sh, the toolchain installed into `.venv`
+//! on first use), stripped, its debug info in `dist/debug/` (docs/portable_binary.md). Set
+//! `MBCOSIM_NO_BUILD=1` to skip that and pack the last stripped library as it is. `demo` also
+//! installs three.js for `simulate --replay` (`npm ci` in tools/replay, docs/replay.md).
 #![forbid(unsafe_code)]
 
 mod models;
@@ -45,7 +47,8 @@ enum Command {
     /// Rewrite modelDescription/<Model>.xml and resources/scenes/<Model>.toml from the variable
     /// tables (needs the source tree).
     ModelDescriptions(pack::DescriptionArgs),
-    /// Pack the FMUs, then run the demos and print their tables (needs the source tree).
+    /// Pack the FMUs, install three.js for --replay (npm), then run the demos and print their
+    /// tables (needs the source tree).
     Demo(pack::DemoArgs),
     /// Regenerate the figures README.md embeds (the PanelLock demo's plots, the work-precision
     /// plots from docs/report/refresh/'s results) in docs/ (needs the source tree).

@@ -56,10 +56,11 @@ fn stripped_name(platform: Platform) -> PathBuf {
 }
 
 /// The library every FMU ships on `platform`, for this executable's profile and target
-/// directory: built by `scripts/build_portable.sh` (Linux: portable glibc 2.17 build through
-/// cargo-zigbuild, for x86_64 the host build with a loud warning when that toolchain cannot be
-/// had; Windows: mingw-w64, self-contained; stripped, debug info split into `<dist>/debug/`), or
-/// with `MBCOSIM_NO_BUILD` the stripped library of the last build as it is.
+/// directory: built by `scripts/build_portable.sh` (x86_64 Linux: the cdylib of this
+/// executable's own build, linked by zig against glibc 2.17 through scripts/link_host.sh, with
+/// a loud warning when it could not be; aarch64 Linux: cargo-zigbuild for glibc 2.17; Windows:
+/// mingw-w64, self-contained; stripped, debug info split into `<dist>/debug/`), or with
+/// `MBCOSIM_NO_BUILD` the stripped library of the last build as it is.
 fn fresh_cdylib(repo: &Path, dist: &Path, platform: Platform) -> Result<PathBuf, String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
     let profile_dir = exe.parent().ok_or("executable has no parent folder")?;
@@ -352,6 +353,12 @@ fn demo_rope_block(out: &Path) -> Result<(), String> {
 pub fn demo(a: &DemoArgs) -> Result<(), String> {
     for fmu in pack_all("demo", &a.dist, &platforms(&a.platforms)?)? {
         println!("packed {}", fmu.display());
+    }
+    // three.js for `simulate --replay`, read at run time: after the quick start's first command
+    // `--replay` works without a rebuild; without npm only `--replay` lacks it, not the demo
+    match crate::replay::fetch_three(&repo_root("demo")?) {
+        Ok(done) => println!("replay: {done}"),
+        Err(e) => eprintln!("note: {e}"),
     }
     demo_panel_lock(&a.out)?;
     demo_rope_block(&a.out)?;

@@ -2,7 +2,7 @@
 //!
 //! [`Recorder`] takes one [`mbcosim::scene::CoSimModel::snapshot`] per output point (the CSV's
 //! rows) and encodes it at once ([`frames`]); at the end [`page`] writes the HTML with three.js
-//! ([`three`], embedded at build time) and the viewer inline.
+//! ([`three`], read at run time from the source tree's tools/replay) and the viewer inline.
 
 mod frames;
 mod json;
@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 
 use mbcosim::scene::CoSimModel;
 
-pub use three::three;
+pub use three::{fetch as fetch_three, three};
 
 /// Snapshots of a run, for its replay page.
 pub struct Recorder {
@@ -25,7 +25,7 @@ pub struct Recorder {
 }
 
 impl Recorder {
-    /// A recorder for the page `path`; `Err` (with what to do) when this build has no three.js,
+    /// A recorder for the page `path`; `Err` (with what to do) when three.js is not installed,
     /// checked before the run starts.
     pub fn new(path: &Path) -> Result<Self, String> {
         three()?;
@@ -64,7 +64,7 @@ impl Recorder {
     pub fn write(&self, model: &str) -> Result<usize, String> {
         let three = three()?;
         let title = format!("{model} replay: {} frames", self.frames.len());
-        let html = page::page(&title, &self.frames.document(model, three.version), three)?;
+        let html = page::page(&title, &self.frames.document(model, &three.version), three)?;
         let p = &self.path;
         if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir)

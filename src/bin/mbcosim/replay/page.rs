@@ -32,10 +32,10 @@ pub fn page(title: &str, data: &str, three: &ThreeJs) -> Result<String, String> 
     };
     let parts: [(&str, String); 7] = [
         ("TITLE", html_text(title)),
-        ("THREE_VERSION", html_text(three.version)),
-        ("THREE_CORE", quoted(three.core)),
-        ("THREE_MODULE", quoted(three.module)),
-        ("ORBIT_CONTROLS", quoted(three.orbit_controls)),
+        ("THREE_VERSION", html_text(&three.version)),
+        ("THREE_CORE", quoted(&three.core)),
+        ("THREE_MODULE", quoted(&three.module)),
+        ("ORBIT_CONTROLS", quoted(&three.orbit_controls)),
         // the data's strings are written by json::string, which escapes `<`
         ("DATA", data.to_string()),
         ("VIEWER", VIEWER.to_string()),
@@ -82,10 +82,10 @@ mod tests {
             "the viewer must not hold a placeholder"
         );
         let three = ThreeJs {
-            version: "0.0.0",
-            core: "export const A = '</script>';",
-            module: "import { A } from './three.core.js'; export { A };",
-            orbit_controls: "import { A } from 'three';",
+            version: "0.0.0".into(),
+            core: "export const A = '</script>';".into(),
+            module: "import { A } from './three.core.js'; export { A };".into(),
+            orbit_controls: "import { A } from 'three';".into(),
         };
         let html = page("run <1>", "{\"frames\":[]}", &three).unwrap();
         assert_eq!(
