@@ -333,7 +333,7 @@ fn panel_lock_speed() {
     );
     let run = |kind: IntegratorKind, rtol: f64| {
         let p = PanelLockParams {
-            integrator: kind,
+            integrator: Some(kind),
             settings: Settings {
                 rtol,
                 atol: rtol * 1e-2,

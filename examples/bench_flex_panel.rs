@@ -18,7 +18,7 @@ use mbcosim::scene::panel_lock::study::{CaseResult, run_case};
 
 fn params(kind: IntegratorKind, rtol: f64, max_order: usize) -> PanelLockParams {
     PanelLockParams {
-        integrator: kind,
+        integrator: Some(kind),
         settings: Settings {
             rtol,
             atol: rtol * 1e-2,

@@ -6,7 +6,7 @@
 //! (FLEX: rigid or flex; FRICTION [N m]; KIND: gen-alpha, bdf, ...; T_END [s]).
 
 use mbcosim::integrator::{IntegratorKind, Settings};
-use mbcosim::scene::panel_lock::{PanelLock, PanelLockParams};
+use mbcosim::scene::panel_lock::{DEFAULT_ATOL, DEFAULT_RTOL, PanelLock, PanelLockParams};
 
 /// CPU time of the calling thread [s], from `/proc/thread-self/schedstat` (its first field is
 /// the time spent on the CPU [ns]); NaN where that file is not there. The machine is shared, so
@@ -35,10 +35,10 @@ fn main() {
         // the FMU's and the CLI's modes for `n_modes = 0` with flexible panels
         n_modes: if flex { 10 } else { 0 },
         hinge_friction_torque: friction,
-        integrator: kind,
+        integrator: Some(kind),
         settings: Settings {
             rtol,
-            atol: defaults.settings.atol * rtol / defaults.settings.rtol,
+            atol: DEFAULT_ATOL * rtol / DEFAULT_RTOL,
             ..defaults.settings
         },
         ..defaults

@@ -63,7 +63,7 @@ fn with_solver(
     per_unit_step: bool,
 ) -> PanelLockParams {
     PanelLockParams {
-        integrator: kind,
+        integrator: Some(kind),
         settings: Settings {
             rtol,
             atol: rtol * 1e-2,

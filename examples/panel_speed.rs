@@ -47,7 +47,7 @@ fn main() {
         .ok()
         .map_or(0.02, |s| s.parse().expect("H_MAX"));
     let p = PanelLockParams {
-        integrator: kind,
+        integrator: Some(kind),
         settings: Settings {
             rtol,
             atol: rtol * 1e-2,

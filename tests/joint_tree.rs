@@ -289,7 +289,7 @@ fn panel_lock_deployment_with_bolted_hinges_matches_maximal_dopri5() {
     use mbcosim::scene::panel_lock::{ErrorControl, PanelLock, PanelLockParams};
     let run = |kind| {
         let p = PanelLockParams {
-            integrator: kind,
+            integrator: Some(kind),
             settings: Settings {
                 rtol: 1e-10,
                 atol: 1e-12,

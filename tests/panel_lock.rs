@@ -139,7 +139,7 @@ fn locked_latch_settles_at_the_contact_law_equilibrium() {
 /// Root-hinge lock time [s] and peak lock force [N] (the first lock-up).
 fn first_lock(kind: IntegratorKind, rtol: f64) -> (f64, f64) {
     let mut s = PanelLock::new(PanelLockParams {
-        integrator: kind,
+        integrator: Some(kind),
         ..params(rtol)
     })
     .unwrap();

@@ -17,7 +17,7 @@ fn run(p: PanelLockParams, t_end: f64) -> (f64, f64) {
 /// `p` with BDF at `rtol` (atol rtol / 100) and the error control `control`.
 fn tight(p: PanelLockParams, rtol: f64, control: ErrorControl) -> PanelLockParams {
     PanelLockParams {
-        integrator: IntegratorKind::Bdf,
+        integrator: Some(IntegratorKind::Bdf),
         settings: Settings {
             rtol,
             atol: rtol * 1e-2,

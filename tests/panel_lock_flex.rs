@@ -25,7 +25,7 @@ fn one_panel(n_modes: usize) -> PanelLockParams {
         n_panels: 1,
         hinge_damping: 3.0,
         restitution: 0.3,
-        integrator: IntegratorKind::Bdf,
+        integrator: Some(IntegratorKind::Bdf),
         settings: Settings {
             rtol: 1e-7,
             atol: 1e-9,
@@ -313,7 +313,7 @@ fn very_stiff_flexible_panels_reproduce_the_rigid_lock_times() {
     // is 17.4264 s against 17.4050 s converged (17.4055 s at 1e-8, 17.4050 s at 1e-10), an error
     // of 1.2e-3 of the 2e-3 this test allows
     let rigid_reference = PanelLockParams {
-        integrator: IntegratorKind::Bdf,
+        integrator: Some(IntegratorKind::Bdf),
         error_control: ErrorControl::PerStep,
         settings: Settings {
             rtol: 1e-8,
@@ -332,7 +332,7 @@ fn very_stiff_flexible_panels_reproduce_the_rigid_lock_times() {
         // gen-alpha with the error per unit step (these modes start without trouble), rtol
         // 1e-4: lock times 4.28847, 17.45205, 7.59437 s; 3e-4 gives the same to 3e-4 s. Per
         // step at the default rtol 3e-4 the root lock is 11 ms early (docs/panel_lock_defaults.md)
-        integrator: IntegratorKind::GenAlpha,
+        integrator: Some(IntegratorKind::GenAlpha),
         error_control: ErrorControl::PerUnitStep,
         settings: Settings {
             rtol: 1e-4,
@@ -374,7 +374,7 @@ fn bdf_per_unit_step_starts_the_flexible_scene() {
     let t_end = 0.2;
     let run = |rtol: f64, control: ErrorControl| {
         let mut p = PanelLockParams::flexible(10);
-        p.integrator = IntegratorKind::Bdf;
+        p.integrator = Some(IntegratorKind::Bdf);
         p.error_control = control;
         p.settings.rtol = rtol;
         p.settings.atol = 1e-2 * rtol;

@@ -69,7 +69,7 @@ fn free_deployment_conserves_linear_and_angular_momentum() {
         ..PanelLockParams::default()
     };
     for (p, bound) in [(default, 1e-3), (free(1e-6), 1e-5), (free(1e-9), 1e-8)] {
-        let rtol = p.settings.rtol;
+        let rtol = p.solver_settings().rtol;
         let (h, h_scale, l, l_scale, lock) = drift(p, 25.0);
         let (rel_h, rel_l) = (h / h_scale, l / l_scale);
         println!(
@@ -237,7 +237,7 @@ fn flexible_panels_conserve_momentum_and_report_their_deflection() {
     // the momentum now includes the panels' elastic motion (their modal blocks of M v)
     let p = PanelLockParams {
         free_satellite: true,
-        integrator: IntegratorKind::Bdf,
+        integrator: Some(IntegratorKind::Bdf),
         settings: Settings {
             rtol: 1e-8,
             atol: 1e-10,

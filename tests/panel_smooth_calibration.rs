@@ -13,7 +13,7 @@ const T_END: f64 = 2.0;
 /// Every hinge's deployment angle [rad] at `T_END`, run by `kind` at rtol = atol = `rtol`.
 fn angles(kind: IntegratorKind, rtol: f64) -> Vec<f64> {
     let p = PanelLockParams {
-        integrator: kind,
+        integrator: Some(kind),
         settings: Settings {
             rtol,
             atol: rtol,

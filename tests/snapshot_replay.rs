@@ -7,7 +7,7 @@ use mbcosim::scene::panel_lock::{PanelLock, PanelLockParams};
 
 fn scene(kind: IntegratorKind) -> PanelLock {
     let p = PanelLockParams {
-        integrator: kind,
+        integrator: Some(kind),
         settings: Settings {
             rtol: 1e-5,
             atol: 1e-7,

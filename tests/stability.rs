@@ -354,7 +354,7 @@ fn flexible_panels_with_many_modes_and_tiny_damping() {
     for (modes, zeta) in [(8, 1e-4), (40, 1e-4), (40, 0.0)] {
         let p = PanelLockParams {
             modal_damping_ratio: zeta,
-            integrator: IntegratorKind::GenAlpha,
+            integrator: Some(IntegratorKind::GenAlpha),
             settings: Settings {
                 rtol: 1e-4,
                 atol: 1e-6,

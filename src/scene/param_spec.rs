@@ -246,7 +246,6 @@ pub trait SolverKnobs {
 /// (docs/parameter_spec.md gives the ranges' reasons).
 pub mod solver {
     use super::{Bounds, Range, RealSpec, SolverKnobs};
-    use crate::integrator::{MIN_ATOL, MIN_RTOL};
 
     /// Largest `rtol` [-]: a tenth, beyond which error control no longer controls anything.
     pub const MAX_RTOL: f64 = 0.1;
@@ -275,8 +274,8 @@ pub mod solver {
         RealSpec::new(
             "rtol",
             None,
-            Bounds::Fixed(Range::closed(Some(MIN_RTOL), Some(MAX_RTOL))),
-            "Relative error tolerance of the adaptive integrators.",
+            Bounds::Fixed(Range::closed(Some(0.0), Some(MAX_RTOL))),
+            "Relative error tolerance of the adaptive integrators; 0: the integrator's own default (listed with the model's integrators); otherwise at least 1e3 machine epsilons (2.2e-13).",
             get::<P, 0>,
             set::<P, 0>,
         )
@@ -288,8 +287,8 @@ pub mod solver {
         RealSpec::new(
             "atol",
             None,
-            Bounds::Fixed(Range::closed(Some(MIN_ATOL), Some(MAX_ATOL))),
-            "Absolute error tolerance of the integrator (m, rad, m/s, rad/s).",
+            Bounds::Fixed(Range::closed(Some(0.0), Some(MAX_ATOL))),
+            "Absolute error tolerance of the integrator (m, rad, m/s, rad/s); 0: the integrator's own default (listed with the model's integrators); otherwise at least 1e-15.",
             get::<P, 1>,
             set::<P, 1>,
         )
@@ -372,14 +371,16 @@ mod tests {
         assert_eq!(p.vr, 7);
         assert_eq!(
             p.description,
-            "Relative error tolerance of the adaptive integrators. Held per step."
+            "Relative error tolerance of the adaptive integrators; 0: the integrator's own default (listed with the model's integrators); otherwise at least 1e3 machine epsilons (2.2e-13). Held per step."
         );
         match p.ty {
             crate::scene::port::PortType::Real {
                 start, min, max, ..
             } => {
                 assert_eq!(start, Some(1e-4));
-                assert_eq!(min, Some(1e3 * f64::EPSILON));
+                // 0 is the integrator's own default; (0, 1e3 eps) is refused by
+                // `Settings::validate` when the model is built
+                assert_eq!(min, Some(0.0));
                 assert_eq!(max, Some(0.1));
             }
             _ => panic!("not real"),

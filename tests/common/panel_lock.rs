@@ -9,7 +9,7 @@ use mbcosim::scene::panel_lock::{ErrorControl, PanelLockParams};
 /// message at rtol 1e-7 and 1e-8 on this scene: docs/integrator_error_control.md).
 pub fn per_step(kind: IntegratorKind, rtol: f64) -> PanelLockParams {
     PanelLockParams {
-        integrator: kind,
+        integrator: Some(kind),
         error_control: ErrorControl::PerStep,
         settings: Settings {
             rtol,

@@ -329,10 +329,17 @@ fn satellite_velocity_and_rate_are_the_derivatives_of_position_and_attitude() {
 #[test]
 fn solver_counters_are_the_integrator_statistics() {
     // the FMU's model stepped by 0.5 s against the native scene advanced to the same points:
-    // the counters equal the integrator's statistics there, and never decrease
+    // the counters equal the integrator's statistics there, and never decrease (on
+    // generalized-alpha, which counts Newton iterations and factorizations; `auto` resolves to
+    // the explicit dopri5_tree on this scene, whose two are 0)
     let mut m = PanelLockModel::new();
+    mbcosim::scene::native::set_by_name(&mut m, "integrator", 1.0).unwrap();
     m.initialize(0.0).unwrap();
-    let mut s = PanelLock::new(PanelLockParams::default()).unwrap();
+    let mut s = PanelLock::new(PanelLockParams {
+        integrator: Some(IntegratorKind::GenAlpha),
+        ..PanelLockParams::default()
+    })
+    .unwrap();
     let names = [
         "solver_steps",
         "solver_rejected_steps",
@@ -372,6 +379,51 @@ fn solver_counters_are_the_integrator_statistics() {
     );
 }
 
+/// `solver_integrator` is the item number of the integrator the run is built with, read back from
+/// the built simulation: `auto` gives dopri5_tree (4) for rigid panels on a fixed satellite and
+/// gen_alpha (1) with flexible panels or a free satellite; an explicit choice passes through.
+#[test]
+fn solver_integrator_is_the_integrator_the_run_uses() {
+    use mbcosim::scene::native::set_by_name;
+    let cases: [(&[(&str, f64)], i32, IntegratorKind); 5] = [
+        (&[], 4, IntegratorKind::Dopri5Tree),
+        (&[("flexible_panels", 1.0)], 1, IntegratorKind::GenAlpha),
+        (&[("free_satellite", 1.0)], 1, IntegratorKind::GenAlpha),
+        (&[("integrator", 2.0)], 2, IntegratorKind::Bdf),
+        (
+            &[("integrator", 3.0), ("rtol", 1e-6)],
+            3,
+            IntegratorKind::Dopri5,
+        ),
+    ];
+    for (sets, code, kind) in cases {
+        let mut m = PanelLockModel::new();
+        for (name, v) in sets {
+            set_by_name(&mut m, name, *v).unwrap();
+        }
+        m.initialize(0.0).unwrap();
+        let vr = m.info().port_by_name("solver_integrator").unwrap().vr;
+        assert_eq!(m.get_integer(vr).unwrap(), code, "{sets:?}");
+        // the same through the scene the parameters build
+        let p = PanelLockParams {
+            flexible_panels: sets.iter().any(|(n, _)| *n == "flexible_panels"),
+            free_satellite: sets.iter().any(|(n, _)| *n == "free_satellite"),
+            n_modes: if sets.iter().any(|(n, _)| *n == "flexible_panels") {
+                10
+            } else {
+                0
+            },
+            integrator: match code {
+                _ if sets.iter().all(|(n, _)| *n != "integrator") => None,
+                _ => Some(kind),
+            },
+            ..PanelLockParams::default()
+        };
+        let s = PanelLock::new(p).unwrap();
+        assert_eq!(s.sim.integrator_kind(), kind, "{sets:?}");
+    }
+}
+
 #[test]
 fn panel_deflections_scale_with_the_inverse_of_the_stiffness() {
     // flexible panels (4 fixed-interface modes each, damped at 50 % of critical) deploying
@@ -387,7 +439,7 @@ fn panel_deflections_scale_with_the_inverse_of_the_stiffness() {
         let mut s = PanelLock::new(PanelLockParams {
             panel_youngs_modulus: e,
             modal_damping_ratio: 0.5,
-            integrator: IntegratorKind::Bdf,
+            integrator: Some(IntegratorKind::Bdf),
             error_control: ErrorControl::PerStep,
             settings: Settings {
                 rtol: 1e-8,

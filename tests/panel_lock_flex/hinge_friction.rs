@@ -8,7 +8,7 @@
 //! BDF at a 1000 times tighter tolerance.
 
 use mbcosim::integrator::{IntegratorKind, Settings};
-use mbcosim::scene::panel_lock::{PanelLock, PanelLockParams};
+use mbcosim::scene::panel_lock::{DEFAULT_ATOL, DEFAULT_RTOL, PanelLock, PanelLockParams};
 
 /// Simulated time of each run [s] (the benchmark's replay reached about 0.3 s in its 5 s CPU).
 const T_END: f64 = 0.3;
@@ -22,10 +22,10 @@ fn flexible(friction: f64, kind: IntegratorKind, rtol: f64) -> PanelLockParams {
         flexible_panels: true,
         n_modes: 10,
         hinge_friction_torque: friction,
-        integrator: kind,
+        integrator: Some(kind),
         settings: Settings {
             rtol,
-            atol: d.settings.atol * rtol / d.settings.rtol,
+            atol: DEFAULT_ATOL * rtol / DEFAULT_RTOL,
             ..d.settings
         },
         ..d

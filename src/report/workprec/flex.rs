@@ -29,7 +29,7 @@ fn run_flexible(s: &Setting, p: PanelLockParams, t_end: f64) -> Result<Outcome, 
     // per step, as the PanelLock FMU runs: per unit step neither BDF nor gen-alpha starts the
     // flexible scene (docs/integrator_error_control.md, "Found 2026-11-28")
     let p = PanelLockParams {
-        integrator: s.integrator,
+        integrator: Some(s.integrator),
         settings: Settings {
             error_per_unit_step: false,
             ..s.settings

@@ -9,7 +9,7 @@ use crate::scene::panel_lock::{PanelLock, PanelLockParams};
 /// Runs the default scene with `s` to `t_end` [s].
 fn simulate(s: &Setting, t_end: f64) -> Result<PanelLock, String> {
     let p = PanelLockParams {
-        integrator: s.integrator,
+        integrator: Some(s.integrator),
         settings: s.settings,
         ..PanelLockParams::default()
     };
@@ -76,7 +76,7 @@ pub fn deployment(t_end: f64, quick: bool) -> Problem {
         settings,
         run: Box::new(move |s| {
             let p = PanelLockParams {
-                integrator: s.integrator,
+                integrator: Some(s.integrator),
                 settings: s.settings,
                 ..PanelLockParams::default()
             };

@@ -109,6 +109,7 @@ impl PanelLockModel {
         let scene = self.scene()?;
         let o = scene.outputs();
         let stats = scene.sim.stats();
+        let used = integrator_code(Some(scene.sim.integrator_kind()));
         let sat = scene.satellite_output();
         let panels = scene.panel_flex_outputs();
         for k in 1..=MAX_PANELS {
@@ -179,6 +180,7 @@ impl PanelLockModel {
             .put_integer(ivr::NEWTON, clamp(stats.newton_iterations))?;
         self.ports
             .put_integer(ivr::FACTORIZATIONS, clamp(stats.factorizations))?;
+        self.ports.put_integer(ivr::INTEGRATOR_USED, used)?;
         Ok(())
     }
 
@@ -226,6 +228,21 @@ impl CoSimModel for PanelLockModel {
         }
         let clock = Clock::new(t_start)?;
         let p = self.params()?;
+        let solver = p.solver_settings();
+        self.log.push(LogRecord {
+            level: LogLevel::Solver,
+            message: format!(
+                "integrator {}{} at rtol {:e}, atol {:e}",
+                integrator_name(p.integrator_kind()),
+                if p.integrator.is_none() {
+                    " (auto: dopri5_tree for rigid panels on a fixed satellite, else gen_alpha)"
+                } else {
+                    ""
+                },
+                solver.rtol,
+                solver.atol
+            ),
+        });
         let mut scene = PanelLock::new(p).map_err(ModelError::InvalidValue)?;
         for w in &scene.sim.warnings {
             self.log.push(LogRecord {

@@ -5,7 +5,9 @@
 //! - rates, contact and hinge peak forces, lock times, latch flags, the tip speed, kinetic energy,
 //!   dissipated energy, input work and the solver counters do not depend on any known, but for
 //!   the factorization counter: the joint-coordinate integrator (`integrator` item 4) evaluates
-//!   its first stage, one Cholesky factorization, when it starts;
+//!   its first stage, one Cholesky factorization, when it starts; it and `solver_integrator`
+//!   depend on the integrator the run uses, the choice and, through `auto`, the two switches it
+//!   resolves by ([`INTEGRATOR_USED`]);
 //! - a hinge angle is its stowed angle (hinge 0: measured from the root lock angle; hinges 1-6
 //!   exist only for enough panels);
 //! - the root interface loads and their peaks (the start's magnitudes) come from the initial
@@ -53,6 +55,15 @@ fn motion_only() -> Vec<&'static str> {
 /// last bits), on nothing else there but the factorization counter.
 const ROUND_OFF_ONLY: [&str; 2] = ["integrator", "integrator_number"];
 
+/// What decides the integrator a run uses: the choice, its Integer twin and, with `auto`, the
+/// switches that rule out the joint-coordinate integrator (flexible panels, a free satellite).
+const INTEGRATOR_USED: [&str; 4] = [
+    "integrator",
+    "integrator_number",
+    "flexible_panels",
+    "free_satellite",
+];
+
 /// The root interface loads, which the root motor torque reaches at initialization (the motor
 /// acts across the root hinge, so it is part of the interface torque; through the array's
 /// accelerations it reaches the forces too).
@@ -75,8 +86,8 @@ const AXIAL_TORQUE: &str = "root_torque_z";
 pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<String>> {
     let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
     let name = unknown.name.as_str();
-    let deps = if name == "solver_factorizations" {
-        names(&ROUND_OFF_ONLY)
+    let deps = if name == "solver_factorizations" || name == "solver_integrator" {
+        names(&INTEGRATOR_USED)
     } else if name == "hinge0_angle" {
         names(&["root_stowed_angle", "root_lock_angle"])
     } else if name.starts_with("hinge") && name.ends_with("_angle") {

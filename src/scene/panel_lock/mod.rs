@@ -77,7 +77,10 @@ pub use array::{HingeTable, HingeValues, PanelTable, PanelValues};
 pub use build::{Layout, build};
 pub use cosim::{PanelLockModel, create};
 pub use demo::run_demo;
-pub use params::{DEFAULT_PANEL_E, ErrorControl, LoadFrame, PanelLockParams, Reduction};
+pub use params::{
+    DEFAULT_ATOL, DEFAULT_PANEL_E, DEFAULT_RTOL, ErrorControl, LoadFrame, PanelLockParams,
+    Reduction, TREE_ATOL, TREE_RTOL, default_tolerances,
+};
 pub use ports::info;
 pub use run::{HingeOutput, PanelLock, PanelLockOutputs};
 pub use satellite::SatelliteOutput;

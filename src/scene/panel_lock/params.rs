@@ -132,9 +132,11 @@ pub struct PanelLockParams {
     pub modal_damping_ratio: f64,
     /// Reduction method of the flexible panels.
     pub reduction: Reduction,
-    /// Integrator and its settings (`settings.error_per_unit_step` is replaced by what
-    /// `error_control` says when the scene is built).
-    pub integrator: IntegratorKind,
+    /// Integrator (`None`: `integrator = auto`, resolved by [`PanelLockParams::integrator_kind`])
+    /// and its settings (`settings.error_per_unit_step` is replaced by what `error_control` says,
+    /// and `rtol` / `atol` of 0 by the integrator's own [`default_tolerances`], when the scene is
+    /// built: [`PanelLockParams::solver_settings`]).
+    pub integrator: Option<IntegratorKind>,
     pub settings: Settings,
     pub error_control: ErrorControl,
 }
@@ -202,15 +204,16 @@ impl Default for PanelLockParams {
             panel_mesh: [8, 4],
             modal_damping_ratio: 0.005,
             reduction: Reduction::CraigBampton,
-            // the cheapest setting measured to hold the peak lock force, the root lock time and
-            // the flexible panels' post-lock frequency within 1 % with a margin of 5x or more,
-            // rigid and flexible, and to resolve the stiffest Table 1 latch (k 1e8, n 0.9)
-            // where rtol 3e-4 does not (docs/panel_lock_defaults.md; was BDF rtol 1e-6 per
-            // step: 1.7x the CPU rigid, 85x flexible)
-            integrator: IntegratorKind::GenAlpha,
+            // auto: dopri5_tree at rtol 1e-9 for rigid panels on a fixed satellite (every
+            // hinge's peak within 1 % at any communication step, docs/auto_integrator.md),
+            // generalized-alpha at rtol 1e-4 otherwise (the cheapest setting measured to hold the
+            // peak lock force, the root lock time and the flexible panels' post-lock frequency
+            // within 1 % with a margin of 5x or more, and to resolve the stiffest Table 1 latch,
+            // k 1e8, n 0.9, where rtol 3e-4 does not: docs/panel_lock_defaults.md)
+            integrator: None,
             settings: Settings {
-                rtol: DEFAULT_RTOL,
-                atol: DEFAULT_ATOL,
+                rtol: 0.0,
+                atol: 0.0,
                 h_max: 0.02,
                 ..Settings::default()
             },
@@ -219,9 +222,25 @@ impl Default for PanelLockParams {
     }
 }
 
-/// Default relative and absolute error tolerances (absolute in m, rad, m/s, rad/s).
+/// Default relative and absolute error tolerances of generalized-alpha, BDF and DOPRI5 (absolute
+/// in m, rad, m/s, rad/s): what `rtol = 0` / `atol = 0` mean with them.
 pub const DEFAULT_RTOL: f64 = 1e-4;
 pub const DEFAULT_ATOL: f64 = 1e-6;
+/// Default relative and absolute error tolerances of the joint-coordinate pairs (dopri5_tree):
+/// an explicit step there costs a tenth of an implicit one, and at 1e-9 every hinge's peak latch
+/// force holds within 1 % at every communication step for about the CPU of generalized-alpha at
+/// 1e-4 (docs/auto_integrator.md).
+pub const TREE_RTOL: f64 = 1e-9;
+pub const TREE_ATOL: f64 = 1e-11;
+
+/// The tolerances `(rtol, atol)` an integrator runs with when `rtol` / `atol` are 0 (their start
+/// values).
+pub fn default_tolerances(kind: IntegratorKind) -> (f64, f64) {
+    match kind {
+        IntegratorKind::Dopri5Tree => (TREE_RTOL, TREE_ATOL),
+        _ => (DEFAULT_RTOL, DEFAULT_ATOL),
+    }
+}
 
 /// Default equivalent Young's modulus of the panel plate [Pa]; see the scene documentation.
 pub const DEFAULT_PANEL_E: f64 = 3.0e9;
@@ -481,7 +500,7 @@ impl PanelLockParams {
         }
         self.validate_deployment_speed()?;
         self.validate_array()?;
-        if self.integrator == IntegratorKind::Dopri5Tree
+        if self.integrator == Some(IntegratorKind::Dopri5Tree)
             && (self.free_satellite || self.flexible_panels)
         {
             let why = if self.free_satellite {
@@ -497,15 +516,32 @@ impl PanelLockParams {
         self.solver_settings().validate().map(|_| ())
     }
 
-    /// The integrator settings the scene runs with: `settings` with the error held per step or
-    /// per unit step as `error_control` says.
+    /// The integrator the scene runs with: the chosen one, or with `integrator = auto` (`None`)
+    /// dopri5_tree (joint coordinates) for rigid panels on a fixed satellite, the only array it
+    /// takes, and generalized-alpha otherwise.
+    pub fn integrator_kind(&self) -> IntegratorKind {
+        self.integrator
+            .unwrap_or(if self.flexible_panels || self.free_satellite {
+                IntegratorKind::GenAlpha
+            } else {
+                IntegratorKind::Dopri5Tree
+            })
+    }
+
+    /// The integrator settings the scene runs with: `settings` with `rtol` / `atol` of 0 replaced
+    /// by the [`default_tolerances`] of [`PanelLockParams::integrator_kind`], and the error held
+    /// per step or per unit step as `error_control` says.
     pub fn solver_settings(&self) -> Settings {
         let per_unit_step = match self.error_control {
             ErrorControl::ByPanels => !self.flexible_panels,
             ErrorControl::PerStep => false,
             ErrorControl::PerUnitStep => true,
         };
+        let (rtol, atol) = default_tolerances(self.integrator_kind());
+        let or_default = |v: f64, d: f64| if v == 0.0 { d } else { v };
         Settings {
+            rtol: or_default(self.settings.rtol, rtol),
+            atol: or_default(self.settings.atol, atol),
             error_per_unit_step: per_unit_step,
             ..self.settings
         }

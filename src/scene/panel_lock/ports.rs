@@ -666,6 +666,8 @@ pub mod ivr {
     pub const CONTACT_LAW_NUMBER: ValueRef = 10;
     /// `load_frame_number`, the Integer twin of `load_frame`.
     pub const LOAD_FRAME_NUMBER: ValueRef = 11;
+    /// `solver_integrator`: the integrator item the run uses (`auto` resolved).
+    pub const INTEGRATOR_USED: ValueRef = 12;
 }
 
 /// Boolean value references (hinge `k` latched: `LATCHED0 + k`).
@@ -699,6 +701,10 @@ pub static INTEGRATORS: &[(&str, &str)] = &[
     (
         "dopri5_tree",
         "Dormand-Prince 5(4) in joint coordinates (rigid panels on a fixed satellite; refused otherwise)",
+    ),
+    (
+        "auto",
+        "dopri5_tree for rigid panels on a fixed satellite, gen_alpha otherwise (rtol = 0 / atol = 0 then take that integrator's defaults)",
     ),
 ];
 
@@ -742,29 +748,35 @@ pub fn load_frame_code(frame: LoadFrame) -> i32 {
     }
 }
 
-/// Integrator from its enumeration item number.
+/// Integrator from its enumeration item number (`None`: `auto`, the last item).
 /// (RopeBlock's enumeration ends at 3, so its port refuses 4, PanelLock's `dopri5_tree`.)
-pub fn integrator_of(code: i32) -> IntegratorKind {
-    ENUMERATED_INTEGRATORS[(code.clamp(1, INTEGRATORS.len() as i32) - 1) as usize]
+pub fn integrator_of(code: i32) -> Option<IntegratorKind> {
+    ENUMERATED_INTEGRATORS
+        .get((code.clamp(1, INTEGRATORS.len() as i32) - 1) as usize)
+        .copied()
 }
 
-/// Enumeration item number (1-based) of an integrator (0: not in the enumeration).
-pub fn integrator_code(kind: IntegratorKind) -> i32 {
-    ENUMERATED_INTEGRATORS
-        .iter()
-        .position(|k| *k == kind)
-        .map_or(0, |i| i as i32 + 1)
+/// Enumeration item number (1-based) of an integrator choice (`None`: `auto`; 0: not in the
+/// enumeration).
+pub fn integrator_code(kind: Option<IntegratorKind>) -> i32 {
+    match kind {
+        None => INTEGRATORS.len() as i32,
+        Some(kind) => ENUMERATED_INTEGRATORS
+            .iter()
+            .position(|k| *k == kind)
+            .map_or(0, |i| i as i32 + 1),
+    }
 }
 
 /// The parameter's spelling of an integrator (its enumeration item name, e.g. `gen_alpha`).
 pub fn integrator_name(kind: IntegratorKind) -> &'static str {
-    match integrator_code(kind) {
+    match integrator_code(Some(kind)) {
         0 => kind.name(),
         c => INTEGRATORS[c as usize - 1].0,
     }
 }
 
-/// The kinds of [`INTEGRATORS`], item by item.
+/// The kinds of [`INTEGRATORS`], item by item, before `auto`.
 const ENUMERATED_INTEGRATORS: [IntegratorKind; 4] = [
     IntegratorKind::ALL[0],
     IntegratorKind::ALL[1],
@@ -862,12 +874,13 @@ pub fn info() -> &'static ModelInfo {
             (ivr::REJECTED, "solver_rejected_steps", "Rejected integrator steps since the start."),
             (ivr::NEWTON, "solver_newton_iterations", "Newton iterations since the start."),
             (ivr::FACTORIZATIONS, "solver_factorizations", "LU factorizations since the start."),
+            (ivr::INTEGRATOR_USED, "solver_integrator", "The integrator the run uses, as its `integrator` item number (1 gen_alpha, 2 bdf, 3 dopri5, 4 dopri5_tree): with `integrator = auto` the one it resolved to."),
         ] {
             ports.push(integer(name, vr, Causality::Output, Variability::Discrete, PortType::Integer { start: None, min: None, max: None }, desc));
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{f7ac4f07-c777-4a69-978c-ec438fb4fa70}",
+            guid: "{2e1f5ae4-dcce-4498-95cb-d359dcb40097}",
             description: "Deployment and lock-up of a solar array: yoke and panels joined by hinge bodies with preloaded torsion springs, pin/groove latches with a selectable contact law, stow stops, optional cable loops; rigid panels or flexible (Craig-Bampton modal) panels.",
             ports,
             default_stop_time: 60.0,

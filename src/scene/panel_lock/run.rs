@@ -64,7 +64,12 @@ impl PanelLock {
     /// Builds and initializes the scene at t = 0.
     pub fn new(params: PanelLockParams) -> Result<Self, String> {
         let (model, layout) = build(&params)?;
-        let sim = Simulation::new(model, params.integrator, params.solver_settings(), 0.0)?;
+        let sim = Simulation::new(
+            model,
+            params.integrator_kind(),
+            params.solver_settings(),
+            0.0,
+        )?;
         let mut scene = PanelLock {
             params,
             layout,

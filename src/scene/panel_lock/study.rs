@@ -247,8 +247,8 @@ fn configuration(base: &PanelLockParams) -> String {
         base.panel_youngs_modulus,
         base.modal_damping_ratio,
         if base.cable_loop { "on" } else { "off" },
-        super::ports::integrator_name(base.integrator),
-        base.settings.rtol,
+        super::ports::integrator_name(base.integrator_kind()),
+        base.solver_settings().rtol,
     )
 }
 

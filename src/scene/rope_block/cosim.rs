@@ -36,7 +36,6 @@ use crate::math::Vec3;
 use crate::rope::shell::import::MESH_FILE;
 use crate::scene::bytes::{ByteReader, ByteWriter, checksum64};
 use crate::scene::clock::Clock;
-use crate::scene::panel_lock::ports::integrator_of;
 use crate::scene::port::{PortType, ValueRef};
 use crate::scene::scene_file::SceneTable;
 use crate::scene::store::PortStore;

@@ -126,7 +126,8 @@ pub struct RopeBlockParams {
     pub ground: Option<GroundParams>,
     /// Start from the static equilibrium (hanging at rest).
     pub settle: bool,
-    /// Integrator, tolerances, largest step [s].
+    /// Integrator, tolerances (0: [`DEFAULT_RTOL`] / [`DEFAULT_ATOL`], see
+    /// [`RopeBlockParams::tolerances`]), largest step [s].
     pub integrator: IntegratorKind,
     pub rtol: f64,
     pub atol: f64,
@@ -178,14 +179,20 @@ impl Default for RopeBlockParams {
             // 6 % per second at 0.025 s steps and 0.6 % at 0.0125 s (the physical damping is
             // 0.6 % of critical), the 12 s lift's hook-load history then stays within 1 % of the
             // weight of a rtol 1e-7 reference
-            rtol: 3e-5,
-            atol: 1e-6,
+            rtol: DEFAULT_RTOL,
+            atol: DEFAULT_ATOL,
             h_max: 0.0125,
             rho_inf: 0.0,
             contact_outputs: 8,
         }
     }
 }
+
+/// The relative tolerance RopeBlock runs with by default, and when `rtol = 0` (the shared
+/// declaration's "integrator's own default"; the reasons at [`RopeBlockParams::default`]).
+pub const DEFAULT_RTOL: f64 = 3e-5;
+/// The absolute tolerance (m, rad, m/s, rad/s) by default and when `atol = 0`.
+pub const DEFAULT_ATOL: f64 = 1e-6;
 
 fn positive(name: &str, v: f64) -> Result<(), String> {
     if v.is_finite() && v > 0.0 {
@@ -196,6 +203,16 @@ fn positive(name: &str, v: f64) -> Result<(), String> {
 }
 
 impl RopeBlockParams {
+    /// `(rtol, atol)` the integrator runs with: a value of 0 takes [`DEFAULT_RTOL`] /
+    /// [`DEFAULT_ATOL`].
+    pub fn tolerances(&self) -> (f64, f64) {
+        let or_default = |v: f64, d: f64| if v == 0.0 { d } else { v };
+        (
+            or_default(self.rtol, DEFAULT_RTOL),
+            or_default(self.atol, DEFAULT_ATOL),
+        )
+    }
+
     /// Checks every value; `Err` names the parameter and what is expected.
     pub fn validate(&self) -> Result<(), String> {
         positive("block mass [kg]", self.block_mass)?;
@@ -205,8 +222,9 @@ impl RopeBlockParams {
                 self.hook_ramp
             ));
         }
-        positive("rtol", self.rtol)?;
-        positive("atol", self.atol)?;
+        let (rtol, atol) = self.tolerances();
+        positive("rtol", rtol)?;
+        positive("atol", atol)?;
         positive("h_max [s]", self.h_max)?;
         if let Some(g) = &self.ground {
             g.law()?;

@@ -12,6 +12,7 @@
 //! mass.
 
 use super::params::RopeBlockParams;
+use crate::integrator::IntegratorKind;
 use crate::scene::choice;
 use crate::scene::param_spec::{Bounds, Range, RealSpec, solver};
 use crate::scene::port::{Causality, ModelInfo, PortSpec, PortType, ValueRef, Variability};
@@ -33,6 +34,12 @@ pub static INTEGRATORS: &[(&str, &str)] = &[
         "Dormand-Prince 5(4), index 1 with projection (explicit: only for very coarse slings)",
     ),
 ];
+
+/// Integrator from its enumeration item number (1-based; clamped to [`INTEGRATORS`], whose
+/// port refuses other numbers).
+pub fn integrator_of(code: i32) -> IntegratorKind {
+    IntegratorKind::ALL[(code.clamp(1, INTEGRATORS.len() as i32) - 1) as usize]
+}
 
 /// Model identifier.
 pub const IDENTIFIER: &str = "RopeBlock";
@@ -658,7 +665,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{d0d2d6f8-762d-460d-82a9-781cb087d982}",
+            guid: "{0d1fbc49-a012-4128-b65f-decc0320d98d}",
             description: "Ship-block lift with lumped-mass wire-rope slings contacting the block's shell plate edges through contact nodes with Coulomb friction; one-hook lift or two-hook turn-over.",
             ports,
             default_stop_time: 10.0,

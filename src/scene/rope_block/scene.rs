@@ -122,9 +122,10 @@ pub const BDF_MAX_ORDER: usize = 2;
 
 /// Integrator and contact-manager settings of a scene with these parameters.
 pub fn solver_settings(params: &RopeBlockParams) -> (Settings, ContactSettings) {
+    let (rtol, atol) = params.tolerances();
     let settings = Settings {
-        rtol: params.rtol,
-        atol: params.atol,
+        rtol,
+        atol,
         h_max: params.h_max,
         // BDF of order 3-5 is not A-stable: the lightly damped modes of the slings and of the
         // block bouncing on them sit in their instability region at the steps the accuracy would
