@@ -7,6 +7,7 @@
 //! ([`ExplicitMethod`]); the hooks with a default do nothing for methods without them.
 
 use super::step_control::{self, StepPolicy};
+use super::trial;
 use super::{Cause, Collapse, IntegratorKind, Settings, SolverError, StepAction, StepHook};
 use crate::dae::System;
 use crate::state::State;
@@ -140,31 +141,22 @@ pub(super) fn advance<M: ExplicitMethod>(
         if hook.pause() {
             return m.finish(sys, st);
         }
-        steps += 1;
-        if steps > s.max_steps {
-            return Err(SolverError::at(
-                m.kind(),
-                st.t,
-                Cause::StepBudget {
-                    max_steps: s.max_steps,
-                },
-            ));
-        }
-        let natural = if adaptive {
-            m.h_mut().min(s.h_max)
-        } else {
-            s.fixed_step
-        };
-        let remaining = t_end - st.t;
         let landing = m.landing(&mut cut);
-        let landing_trial = landing.is_some();
-        let h = if let Some(h_on) = landing {
-            h_on
-        } else if natural >= remaining - super::time_eps(t_end) {
-            remaining
-        } else {
-            natural
+        let h_ctrl = *m.h_mut();
+        let rules = trial::Rules {
+            fixed: None,
+            adaptive: |natural, _| natural,
         };
+        let trial = trial::next(
+            m.kind(),
+            &s,
+            &mut steps,
+            (st.t, t_end),
+            h_ctrl,
+            landing,
+            rules,
+        )?;
+        let (natural, h, landing_trial) = (trial.natural, trial.h, trial.landing);
         let err = m.try_step(sys, st, h);
         let err = if err.is_finite() { err } else { f64::INFINITY };
         let (err, order) = if adaptive && s.error_per_unit_step {

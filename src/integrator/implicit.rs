@@ -7,11 +7,12 @@
 //! rejection and step proposal, and the hooks below where the two methods differ
 //! ([`ImplicitMethod`]; docs/integrator_drivers.md lists them and why each is kept).
 
-use super::events::EventLocator;
+use super::method_core::MethodCore;
 use super::step_control;
+use super::trial;
 use super::{
-    Cause, Collapse, IntegratorKind, NewtonFailure, Settings, SingularPassage, SolverError,
-    StepAction, StepHook, time_eps,
+    Cause, Collapse, IntegratorKind, NewtonFailure, SingularPassage, SolverError, StepAction,
+    StepHook, time_eps,
 };
 use crate::dae::System;
 use crate::state::State;
@@ -34,24 +35,9 @@ pub(super) trait ImplicitMethod {
     /// The integrator, for messages.
     fn kind(&self) -> IntegratorKind;
 
-    /// The settings.
-    fn settings(&self) -> &Settings;
-
-    /// The controller's next step [s] (read and written by the loop).
-    fn h_mut(&mut self) -> &mut f64;
-
-    /// The step counters.
-    fn stats_mut(&mut self) -> &mut super::Stats;
-
-    /// The contact-event locator.
-    fn events(&mut self) -> &mut EventLocator;
-
-    /// Whether the current Newton matrix is valid (a failed step is first retried with a fresh
-    /// one); [`ImplicitMethod::invalidate_matrix`] marks it stale.
-    fn matrix_valid(&self) -> bool;
-
-    /// Marks the Newton matrix stale.
-    fn invalidate_matrix(&mut self);
+    /// The state the loop reads and writes: settings, step size, counters, event location,
+    /// the Newton matrix's validity.
+    fn core(&mut self) -> &mut MethodCore;
 
     /// At the start of every call: buffers sized, the step size chosen afresh when it cannot
     /// advance, the method's own preparation.
@@ -132,7 +118,7 @@ pub(super) fn advance<M: ImplicitMethod>(
     hook: &mut dyn StepHook,
 ) -> Result<(), SolverError> {
     m.begin_call(sys, st)?;
-    let s = *m.settings();
+    let s = m.core().s;
     let adaptive = s.fixed_step == 0.0;
     // contact onset: a step that closes or opens a contact is taken again to end there, so no
     // step straddles the kink of the contact force and a damped law records the approach speed
@@ -147,37 +133,26 @@ pub(super) fn advance<M: ImplicitMethod>(
         if hook.pause() {
             return Ok(());
         }
-        steps += 1;
-        if steps > s.max_steps {
-            return Err(SolverError::at(
-                m.kind(),
-                st.t,
-                Cause::StepBudget {
-                    max_steps: s.max_steps,
-                },
-            ));
-        }
-        let natural = if adaptive {
-            m.h_mut().min(s.h_max)
-        } else {
-            s.fixed_step
+        let landing = m.core().events.begin_trial(&mut cut);
+        let h_ctrl = m.core().h;
+        let rules = trial::Rules {
+            fixed: Some(super::fixed_step_size as fn(f64, f64) -> f64),
+            adaptive: |natural, remaining| m.trial_step(natural, remaining),
         };
-        let remaining = t_end - st.t;
-        let landing = m.events().begin_trial(&mut cut);
-        let landing_trial = landing.is_some();
-        let h = if let Some(h_on) = landing {
-            h_on
-        } else if !adaptive {
-            super::fixed_step_size(natural, remaining)
-        } else if natural >= remaining - time_eps(t_end) {
-            remaining
-        } else {
-            m.trial_step(natural, remaining)
-        };
+        let trial = trial::next(
+            m.kind(),
+            &s,
+            &mut steps,
+            (st.t, t_end),
+            h_ctrl,
+            landing,
+            rules,
+        )?;
+        let (natural, h, landing_trial) = (trial.natural, trial.h, trial.landing);
         match m.try_step(sys, st, h) {
             Ok(est) => {
                 if adaptive && m.rejects(&est) {
-                    m.events().landing.clear();
+                    m.core().events.landing.clear();
                     rejections += 1;
                     m.rejected(st, h, &est, rejections)?;
                     continue;
@@ -185,7 +160,7 @@ pub(super) fn advance<M: ImplicitMethod>(
                 if locate && !landing_trial {
                     let located = m.event_in_step(sys, st, h, &est);
                     if let Some(h_on) =
-                        located.and_then(|theta| m.events().landing_step(theta, st.t, h))
+                        located.and_then(|theta| m.core().events.landing_step(theta, st.t, h))
                     {
                         cut = Some(h_on);
                         continue;
@@ -194,10 +169,10 @@ pub(super) fn advance<M: ImplicitMethod>(
                 rejections = 0;
                 refreshed = false;
                 m.accept(sys, st, h, &est);
-                m.events().before_hook(st);
+                m.core().events.before_hook(st);
                 let action = hook.after_step(sys, st)?;
                 // the step ended on located events: the contacts close or open here
-                let jump = m.events().record(sys, st);
+                let jump = m.core().events.record(sys, st);
                 match m.on_action(sys, st, action, jump)? {
                     Flow::Propose => {}
                     Flow::Next => continue,
@@ -208,9 +183,9 @@ pub(super) fn advance<M: ImplicitMethod>(
                 }
             }
             Err(newton) => {
-                m.stats_mut().newton_failures += 1;
-                if !refreshed && m.matrix_valid() {
-                    m.invalidate_matrix();
+                m.core().stats.newton_failures += 1;
+                if !refreshed && m.core().jac_valid {
+                    m.core().jac_valid = false;
                     refreshed = true;
                     continue;
                 }
@@ -223,7 +198,7 @@ pub(super) fn advance<M: ImplicitMethod>(
                     ));
                 }
                 let h_next = step_control::after_failure(h);
-                *m.h_mut() = h_next;
+                m.core().h = h_next;
                 m.newton_failed();
                 if step_control::collapsed(h_next, st.t) {
                     let singular = m.singular_cause(sys, st);

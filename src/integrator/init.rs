@@ -3,7 +3,7 @@
 
 use super::SolverError;
 use super::kkt::Kkt;
-use super::newton::{PROJECTION_ITERATIONS, Progress, Verdict};
+use super::newton::{Ended, PROJECTION_ITERATIONS, solve_from_start};
 use crate::dae::System;
 use crate::state::State;
 
@@ -28,7 +28,7 @@ fn worst_row(sys: &System) -> (f64, usize) {
 }
 
 /// Projects `state.q` onto `Phi = 0` (Gauss-Newton, at most [`PROJECTION_ITERATIONS`]
-/// corrections, to `tol` [m, rad]; the iteration's bookkeeping is [`Progress::judge_residual`]).
+/// corrections, to `tol` [m, rad]; on the shared driver [`solve_from_start`]).
 pub fn project_positions(
     sys: &mut System,
     lin: &mut Kkt,
@@ -67,44 +67,48 @@ pub fn project_positions_reusing(
     let ProjectionScratch { rhs, qn, .. } = scratch;
     rhs.resize(nv + nc, 0.0);
     qn.clone_from(&state.q);
-    let mut progress = Progress::with_cap(PROJECTION_ITERATIONS);
-    loop {
-        sys.eval_constraints(state.t, &state.q, &state.v);
-        let (worst, row) = worst_row(sys);
-        let first = progress.iterations() == 0;
-        match progress.judge_residual(worst / tol) {
-            Verdict::Converged => return Ok(()),
-            Verdict::Continue => {}
-            Verdict::Diverged(_) => {
-                return Err(SolverError::other(format!(
-                    "projection onto the joints failed at t = {:.9e} s: constraint row {row} has the residual {worst} (non-finite positions or joint data)",
-                    state.t
-                )));
+    // the iterate, and its largest residual and that row
+    let mut ctx = (sys, lin, state, (0.0, 0));
+    let ended = solve_from_start(
+        &mut ctx,
+        PROJECTION_ITERATIONS,
+        |(sys, _, state, worst), _| {
+            sys.eval_constraints(state.t, &state.q, &state.v);
+            *worst = worst_row(sys);
+            worst.0 / tol
+        },
+        |(sys, lin, state, _), k| {
+            if reuse && k == 0 {
+                // the caller's factorization at this very point
+            } else {
+                lin.factor(sys, state.t, &state.q, &state.v, 0.0)
+                    .map_err(|e| {
+                        SolverError::other(format!(
+                            "projection onto the joints failed: {e} (redundant or conflicting joints?)"
+                        ))
+                    })?;
             }
-            Verdict::Exhausted => {
-                return Err(SolverError::other(format!(
-                    "positions cannot be made to satisfy the joints at t = {:.9e} s: constraint row {row} keeps a residual of {worst:.3e} after {PROJECTION_ITERATIONS} projection iterations (check joint frames and initial poses)",
-                    state.t
-                )));
+            rhs[..nv].fill(0.0);
+            for (r, row) in sys.rows.iter().enumerate() {
+                rhs[nv + r] = -row.phi;
             }
-        }
-        if reuse && first {
-            // the caller's factorization at this very point
-        } else {
-            lin.factor(sys, state.t, &state.q, &state.v, 0.0)
-                .map_err(|e| {
-                    SolverError::other(format!(
-                        "projection onto the joints failed: {e} (redundant or conflicting joints?)"
-                    ))
-                })?;
-        }
-        rhs[..nv].fill(0.0);
-        for (r, row) in sys.rows.iter().enumerate() {
-            rhs[nv + r] = -row.phi;
-        }
-        lin.solve(rhs).map_err(SolverError::other)?;
-        sys.model.retract(&state.q, &rhs[..nv], qn);
-        state.q.copy_from_slice(qn);
+            lin.solve(rhs).map_err(SolverError::other)?;
+            sys.model.retract(&state.q, &rhs[..nv], qn);
+            state.q.copy_from_slice(qn);
+            Ok(true)
+        },
+    )?;
+    let (_, _, state, (worst, row)) = ctx;
+    match ended {
+        Ended::Converged { .. } => Ok(()),
+        Ended::Diverged { .. } => Err(SolverError::other(format!(
+            "projection onto the joints failed at t = {:.9e} s: constraint row {row} has the residual {worst} (non-finite positions or joint data)",
+            state.t
+        ))),
+        Ended::Exhausted => Err(SolverError::other(format!(
+            "positions cannot be made to satisfy the joints at t = {:.9e} s: constraint row {row} keeps a residual of {worst:.3e} after {PROJECTION_ITERATIONS} projection iterations (check joint frames and initial poses)",
+            state.t
+        ))),
     }
 }
 

@@ -21,11 +21,13 @@ pub mod gen_alpha;
 mod implicit;
 pub mod init;
 pub mod kkt;
+mod method_core;
 pub mod newton;
 pub mod rank;
 pub mod step_control;
 pub mod tree_rk;
 pub mod tree_tableau;
+mod trial;
 
 use crate::dae::System;
 use crate::state::State;

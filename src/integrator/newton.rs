@@ -13,7 +13,8 @@
 //! - A solve from an arbitrary start ([`Progress::judge_residual`]): converged when the residual
 //!   is within its tolerance. Such a solve brings its own globalization (the statics' pseudo-time
 //!   and backtracking; the projection's Gauss-Newton from poses that may be far off) and may pass
-//!   non-contracting iterates on the way, so only a non-finite residual ends it early.
+//!   non-contracting iterates on the way, so only a non-finite residual ends it early. Both such
+//!   solves run on one driver, [`solve_from_start`].
 
 use super::{NewtonCause, NewtonFailure};
 use crate::dae::System;
@@ -181,6 +182,50 @@ impl Progress {
     }
 }
 
+/// How a solve from an arbitrary start ended ([`solve_from_start`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Ended {
+    /// The residual is within its tolerance after `iterations` corrections.
+    Converged { iterations: usize },
+    /// The residual `residual` is not finite after `iterations` corrections.
+    Diverged { residual: f64, iterations: usize },
+    /// The cap's corrections did not bring the residual within its tolerance, or the solve gave
+    /// up on its own.
+    Exhausted,
+}
+
+/// The one Newton driver of the solves from an arbitrary start (the projection onto the joints,
+/// [`super::init`]; the rope statics): before every correction `residual(ctx, k)` gives the
+/// iterate's residual over its tolerance (`k`: the corrections so far), judged by
+/// [`Progress::judge_residual`] with at most `cap` corrections; `correct(ctx, k)` then takes
+/// one correction (`Ok(false)`: the solve gives up, [`Ended::Exhausted`]). The globalization
+/// (Gauss-Newton, pseudo-time, backtracking) is the solve's own, in `correct`.
+pub fn solve_from_start<C, E>(
+    ctx: &mut C,
+    cap: usize,
+    mut residual: impl FnMut(&mut C, usize) -> f64,
+    mut correct: impl FnMut(&mut C, usize) -> Result<bool, E>,
+) -> Result<Ended, E> {
+    let mut progress = Progress::with_cap(cap);
+    loop {
+        let k = progress.iterations();
+        match progress.judge_residual(residual(ctx, k)) {
+            Verdict::Converged => return Ok(Ended::Converged { iterations: k }),
+            Verdict::Diverged(residual) => {
+                return Ok(Ended::Diverged {
+                    residual,
+                    iterations: k,
+                });
+            }
+            Verdict::Exhausted => return Ok(Ended::Exhausted),
+            Verdict::Continue => {}
+        }
+        if !correct(ctx, k)? {
+            return Ok(Ended::Exhausted);
+        }
+    }
+}
+
 /// The failure of a Newton matrix's factorization at the step ending at `t` [s], typed: a
 /// matrix with non-finite entries (a force law evaluated outside its range) or a singular one,
 /// with the linear solver's account `detail`.
@@ -249,6 +294,68 @@ mod tests {
         assert_eq!(p.judge_residual(2.0), Verdict::Continue);
         assert_eq!(p.judge_residual(200.0), Verdict::Continue);
         assert!(matches!(p.judge_residual(f64::NAN), Verdict::Diverged(x) if x.is_nan()));
+    }
+
+    #[test]
+    fn the_driver_corrects_until_the_residual_is_within_tolerance_and_reports_its_end() {
+        // a residual 1000 x tolerance that each correction divides by 10: within it after 3
+        let mut r = 1000.0;
+        let ended = solve_from_start(
+            &mut r,
+            10,
+            |r, _| *r,
+            |r, _| -> Result<bool, ()> {
+                *r /= 10.0;
+                Ok(true)
+            },
+        );
+        assert_eq!(ended, Ok(Ended::Converged { iterations: 3 }));
+        // the cap: 2 corrections allowed, 3 needed
+        let mut r = 1000.0;
+        let ended = solve_from_start(
+            &mut r,
+            2,
+            |r, _| *r,
+            |r, _| -> Result<bool, ()> {
+                *r /= 10.0;
+                Ok(true)
+            },
+        );
+        assert_eq!(ended, Ok(Ended::Exhausted));
+        assert_eq!(r, 10.0);
+        // a solve that gives up after its first correction; the corrections count from 0
+        let mut seen = Vec::new();
+        let ended = solve_from_start(
+            &mut seen,
+            10,
+            |_, _| 5.0,
+            |seen, k| -> Result<bool, ()> {
+                seen.push(k);
+                Ok(k < 1)
+            },
+        );
+        assert_eq!(ended, Ok(Ended::Exhausted));
+        assert_eq!(seen, [0, 1]);
+        // a non-finite residual, and an error of the correction, end it at once
+        let mut n = 0;
+        let ended = solve_from_start(
+            &mut n,
+            10,
+            |n, _| if *n == 2 { f64::INFINITY } else { 9.0 },
+            |n, _| -> Result<bool, ()> {
+                *n += 1;
+                Ok(true)
+            },
+        );
+        assert_eq!(
+            ended,
+            Ok(Ended::Diverged {
+                residual: f64::INFINITY,
+                iterations: 2
+            })
+        );
+        let ended = solve_from_start(&mut 0, 10, |_, _| 9.0, |_, _| Err("no matrix"));
+        assert_eq!(ended, Err("no matrix"));
     }
 
     #[test]

@@ -10,7 +10,7 @@
 
 use super::runner::RopeBlockSim;
 use crate::dae::linear::LinearSolver;
-use crate::integrator::newton::{Progress, Verdict};
+use crate::integrator::newton::{Ended, solve_from_start};
 
 /// Result of a static solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,8 +23,8 @@ pub struct StaticReport {
 
 /// Moves `sim` to the static equilibrium near its current positions; `Err` when no equilibrium is
 /// found within `max_iter` iterations (the message gives the remaining force imbalance). The
-/// iteration's bookkeeping is the solver's shared one ([`Progress::judge_residual`] on the force
-/// imbalance over `force_tol`).
+/// iteration runs on the solver's shared Newton driver ([`solve_from_start`], the force
+/// imbalance over `force_tol` judged before every correction).
 ///
 /// Slings laid out just taut carry no tension and have no stiffness, so the exact tangent only
 /// lets the block fall (against the pseudo-mass) and the iteration crawls. The first iterations
@@ -60,7 +60,6 @@ fn solve_inner(
     let mut f = vec![0.0; nv];
     let mut rhs = vec![0.0; nv + nc];
     let mut qn = s.state.q.clone();
-    let mut tau = 1e-2;
     let residual =
         |sys: &mut crate::dae::System, q: &[f64], v: &[f64], lam: &[f64], f: &mut [f64]| {
             sys.forces(t, q, v, f);
@@ -79,84 +78,99 @@ fn solve_inner(
             let pmax = sys.rows.iter().map(|r| r.phi).fold(0.0, largest);
             (fmax, pmax)
         };
-    let mut lam = s.state.lambda.clone();
-    let (mut fmax, _) = residual(&mut s.system, &s.state.q, &s.state.v, &lam, &mut f);
+    let lam = s.state.lambda.clone();
+    let (fmax, _) = residual(&mut s.system, &s.state.q, &s.state.v, &lam, &mut f);
     let f_start = fmax;
-    let mut progress = Progress::with_cap(max_iter);
-    loop {
-        let it = progress.iterations();
-        if it >= TAUT_TANGENT_ITERATIONS || fmax < 0.1 * f_start {
-            rope.set_taut_tangent(false);
-        }
-        match progress.judge_residual(fmax / force_tol) {
-            Verdict::Converged => {
+    let mut it = Iterate {
+        s,
+        lam,
+        fmax,
+        tau: 1e-2,
+    };
+    let ended = solve_from_start(
+        &mut it,
+        max_iter,
+        |it, k| {
+            if k >= TAUT_TANGENT_ITERATIONS || it.fmax < 0.1 * f_start {
                 rope.set_taut_tangent(false);
-                s.state.vdot.fill(0.0);
-                s.state.lambda.copy_from_slice(&lam);
-                s.restart().map_err(String::from)?;
-                return Ok(StaticReport {
-                    iterations: it,
-                    residual: fmax,
-                });
             }
-            Verdict::Continue => {}
-            Verdict::Diverged(_) => {
-                return Err(format!(
-                    "static solve: the force imbalance is {fmax} N after {it} iterations (non-finite forces: check the scene's parameters)"
-                ));
+            it.fmax / force_tol
+        },
+        |it, _| -> Result<bool, String> {
+            let s = &mut *it.s;
+            let q = s.state.q.clone();
+            let v = s.state.v.clone();
+            s.system.forces(t, &q, &v, &mut f);
+            s.system.eval_constraints(t, &q, &v);
+            lin.begin(nv + nc);
+            let mass = 1.0 / (it.tau * it.tau);
+            s.system
+                .add_dynamics_matrix(t, &q, &v, mass, 0.0, 1.0, &mut lin, 0);
+            s.system
+                .add_constraint_blocks(&mut lin, nv, 0, 1.0, Some((0, nv, 1.0)));
+            rhs[..nv].copy_from_slice(&f);
+            for (r, row) in s.system.rows.iter().enumerate() {
+                rhs[nv + r] = -row.phi;
             }
-            Verdict::Exhausted => break,
-        }
-        let q = s.state.q.clone();
-        let v = s.state.v.clone();
-        s.system.forces(t, &q, &v, &mut f);
-        s.system.eval_constraints(t, &q, &v);
-        lin.begin(nv + nc);
-        s.system
-            .add_dynamics_matrix(t, &q, &v, 1.0 / (tau * tau), 0.0, 1.0, &mut lin, 0);
-        s.system
-            .add_constraint_blocks(&mut lin, nv, 0, 1.0, Some((0, nv, 1.0)));
-        rhs[..nv].copy_from_slice(&f);
-        for (r, row) in s.system.rows.iter().enumerate() {
-            rhs[nv + r] = -row.phi;
-        }
-        if lin.factor().and_then(|_| lin.solve(&mut rhs)).is_err() {
-            // singular without enough pseudo-mass (a slack rope): regularize more
-            tau *= 0.1;
-            if tau < 1e-9 {
-                break;
+            if lin.factor().and_then(|_| lin.solve(&mut rhs)).is_err() {
+                // singular without enough pseudo-mass (a slack rope): regularize more
+                it.tau *= 0.1;
+                return Ok(it.tau >= 1e-9);
             }
-            continue;
-        }
-        // backtracking on the potential energy (the forces are conservative in statics) or on
-        // the force imbalance, whichever improves first
-        let e0 = s.system.energy(t, &q, &v).1;
-        let mut accepted = false;
-        let mut dx = rhs[..nv].to_vec();
-        for _ in 0..30 {
-            s.system.model.retract(&q, &dx, &mut qn);
-            let lam_try = rhs[nv..].to_vec();
-            let (fnew, _) = residual(&mut s.system, &qn, &v, &lam_try, &mut f);
-            let e1 = s.system.energy(t, &qn, &v).1;
-            if fnew.is_finite() && (fnew < fmax || e1 < e0) {
-                s.state.q.copy_from_slice(&qn);
-                lam = lam_try;
-                fmax = fnew;
-                accepted = true;
-                break;
+            // backtracking on the potential energy (the forces are conservative in statics) or
+            // on the force imbalance, whichever improves first
+            let e0 = s.system.energy(t, &q, &v).1;
+            let mut accepted = false;
+            let mut dx = rhs[..nv].to_vec();
+            for _ in 0..30 {
+                s.system.model.retract(&q, &dx, &mut qn);
+                let lam_try = rhs[nv..].to_vec();
+                let (fnew, _) = residual(&mut s.system, &qn, &v, &lam_try, &mut f);
+                let e1 = s.system.energy(t, &qn, &v).1;
+                if fnew.is_finite() && (fnew < it.fmax || e1 < e0) {
+                    s.state.q.copy_from_slice(&qn);
+                    it.lam = lam_try;
+                    it.fmax = fnew;
+                    accepted = true;
+                    break;
+                }
+                dx.iter_mut().for_each(|x| *x *= 0.5);
             }
-            dx.iter_mut().for_each(|x| *x *= 0.5);
-        }
-        if accepted {
-            tau = (tau * 10.0).min(1e8);
-        } else {
-            tau *= 0.1;
-            if tau < 1e-9 {
-                break;
+            if accepted {
+                it.tau = (it.tau * 10.0).min(1e8);
+                Ok(true)
+            } else {
+                it.tau *= 0.1;
+                Ok(it.tau >= 1e-9)
             }
+        },
+    )?;
+    let Iterate { s, lam, fmax, .. } = it;
+    match ended {
+        Ended::Converged { iterations } => {
+            rope.set_taut_tangent(false);
+            s.state.vdot.fill(0.0);
+            s.state.lambda.copy_from_slice(&lam);
+            s.restart().map_err(String::from)?;
+            Ok(StaticReport {
+                iterations,
+                residual: fmax,
+            })
         }
+        Ended::Diverged { iterations, .. } => Err(format!(
+            "static solve: the force imbalance is {fmax} N after {iterations} iterations (non-finite forces: check the scene's parameters)"
+        )),
+        Ended::Exhausted => Err(format!(
+            "no static equilibrium found in {max_iter} iterations: largest force imbalance {fmax:.3e} N (is the scene statically stable? free bodies need supports; a load far beyond the slings' strength, e.g. block_mass against rope_ea, or too few segments, also ends here; with ground_contact on, so does a ground_stiffness or ground_height the slings cannot balance)"
+        )),
     }
-    Err(format!(
-        "no static equilibrium found in {max_iter} iterations: largest force imbalance {fmax:.3e} N (is the scene statically stable? free bodies need supports; a load far beyond the slings' strength, e.g. block_mass against rope_ea, or too few segments, also ends here; with ground_contact on, so does a ground_stiffness or ground_height the slings cannot balance)"
-    ))
+}
+
+/// The statics' iterate: the scene (positions in its state), the multipliers, the largest force
+/// imbalance [N] and the pseudo-time [s].
+struct Iterate<'a> {
+    s: &'a mut crate::sim::Simulation,
+    lam: Vec<f64>,
+    fmax: f64,
+    tau: f64,
 }
