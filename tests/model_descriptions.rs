@@ -129,13 +129,13 @@ fn the_guid_changes_with_the_interface() {
     let recorded: [(&str, &str, u64); 3] = [
         (
             "PanelLock",
-            "{f7ac4f07-c777-4a69-978c-ec438fb4fa70}",
-            0x232e_a8a6_1bcc_20a6,
+            "{7b5a09a0-76a7-44a5-a779-536e5e7a5481}",
+            0xcf12_ed34_4a6c_3082,
         ),
         (
             "RopeBlock",
-            "{d0d2d6f8-762d-460d-82a9-781cb087d982}",
-            0x8f77_b44b_3011_be16,
+            "{c07352fd-97f3-4406-94b7-78b4b2736658}",
+            0x80dc_0494_f501_23a6,
         ),
         (
             "PidController",
