@@ -116,6 +116,34 @@ fn port_powers_add_up_to_the_rope_effect_s_input_power() {
     assert!(worst_force < 1e-9 * scene.sim.total_mass() * 9.81);
 }
 
+#[test]
+fn hook_power_is_the_force_outputs_against_the_commanded_velocity() {
+    // through the FMU variables: once the commanded hook velocity (0.3, 0, 0.2) m/s and pay-out
+    // rate 0.1 m/s are reached (after the 0.5 s ramp), hook0_power = -(hook0_fx, fy, fz) . v with
+    // fz from the segment tensions (the older output), to 1e-9 of the power, and
+    // hook0_winch_power = -hook0_winch_force x 0.1, to 1e-12
+    let mut m = started(&[("segments", 20)], &[("rope_damping", 2e6)]);
+    let v = Vec3::new(0.3, 0.0, 0.2);
+    set(&mut m, "hook0_vx", v.x);
+    set(&mut m, "hook0_vz", v.z);
+    set(&mut m, "hook0_payout_rate", 0.1);
+    let (mut worst, mut worst_winch, mut largest) = (0.0f64, 0.0f64, 0.0f64);
+    for i in 0..24 {
+        m.do_step(i as f64 * 0.05, 0.05).unwrap();
+        if i < 12 {
+            continue;
+        }
+        let p = get(&m, "hook0_power");
+        worst = worst.max((p + hook_force(&m, 0).dot(&v)).abs());
+        largest = largest.max(p.abs());
+        let pw = get(&m, "hook0_winch_power");
+        worst_winch = worst_winch.max((pw + 0.1 * get(&m, "hook0_winch_force")).abs() / pw.abs());
+    }
+    println!("hook power off by {worst:.2e} W of {largest:.3e} W; winch {worst_winch:.1e}");
+    assert!(largest > 1e5 && worst < 1e-9 * largest);
+    assert!(worst_winch < 1e-12);
+}
+
 /// The lift (20 segments, slings damped) driven through the FMU variables with communication
 /// step `h` [s] for `stop` [s]: hook 0 moved sideways and up while the winch pays out, then
 /// held. Returns the model at the end, the energy books at the start and the hook's and winch's
