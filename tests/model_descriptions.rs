@@ -129,13 +129,13 @@ fn the_guid_changes_with_the_interface() {
     let recorded: [(&str, &str, u64); 3] = [
         (
             "PanelLock",
-            "{2e1f5ae4-dcce-4498-95cb-d359dcb40097}",
-            0x372f_32b0_4bbe_0c3e,
+            "{6df60479-b89e-496b-a2fd-dfb926e87222}",
+            0x431f_7006_48d9_faba,
         ),
         (
             "RopeBlock",
-            "{0d1fbc49-a012-4128-b65f-decc0320d98d}",
-            0x8f77_b44b_3011_be16,
+            "{e2800f8d-1315-47c5-a9e6-b0f2a23a20b2}",
+            0x80dc_0494_f501_23a6,
         ),
         (
             "PidController",

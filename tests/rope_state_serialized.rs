@@ -133,13 +133,23 @@ fn a_deserialized_state_of_the_rolled_turnover_continues_like_the_live_one() {
 }
 
 #[test]
-fn a_version_5_state_without_monitors_still_restores_and_a_newer_one_is_refused() {
+fn version_5_and_6_states_still_restore_and_a_newer_one_is_refused() {
     let live = hoisted(2, 8, 12);
-    let bytes = live.serialize();
-    // header: the tag (u64 length + bytes), then the u32 version; the monitors are the last field
-    let at = 8 + u64::from_le_bytes(bytes[..8].try_into().unwrap()) as usize;
-    assert_eq!(u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()), 6);
-    let n = live.serialize().len();
+    let all = live.serialize();
+    // header: the tag (u64 length + bytes), then the u32 version; the power bonds' work is the
+    // last field (version 7; one hook: the length 2 and two values), the monitors before it
+    let at = 8 + u64::from_le_bytes(all[..8].try_into().unwrap()) as usize;
+    assert_eq!(u32::from_le_bytes(all[at..at + 4].try_into().unwrap()), 7);
+    let end = all.len() - 24;
+    assert_eq!(u64::from_le_bytes(all[end..end + 8].try_into().unwrap()), 2);
+    let bytes = all[..end].to_vec();
+    // a version 6 state (no bonds' work) restores (the work counts from there)
+    let mut v6 = bytes.clone();
+    v6[at..at + 4].copy_from_slice(&6u32.to_le_bytes());
+    let mut m6 = RopeBlockModel::new();
+    m6.deserialize(&v6).expect("a version 6 state restores");
+    m6.do_step(0.6, 0.05).unwrap();
+    let n = bytes.len();
     let monitors = {
         // the trailing f64s: find the length prefix that spans exactly to the end
         // (aligned from the end; the largest count: a value's bits are a small whole number
@@ -158,11 +168,11 @@ fn a_version_5_state_without_monitors_still_restores_and_a_newer_one_is_refused(
     let mut m = RopeBlockModel::new();
     m.deserialize(&old).expect("a version 5 state restores");
     m.do_step(0.6, 0.05).unwrap();
-    let mut newer = bytes.clone();
-    newer[at..at + 4].copy_from_slice(&7u32.to_le_bytes());
+    let mut newer = all.clone();
+    newer[at..at + 4].copy_from_slice(&8u32.to_le_bytes());
     let e = RopeBlockModel::new()
         .deserialize(&newer)
         .unwrap_err()
         .to_string();
-    assert!(e.contains('7'), "{e}");
+    assert!(e.contains('8'), "{e}");
 }

@@ -7,8 +7,10 @@
 #[path = "../common/mod.rs"]
 mod common;
 mod panel_lock;
+mod panel_lock_bonds;
 mod pid;
 mod rope_block;
+mod rope_bonds;
 
 /// Largest absolute value in `xs` (0 for none).
 pub fn largest(xs: impl IntoIterator<Item = f64>) -> f64 {

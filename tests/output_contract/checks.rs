@@ -215,6 +215,25 @@ pub const CHECKS: &[Check] = &[
     },
     Check {
         model: PANEL_LOCK,
+        outputs: &["root_power"],
+        sampling: Instant,
+        tests: &[
+            "tests/output_checks/panel_lock_bonds.rs::a_fixed_satellite_s_bond_carries_no_power",
+            "tests/output_checks/panel_lock_bonds.rs::root_work_is_the_satellite_s_kinetic_energy_lost_and_closes_the_array_s_balance",
+        ],
+        against: "fixed satellite: exactly 0 while the wrench is not; free satellite: its integral (root_work) is the satellite's kinetic energy lost, by hand from mass, inertia and motion, 1e-6 (weak as an instantaneous check: the power itself is checked only through its integral)",
+    },
+    Check {
+        model: PANEL_LOCK,
+        outputs: &["root_work"],
+        sampling: Cumulative,
+        tests: &[
+            "tests/output_checks/panel_lock_bonds.rs::root_work_is_the_satellite_s_kinetic_energy_lost_and_closes_the_array_s_balance",
+        ],
+        against: "free satellite, motor and springs deploying through every lock-up: minus the change of the satellite's m v^2/2 + sum I w^2/2 by hand, and with input_work the array's kinetic + potential + dissipated change, 1e-6 of the energy moved",
+    },
+    Check {
+        model: PANEL_LOCK,
         outputs: &["input_work"],
         sampling: Cumulative,
         tests: &[
@@ -454,6 +473,36 @@ pub const CHECKS: &[Check] = &[
             "tests/rope_hook_position.rs::a_four_hook_rig_is_driven_and_observed_through_its_variables",
         ],
         against: "turn-over swing: the velocity integrated (trapezoidal, 2 ms) stays on the position, the body angular velocity integrated (q exp(w dt/2)) on the attitude, 1e-5 of the path and of the angle turned, |q| = 1 to 1e-12; roll from two hooks raised 0.3 m against atan(0.3 / 12.6), 5 %",
+    },
+    Check {
+        model: ROPE_BLOCK,
+        outputs: &["hook#_fx", "hook#_fy"],
+        sampling: Instant,
+        tests: &[
+            "tests/output_checks/rope_bonds.rs::hook_forces_at_rest_carry_the_weight_of_block_and_slings",
+            "tests/output_checks/rope_bonds.rs::port_powers_add_up_to_the_rope_effect_s_input_power",
+        ],
+        against: "at rest, lift and turn-over: the hooks' forces add up to (0, 0, -weight of block and slings), 1e-8; swinging: the bond force's z and length equal hook#_fz and hook#_load from the segment tensions, 1e-9",
+    },
+    Check {
+        model: ROPE_BLOCK,
+        outputs: &["hook#_power", "hook#_winch_force", "hook#_winch_power"],
+        sampling: Instant,
+        tests: &[
+            "tests/output_checks/rope_bonds.rs::port_powers_add_up_to_the_rope_effect_s_input_power",
+            "tests/output_checks/rope_bonds.rs::hook_power_is_the_force_outputs_against_the_commanded_velocity",
+        ],
+        against: "hook moving sideways and up while paying out: hook + winch power = the rope effect's own input power (its sum, what the integrator books), 1e-9 of the port power; hook power = -(fx, fy, fz) . commanded velocity through the FMU variables, fz from the tensions, 1e-9; winch power = -winch force x rate, 1e-12 (the winch force itself is checked only through the power sum: weak)",
+    },
+    Check {
+        model: ROPE_BLOCK,
+        outputs: &["hook#_work", "hook#_winch_work"],
+        sampling: Cumulative,
+        tests: &[
+            "tests/output_checks/rope_bonds.rs::port_work_closes_the_energy_balance",
+            "tests/output_checks/rope_bonds.rs::port_work_does_not_move_with_the_communication_step",
+        ],
+        against: "driven lift: hook + winch work = change of kinetic + potential + dissipated - events, 1e-6 of the work done, and = energy_input; the same at 1 ms and 0.1 s communication steps, 1e-4",
     },
     Check {
         model: ROPE_BLOCK,

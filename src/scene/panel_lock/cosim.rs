@@ -21,8 +21,9 @@ use crate::state::State;
 /// 3: the digest of the array's per-hinge and per-panel values, checked on restore; 4: the
 /// root interface peaks, after the counters; 5: the integrator's monitors
 /// ([`crate::integrator::Integrator::monitors`]), after the peaks; older states restore with the
-/// rank baseline taken afresh).
-const STATE_FORMAT: u32 = 5;
+/// rank baseline taken afresh); 6: the root interface's work ([`super::interface::InterfacePeaks::work`]),
+/// after the monitors (older states restore with it at 0).
+const STATE_FORMAT: u32 = 6;
 
 /// A new PanelLock instance at default parameters.
 pub fn create() -> Box<dyn CoSimModel> {
@@ -155,6 +156,8 @@ impl PanelLockModel {
             o.input_work,
             o.root_peak_force,
             o.root_peak_torque,
+            o.root_power,
+            o.root_work,
         ];
         for (j, v) in g.iter().enumerate() {
             self.ports.put_real(vr_global(j), *v)?;
@@ -352,6 +355,7 @@ impl CoSimModel for PanelLockModel {
                 w.f64(s.interface_peaks.force);
                 w.f64(s.interface_peaks.torque);
                 w.f64s(&s.sim.integrator_monitors());
+                w.f64(s.interface_peaks.work);
             }
         }
         w.into_bytes()
@@ -454,6 +458,9 @@ impl CoSimModel for PanelLockModel {
                     .sim
                     .restore_integrator_monitors(&monitors)
                     .map_err(ModelError::BadState)?;
+            }
+            if version >= 6 {
+                scene.interface_peaks.work = r.finite_f64("root interface work")?;
             }
             restored.scene = Some(scene);
         }

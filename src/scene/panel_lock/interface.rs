@@ -15,6 +15,11 @@
 //! the output is `-W`. By the array's momentum balance `W + sum m_i g = dP/dt` and, about `O`,
 //! `M_O(W) + sum (r_i - O) x m_i g = sum (r_i - O) x m_i a_i + d(A_i J_i omega_i)/dt`
 //! (tests/panel_lock_interface.rs checks both).
+//!
+//! The wrench and the satellite's motion at `O` form the root interface's power bond
+//! (docs/power_bonds.md): the power the satellite delivers into the array is
+//! `-(F . v_O + M_O . omega_s)` (world frame; zero for a fixed satellite), and its work is
+//! integrated over every accepted step with the peaks ([`InterfacePeaks::work`]).
 
 use super::build::Layout;
 use crate::dae::{RangeSpace, System};
@@ -36,6 +41,21 @@ pub fn interface_point(sys: &System, layout: &Layout) -> Vec3 {
     let frame = &sys.model.joints[layout.root_joint].frame_i;
     let k = sys.kin(frame.body);
     k.r + k.rot * frame.origin
+}
+
+/// Velocity [m/s] of the interface point and angular velocity [rad/s] of the satellite, world
+/// frame, at the last kinematics evaluation (zero for a fixed satellite, the ground).
+pub fn interface_motion(sys: &System, layout: &Layout) -> (Vec3, Vec3) {
+    let frame = &sys.model.joints[layout.root_joint].frame_i;
+    let k = sys.kin(frame.body);
+    (k.point_velocity(&frame.origin), k.rot * k.omega)
+}
+
+/// Power [W] the satellite delivers into the array through the wrench `w` the array applies to
+/// it, with the interface point's velocity `v` and the satellite's angular velocity `omega`
+/// (world): `-(F . v + M_O . omega)`.
+pub fn interface_power(w: &Wrench, v: Vec3, omega: Vec3) -> f64 {
+    -(w.force.dot(&v) + w.torque.dot(&omega))
 }
 
 /// The wrench the array applies to the satellite at `state` (its time, positions, speeds and
@@ -101,6 +121,11 @@ pub struct InterfacePeaks {
     /// Largest `|force|` [N] and `|torque|` [N m] so far.
     pub force: f64,
     pub torque: f64,
+    /// Work [J] the satellite has done on the array through the interface since the start,
+    /// trapezoidal over every accepted step from the powers at its ends.
+    pub work: f64,
+    /// Time [s] and interface power [W] of the last sample (`None`: none yet).
+    last_power: Option<(f64, f64)>,
     /// Solvers of the index-1 multipliers at step ends: the range-space method (`O(n)` in the
     /// bodies of the chain), the LU of the full matrix where it fails (scratch: no influence on
     /// results beyond round-off).
@@ -117,6 +142,21 @@ impl InterfacePeaks {
     pub fn note(&mut self, w: &Wrench) {
         self.force = self.force.max(w.force.norm());
         self.torque = self.torque.max(w.torque.norm());
+    }
+
+    /// Takes the interface power `p` [W] at time `t` [s] as the start of the next step (after
+    /// an input changed the load, or at the start of a call): no work is added.
+    pub fn restart_power(&mut self, t: f64, p: f64) {
+        self.last_power = Some((t, p));
+    }
+
+    /// Adds the work of the step that ended at `t` [s] with power `p` [W] (trapezoidal from the
+    /// last sample) and takes `p` as the next step's start.
+    fn step_power(&mut self, t: f64, p: f64) {
+        if let Some((t0, p0)) = self.last_power {
+            self.work += 0.5 * (t - t0) * (p0 + p);
+        }
+        self.last_power = Some((t, p));
     }
 
     /// Notes the wrench at the end of an accepted step, with the index-1 multipliers solved
@@ -143,6 +183,9 @@ impl InterfacePeaks {
         let w = interface_wrench(sys, layout, state, &lambda, &mut self.forces);
         self.lambda = lambda;
         self.note(&w);
+        sys.update_kinematics(&state.q, &state.v);
+        let (v, omega) = interface_motion(sys, layout);
+        self.step_power(state.t, interface_power(&w, v, omega));
         Ok(())
     }
 }

@@ -536,7 +536,7 @@ pub const HINGE_OUTPUTS: [(&str, Option<&str>, &str); 5] = [
 ];
 
 /// Global real outputs after the hinge outputs.
-pub const GLOBAL_OUTPUTS: [(&str, Option<&str>, &str); 13] = [
+pub const GLOBAL_OUTPUTS: [(&str, Option<&str>, &str); 15] = [
     (
         "root_force_x",
         Some("N"),
@@ -597,6 +597,16 @@ pub const GLOBAL_OUTPUTS: [(&str, Option<&str>, &str); 13] = [
         "root_peak_torque",
         Some("N.m"),
         "Largest magnitude of the root interface torque (root_torque_x/y/z) since the start, over every accepted integrator step.",
+    ),
+    (
+        "root_power",
+        Some("W"),
+        "Power the satellite delivers into the array through the root interface (power bond of root_force/root_torque with the satellite's motion): -(root_force . v_O + root_torque . omega_satellite), world frame, v_O the attachment point's velocity; 0 for a fixed satellite.",
+    ),
+    (
+        "root_work",
+        Some("J"),
+        "Work the satellite has done on the array through the root interface since the start, root_power integrated over every accepted integrator step.",
     ),
 ];
 
@@ -880,7 +890,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{2e1f5ae4-dcce-4498-95cb-d359dcb40097}",
+            guid: "{6df60479-b89e-496b-a2fd-dfb926e87222}",
             description: "Deployment and lock-up of a solar array: yoke and panels joined by hinge bodies with preloaded torsion springs, pin/groove latches with a selectable contact law, stow stops, optional cable loops; rigid panels or flexible (Craig-Bampton modal) panels.",
             ports,
             default_stop_time: 60.0,

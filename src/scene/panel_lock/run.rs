@@ -2,7 +2,9 @@
 
 use super::build::{Layout, build};
 use super::flex_outputs::PanelFlexOutput;
-use super::interface::{InterfacePeaks, PeakHook, interface_wrench};
+use super::interface::{
+    InterfacePeaks, PeakHook, interface_motion, interface_power, interface_wrench,
+};
 use super::params::PanelLockParams;
 use crate::effect::EvalCtx;
 use crate::effect::angle::relative_angle;
@@ -41,6 +43,11 @@ pub struct PanelLockOutputs {
     /// accepted integrator step of [`PanelLock::advance_to`] (and the start).
     pub root_peak_force: f64,
     pub root_peak_torque: f64,
+    /// Power [W] the satellite delivers into the array through the root interface,
+    /// `-(root_force . v_O + root_torque . omega_satellite)` (world; 0 for a fixed satellite),
+    /// and its work [J] since the start, integrated over every accepted step.
+    pub root_power: f64,
+    pub root_work: f64,
     /// Velocity [m/s] of the outer panel's tip midpoint along the panel normal.
     pub tip_normal_velocity: f64,
     /// Kinetic, potential (springs, contact, gravity) energy, energy dissipated and input work [J].
@@ -141,8 +148,26 @@ impl PanelLock {
     /// Advances towards `t` [s]; with `one_step`, by one accepted step (exactly to `t` when
     /// that step reaches it). The interface peaks take every accepted step.
     pub fn advance(&mut self, t: f64, one_step: bool) -> Result<(), SolverError> {
+        // the interface power at the start of the call (inputs may have changed since the last
+        // step's end): the first step's work starts from it
+        let p = self.root_power();
+        self.interface_peaks.restart_power(self.sim.state.t, p);
         let mut hook = PeakHook::new(&self.layout, &mut self.interface_peaks, one_step);
         self.sim.advance_with(t, &mut hook)
+    }
+
+    /// Power [W] the satellite delivers into the array through the root interface now
+    /// ([`super::interface::interface_power`]).
+    pub fn root_power(&mut self) -> f64 {
+        let w = self.root_wrench_or_integrators();
+        self.root_power_of(&w)
+    }
+
+    fn root_power_of(&mut self, w: &super::interface::Wrench) -> f64 {
+        let st = &self.sim.state;
+        self.sim.system.update_kinematics(&st.q, &st.v);
+        let (v, omega) = interface_motion(&self.sim.system, &self.layout);
+        interface_power(w, v, omega)
     }
 
     /// Deployment angle [rad] and rate [rad/s] of hinge `k`.
@@ -219,6 +244,7 @@ impl PanelLock {
             }
         }
         let root = self.root_wrench_or_integrators();
+        let root_power = self.root_power_of(&root);
         let sim = &mut self.sim;
         let st = &sim.state;
         let outer = *sim
@@ -260,6 +286,8 @@ impl PanelLock {
             root_torque: root.torque,
             root_peak_force: self.interface_peaks.force,
             root_peak_torque: self.interface_peaks.torque,
+            root_power,
+            root_work: self.interface_peaks.work,
             tip_normal_velocity: tip_v.dot(&normal),
             kinetic: e.kinetic,
             potential: e.potential,

@@ -47,11 +47,12 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 /// Version of the serialized FMU state (2 adds the friction-slide dissipation and the energy
 /// guard's reference; 3 the clock, start time and elapsed time, in place of the time; 4 the
 /// digest of the mesh file; 5 the digest of the rig ([`RigDigest`]); 6 the integrator's
-/// monitors ([`crate::integrator::Integrator::monitors`], after the hook ramp).
+/// monitors ([`crate::integrator::Integrator::monitors`], after the hook ramp); 7 the power
+/// bonds' work ([`super::bonds::BondBooks`]).
 /// Version 1 states are still read, with none booked and
 /// the guard's reference taken anew; versions 1 and 2 start at 0 s; versions before 5 restore
 /// without a rig check, as before).
-const STATE_FORMAT: u32 = 6;
+const STATE_FORMAT: u32 = 7;
 use std::path::{Path, PathBuf};
 
 /// A new RopeBlock instance at default parameters.

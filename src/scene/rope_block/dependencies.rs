@@ -84,13 +84,17 @@ pub fn initial_dependencies(info: &ModelInfo, unknown: &PortSpec) -> Option<Vec<
 }
 
 /// Parts of the names of outputs set by the initial equilibrium (the slings' utilisation and
-/// angle and the amplification factor `daf` with the tensions and hook loads).
-const STATICS_OUTPUTS: [&str; 13] = [
+/// angle and the amplification factor `daf` with the tensions, hook loads and forces and the
+/// winches' line forces; the bonds' powers and work read 0 at the start, the hooks at rest).
+const STATICS_OUTPUTS: [&str; 16] = [
     "_utilisation",
     "_angle",
     "daf",
     "_load",
+    "_fx",
+    "_fy",
     "_fz",
+    "_winch_force",
     "tension",
     "_normal",
     "_friction",

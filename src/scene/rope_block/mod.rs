@@ -9,6 +9,7 @@
 //! - [`runner`]: the running simulation with rebuilds;
 //! - [`cosim`], [`ports`], [`persist`]: the co-simulation model (variable table, state bytes).
 
+pub mod bonds;
 pub mod build;
 pub mod cosim;
 pub mod demo;

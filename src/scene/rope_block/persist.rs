@@ -10,6 +10,7 @@
 //! What is not in the bytes comes from the parameters: the shell mesh (regenerated, or read again
 //! from the mesh file), the integrator settings and the contact-manager settings.
 
+use super::bonds::BondBooks;
 use super::build::build;
 use super::params::RopeBlockParams;
 use super::runner::{RopeBlockSim, run_settings};
@@ -379,6 +380,8 @@ pub fn write_sim(w: &mut ByteWriter, s: &RopeBlockSim) {
     w.u64(s.max_rebuilds_per_call);
     w.f64(s.hook_ramp);
     w.f64s(&s.sim.integrator_monitors());
+    let work: Vec<f64> = s.bonds.work.iter().flatten().copied().collect();
+    w.f64s(&work);
 }
 
 /// The effect memory as this version lays it out: the rope effect's memory starts at `offset`
@@ -461,6 +464,20 @@ pub fn read_sim(
     } else {
         Vec::new()
     };
+    // before version 7 the power bonds' work was not written: it restarts from 0
+    let n_hooks = structure.hooks.len();
+    let mut bonds = BondBooks::new(n_hooks);
+    if version >= 7 {
+        let work = r.f64s("power bond work")?;
+        if work.len() != 2 * n_hooks || !work.iter().all(|w| w.is_finite()) {
+            return Err(bad(
+                "serialized RopeBlock state: the power bonds' work does not match its hooks",
+            ));
+        }
+        for (b, w) in bonds.work.iter_mut().zip(work.chunks_exact(2)) {
+            *b = [w[0], w[1]];
+        }
+    }
     let (model, map) = build(&structure).map_err(ModelError::BadState)?;
     let mut state = state;
     state.memory = widen_hook_memory(
@@ -499,5 +516,6 @@ pub fn read_sim(
         energy_reference,
         max_rebuilds_per_call,
         hook_ramp,
+        bonds,
     })
 }

@@ -491,6 +491,46 @@ pub const GROUND_OUTPUTS: [(&str, &str); 2] = [
     ),
 ];
 
+/// Per-hook power-bond outputs (scene suffixes, as [`super::scene::BOND_OUTPUTS`]): (suffix,
+/// unit, description). Listed after `daf`, so the older outputs keep their value references.
+pub const BOND_OUTPUTS: [(&str, &str, &str); 7] = [
+    (
+        "fx",
+        "N",
+        "world x component of the slings' force on the crane at the hook (power bond with hook#_vx)",
+    ),
+    (
+        "fy",
+        "N",
+        "world y component of the slings' force on the crane at the hook (power bond with hook#_vy)",
+    ),
+    (
+        "power",
+        "W",
+        "power the crane delivers into the model at the hook, -(force on the crane) . (hook velocity)",
+    ),
+    (
+        "work",
+        "J",
+        "work the crane has done on the model at the hook since the start (the power integrated inside the solver's steps)",
+    ),
+    (
+        "winch_force",
+        "N",
+        "line force of the winch, -dV/dL of the slings' strain energy per length paid out (EA (e + e^2/2) per sling; power bond with hook#_payout_rate)",
+    ),
+    (
+        "winch_power",
+        "W",
+        "power the winch delivers into the model, -winch_force x pay-out rate",
+    ),
+    (
+        "winch_work",
+        "J",
+        "work the winch has done on the model since the start (integrated inside the solver's steps)",
+    ),
+];
+
 /// Real value references of the outputs, in table order.
 pub fn vr_output(index: usize) -> ValueRef {
     (first_output() + index) as ValueRef
@@ -553,6 +593,20 @@ pub fn real_outputs() -> Vec<(String, Option<&'static str>, String)> {
         None,
         "Dynamic amplification factor: the hooks' total vertical load over the weight of block and slings [-] (1 hanging at rest; below 1 while the ground carries part; 0 without gravity).".into(),
     ));
+    for k in 0..MAX_HOOKS {
+        for (s, u, d) in BOND_OUTPUTS {
+            let note = if k == 0 {
+                ""
+            } else {
+                " (0 when the rig has no such hook)"
+            };
+            v.push((
+                format!("hook{k}_{s}"),
+                Some(u),
+                format!("Hook {k}: {} [{u}]{note}.", d.replace('#', &k.to_string())),
+            ));
+        }
+    }
     v
 }
 
@@ -665,7 +719,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{0d1fbc49-a012-4128-b65f-decc0320d98d}",
+            guid: "{e2800f8d-1315-47c5-a9e6-b0f2a23a20b2}",
             description: "Ship-block lift with lumped-mass wire-rope slings contacting the block's shell plate edges through contact nodes with Coulomb friction; one-hook lift or two-hook turn-over.",
             ports,
             default_stop_time: 10.0,

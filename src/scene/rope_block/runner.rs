@@ -1,13 +1,14 @@
 //! A running rope-and-block simulation: the multibody [`Simulation`] plus the structure it was
 //! built from, the contact manager after every step, and rebuilds on structural changes.
 
+use super::bonds::{BondBooks, HookBond, hook_bonds};
 use super::build::{BuildMap, build, rope_ctx, sync};
 use super::edit::{apply, insert_initial_contacts};
 use super::manager::{ContactSettings, Counters, Manager, NodeReport, node_reports};
 use super::structure::Structure;
 use crate::dae::System;
 use crate::effect::ForceEffect;
-use crate::integrator::{IntegratorKind, Settings};
+use crate::integrator::{IntegratorKind, Settings, SolverError, StepAction, StepHook};
 use crate::math::Vec3;
 use crate::rope::{HookInit, HookMode, SlipMode};
 use crate::sim::{Energy, Simulation};
@@ -46,6 +47,8 @@ pub struct RopeBlockSim {
     pub max_rebuilds_per_call: u64,
     /// Time over which a hook reaches a newly commanded velocity or pay-out rate [s].
     pub hook_ramp: f64,
+    /// Work of the hooks' and winches' power bonds, integrated inside the steps.
+    pub bonds: BondBooks,
 }
 
 /// The integrator settings a RopeBlock scene runs `settings` with (see [`RopeBlockSim::new`]
@@ -80,6 +83,7 @@ impl RopeBlockSim {
         if contact.detect {
             insert_initial_contacts(&mut structure, contact.tolerance, contact.max_depth, 100);
         }
+        let n_hooks = structure.hooks.len();
         let (model, map) = build(&structure)?;
         let sim = Simulation::new(model, kind, run_settings(settings), t0)?;
         Ok(RopeBlockSim {
@@ -93,6 +97,7 @@ impl RopeBlockSim {
             energy_reference: None,
             max_rebuilds_per_call: 100_000,
             hook_ramp: 0.5,
+            bonds: BondBooks::new(n_hooks),
         })
     }
 
@@ -189,6 +194,8 @@ impl RopeBlockSim {
     fn advance_contacts(&mut self, t_end: f64, one_step: bool) -> Result<(), String> {
         let mut rebuilds = 0;
         loop {
+            let bonds = self.hook_bonds();
+            self.bonds.restart(self.sim.state.t, &bonds);
             let mut mgr = Manager::new(
                 &self.structure,
                 &self.map,
@@ -197,8 +204,13 @@ impl RopeBlockSim {
                 &mut self.slide_dissipation,
             );
             mgr.one_step = one_step;
+            let mut booked = Booked {
+                inner: &mut mgr,
+                map: &self.map,
+                books: &mut self.bonds,
+            };
             self.sim
-                .advance_with(t_end, &mut mgr)
+                .advance_with(t_end, &mut booked)
                 .map_err(String::from)?;
             let edits = std::mem::take(&mut mgr.edits);
             if edits.is_empty() {
@@ -230,6 +242,15 @@ impl RopeBlockSim {
                 return Ok(());
             }
         }
+    }
+
+    /// The hooks' power bonds at the current state.
+    pub fn hook_bonds(&mut self) -> Vec<HookBond> {
+        let st = &self.sim.state;
+        let sys = &mut self.sim.system;
+        sys.update_kinematics(&st.q, &st.v);
+        let ctx = rope_ctx(&self.map, sys.kins(), &sys.inputs, st);
+        hook_bonds(&self.map.rope, &ctx)
     }
 
     /// Copies the running state into the structure.
@@ -422,6 +443,39 @@ impl RopeBlockSim {
         } else {
             self.sim.restart().map_err(String::from)
         }
+    }
+}
+
+/// The contact manager's step hook with the power bonds booked at every accepted step's end
+/// (before the manager's edits; sampled anew when it moved the state).
+struct Booked<'a, 'b> {
+    inner: &'a mut Manager<'b>,
+    map: &'a BuildMap,
+    books: &'a mut BondBooks,
+}
+
+impl Booked<'_, '_> {
+    fn bonds(&self, sys: &mut System, st: &State) -> Vec<HookBond> {
+        sys.update_kinematics(&st.q, &st.v);
+        let ctx = rope_ctx(self.map, sys.kins(), &sys.inputs, st);
+        hook_bonds(&self.map.rope, &ctx)
+    }
+}
+
+impl StepHook for Booked<'_, '_> {
+    fn after_step(&mut self, sys: &mut System, st: &mut State) -> Result<StepAction, SolverError> {
+        let bonds = self.bonds(sys, st);
+        self.books.step(st.t, &bonds);
+        let action = self.inner.after_step(sys, st)?;
+        if matches!(action, StepAction::Moved | StepAction::Restart) {
+            let bonds = self.bonds(sys, st);
+            self.books.restart(st.t, &bonds);
+        }
+        Ok(action)
+    }
+
+    fn pause(&self) -> bool {
+        self.inner.pause()
     }
 }
 

@@ -23,6 +23,11 @@
 //! | `energy.kinetic/potential/dissipated/input/events` | energy bookkeeping [J] |
 //! | `ground.normal/friction` | ground forces [N] (with a ground only) |
 //! | `daf` | dynamic amplification factor: hooks' total vertical load / weight of everything [-] |
+//! | `hook{k}.fx/fy` | world x and y of the slings' force on the crane at the hook [N] (power bond) |
+//! | `hook{k}.power/work` | power the hook delivers into the model [W] and its integral [J] |
+//! | `hook{k}.winch_force/winch_power/winch_work` | the winch's line force [N], power into the model [W], its integral [J] |
+//!
+//! The power bonds and their sign conventions: [`super::bonds`], docs/power_bonds.md.
 //!
 //! Contact slots are filled in rope order each time outputs are read; beyond
 //! `params.contact_outputs` nodes are counted but not reported.
@@ -149,6 +154,18 @@ pub fn solver_settings(params: &RopeBlockParams) -> (Settings, ContactSettings) 
     (settings, contact)
 }
 
+/// Per-hook power-bond outputs, in the order [`RopeBlockScene::outputs`] writes them (after
+/// `daf`).
+pub const BOND_OUTPUTS: [&str; 7] = [
+    "fx",
+    "fy",
+    "power",
+    "work",
+    "winch_force",
+    "winch_power",
+    "winch_work",
+];
+
 /// A RopeBlock scene.
 #[derive(Debug)]
 pub struct RopeBlockScene {
@@ -211,6 +228,11 @@ impl RopeBlockScene {
             names.push("ground.friction".into());
         }
         names.push("daf".into());
+        for k in 0..params.rig.hooks.len() {
+            for c in BOND_OUTPUTS {
+                names.push(format!("hook{k}.{c}"));
+            }
+        }
         Ok(RopeBlockScene {
             params,
             sim,
@@ -336,6 +358,18 @@ impl RopeBlockScene {
         let weight = sim.total_mass() * self.params.gravity;
         let lift: f64 = -pull.iter().map(|p| p.z).sum::<f64>();
         out.push(if weight > 0.0 { lift / weight } else { 0.0 });
+        let bonds = sim.hook_bonds();
+        for (b, w) in bonds.iter().zip(&sim.bonds.work) {
+            out.extend([
+                b.force.x,
+                b.force.y,
+                b.power(),
+                w[0],
+                b.winch_force,
+                b.winch_power(),
+                w[1],
+            ]);
+        }
         out
     }
 
