@@ -385,7 +385,8 @@ fn solver_counters_are_the_integrator_statistics() {
 #[test]
 fn solver_integrator_is_the_integrator_the_run_uses() {
     use mbcosim::scene::native::set_by_name;
-    let cases: [(&[(&str, f64)], i32, IntegratorKind); 5] = [
+    type Case = (&'static [(&'static str, f64)], i32, IntegratorKind);
+    let cases: [Case; 5] = [
         (&[], 4, IntegratorKind::Dopri5Tree),
         (&[("flexible_panels", 1.0)], 1, IntegratorKind::GenAlpha),
         (&[("free_satellite", 1.0)], 1, IntegratorKind::GenAlpha),
