@@ -17,3 +17,4 @@ mod reported_cone;
 mod reports;
 mod rig;
 mod slings;
+mod memory;
