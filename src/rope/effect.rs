@@ -7,17 +7,9 @@
 //! together because slipping nodes couple their segments, [`super::slip`]), *bending* hinges and
 //! *drag* nodes (lists that stay empty when the effect is off, so it costs nothing).
 //!
-//! Memory (see [`crate::effect::ForceEffect::n_memory`]): first [`HOOK_MEM`] values per hook
-//! (position at `t0`, velocity at `t0` and target velocity, `t0`, pay-out at `t0`, its rate and
-//! target rate, ramp time, mode code and target position; see [`HookInit`]), then [`CONTACT_MEM`] per contact node:
-//! `sigma` [m] and the slip state along the rope of the last accepted step, the friction share
-//! `mu_rope` [-] with which the rope slides through the node, for the friction along the edge
-//! ([`super::edge_hold`]) the anchor `u0` [m], the capacity `cap` [N] and the sliding state
-//! (0 sticking: the hold's spring acts; `+-1` sliding along the edge: the constant force
-//! `+-cap`, see [`RopeEffect::edge_slide_force`]), and
-//! the coefficient `mu` [-] of the node's Coulomb cone ([`super::friction`]). A sticking node's
-//! `sigma` freezes the split of rope between its two segments; a slipping node's `sigma` is
-//! recomputed after every accepted step (it is not used while slipping).
+//! Memory (see [`crate::effect::ForceEffect::n_memory`]): one record per hook, then one per
+//! contact node, read and written only through the typed records of [`super::memory`] (which
+//! holds the layout and what each field means).
 //!
 //! Decisions (frozen for a Newton iteration, see [`RopeEffect`]'s `freeze`): two values per
 //! contact slot, the slip state's code and the share `mu_rope`. After an accepted step the
@@ -30,6 +22,7 @@ use super::edge_hold;
 use super::layout::{
     ContactInit, EdgeHold, HookInit, HookMode, LayoutRope, PointAt, SlipMode, hermite, ramped,
 };
+use super::memory::{ContactRecord, RopeMemory};
 use super::props::RopeProps;
 use super::run::{self, RunEval};
 use super::segment::{self, Tension};
@@ -40,10 +33,6 @@ use crate::math::{Mat3, Vec3};
 use crate::model::BodyId;
 use crate::model::kinematics::{BodyKin, kin_of};
 
-/// Memory values per hook.
-pub const HOOK_MEM: usize = 18;
-/// Memory values per contact node.
-pub const CONTACT_MEM: usize = 7;
 pub(crate) const NONE: u32 = u32::MAX;
 
 /// One evaluated plain segment: tension, geometry and the two-point derivatives.
@@ -395,28 +384,46 @@ impl RopeEffect {
         (self.contact[i] != NONE).then_some(self.contact[i] as usize)
     }
 
-    /// Offset of contact slot `c`'s memory within this effect's memory.
-    pub fn contact_memory_offset(&self, c: usize) -> usize {
-        HOOK_MEM * self.hooks.len() + CONTACT_MEM * c
+    /// The typed view of this effect's memory `memory` (its first value on).
+    pub fn memory<'a>(&self, memory: &'a [f64]) -> RopeMemory<&'a [f64]> {
+        RopeMemory::new(memory, self.hooks.len())
     }
 
-    /// Offset of hook `k`'s memory within this effect's memory.
-    pub fn hook_memory_offset(&self, k: usize) -> usize {
-        HOOK_MEM * k
+    /// The writable typed view of this effect's memory `memory` (its first value on).
+    pub fn memory_mut<'a>(&self, memory: &'a mut [f64]) -> RopeMemory<&'a mut [f64]> {
+        RopeMemory::new(memory, self.hooks.len())
+    }
+
+    /// Contact slot `c`'s record in this effect's memory `memory`.
+    #[inline]
+    fn contact_record<'a>(&self, memory: &'a [f64], c: usize) -> ContactRecord<&'a [f64]> {
+        RopeMemory::new(memory, self.hooks.len()).contact(c)
     }
 
     /// Position [m] and velocity [m/s] (world) of hook `k` at time `t` given the effect memory.
     pub fn hook_motion(&self, memory: &[f64], k: usize, t: f64) -> (Vec3, Vec3) {
-        let m = &memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
-        let tau = t - m[9];
+        let h = self.memory(memory).hook(k).get();
+        let tau = t - h.t0;
         let mut x = Vec3::zeros();
         let mut v = Vec3::zeros();
-        let position = HookMode::from_code(m[17]) == HookMode::Position;
+        let position = h.mode == HookMode::Position;
         for i in 0..3 {
             (x[i], v[i]) = if position {
-                hermite(m[i], m[3 + i], m[14 + i], m[13], tau)
+                hermite(
+                    h.position[i],
+                    h.velocity[i],
+                    h.target_position[i],
+                    h.ramp,
+                    tau,
+                )
             } else {
-                ramped(m[i], m[3 + i], m[6 + i], m[13], tau)
+                ramped(
+                    h.position[i],
+                    h.velocity[i],
+                    h.target_velocity[i],
+                    h.ramp,
+                    tau,
+                )
             };
         }
         (x, v)
@@ -424,36 +431,32 @@ impl RopeEffect {
 
     /// Target velocity [m/s] of hook `k` and its target pay-out rate [m/s].
     pub fn hook_targets(&self, memory: &[f64], k: usize) -> (Vec3, f64) {
-        let m = &memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
-        (Vec3::new(m[6], m[7], m[8]), m[12])
+        let h = self.memory(memory).hook(k);
+        (h.target_velocity(), h.target_payout_rate())
     }
 
     /// Command mode of hook `k` and its target position [m] (world; used in
     /// [`HookMode::Position`]).
     pub fn hook_position_target(&self, memory: &[f64], k: usize) -> (HookMode, Vec3) {
-        let m = &memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
-        (HookMode::from_code(m[17]), Vec3::new(m[14], m[15], m[16]))
+        let h = self.memory(memory).hook(k);
+        (h.mode(), h.target_position())
     }
 
     /// Pay-out [m] and its rate [m/s] of hook `k` at time `t`.
     pub fn hook_payout(&self, memory: &[f64], k: usize, t: f64) -> (f64, f64) {
-        let m = &memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
-        ramped(m[10], m[11], m[12], m[13], t - m[9])
+        let h = self.memory(memory).hook(k);
+        ramped(
+            h.payout(),
+            h.payout_rate(),
+            h.target_payout_rate(),
+            h.ramp(),
+            t - h.t0(),
+        )
     }
 
     /// Writes hook `k`'s state into the memory (see [`HookInit`]).
-    pub fn write_hook(memory: &mut [f64], k: usize, h: &HookInit) {
-        let m = &mut memory[HOOK_MEM * k..HOOK_MEM * (k + 1)];
-        m[..3].copy_from_slice(h.position.as_slice());
-        m[3..6].copy_from_slice(h.velocity.as_slice());
-        m[6..9].copy_from_slice(h.target_velocity.as_slice());
-        m[9] = h.t0;
-        m[10] = h.payout;
-        m[11] = h.payout_rate;
-        m[12] = h.target_payout_rate;
-        m[13] = h.ramp;
-        m[14..17].copy_from_slice(h.target_position.as_slice());
-        m[17] = h.mode.code();
+    pub fn write_hook(&self, memory: &mut [f64], k: usize, h: &HookInit) {
+        self.memory_mut(memory).hook_mut(k).set(h);
     }
 
     /// Kinematics of the body carrying point `i` (ground for hooks).
@@ -486,7 +489,8 @@ impl RopeEffect {
             let (s, _) = self.hook_payout(ctx.memory, self.hook[i] as usize, ctx.t);
             self.sigma[i] + self.hook_sign[i] * s
         } else if self.contact[i] != NONE {
-            ctx.memory[self.contact_memory_offset(self.contact[i] as usize)]
+            self.contact_record(ctx.memory, self.contact[i] as usize)
+                .sigma()
         } else {
             self.sigma[i]
         }
@@ -495,7 +499,6 @@ impl RopeEffect {
     /// Evaluates the edge friction of contact slot `c` (`None` without one).
     pub fn edge_hold(&self, ctx: &EvalCtx, c: usize) -> Option<edge_hold::Hold> {
         let (h, k, damp) = self.holds[c]?;
-        let o = self.contact_memory_offset(c);
         let node = kin_of(ctx.kins, self.body[self.contact_point[c] as usize]);
         let block = kin_of(ctx.kins, h.block);
         if let Some(force) = self.edge_slide_force(ctx.memory, c) {
@@ -506,7 +509,7 @@ impl RopeEffect {
             block,
             &h.point,
             &h.dir,
-            ctx.memory[o + 3],
+            self.contact_record(ctx.memory, c).anchor(),
             k,
             damp,
         ))
@@ -517,9 +520,9 @@ impl RopeEffect {
     /// its magnitude); `None` while it sticks there (the hold's spring acts).
     #[inline]
     pub fn edge_slide_force(&self, memory: &[f64], c: usize) -> Option<f64> {
-        let o = self.contact_memory_offset(c);
-        let state = memory[o + 5];
-        (state != 0.0).then(|| state.signum() * memory[o + 4])
+        let rec = self.contact_record(memory, c);
+        let state = rec.edge_slide();
+        (state != 0.0).then(|| state.signum() * rec.cap())
     }
 
     /// The edge (block, point, direction) of contact slot `c`, if it has edge friction.
@@ -531,14 +534,14 @@ impl RopeEffect {
     /// `c` from the memory.
     #[inline]
     pub fn contact_state(&self, memory: &[f64], c: usize) -> (SlipMode, f64) {
-        let o = self.contact_memory_offset(c);
-        (SlipMode::from_code(memory[o + 1]), memory[o + 2])
+        let rec = self.contact_record(memory, c);
+        (rec.mode(), rec.share())
     }
 
     /// Coefficient `mu` of contact slot `c`'s Coulomb cone from the memory.
     #[inline]
     pub fn contact_mu(&self, memory: &[f64], c: usize) -> f64 {
-        memory[self.contact_memory_offset(c) + 6]
+        self.contact_record(memory, c).mu()
     }
 
     /// The world direction of contact slot `c`'s edge at `ctx` (`None` without an edge hold).
@@ -764,7 +767,7 @@ impl ForceEffect for RopeEffect {
                 continue;
             }
             if let (Some(h), Some((_, k, _))) = (self.edge_hold(ctx, c), self.holds[c]) {
-                let u0 = ctx.memory[self.contact_memory_offset(c) + 3];
+                let u0 = self.contact_record(ctx.memory, c).anchor();
                 e += 0.5 * k * (h.u - u0) * (h.u - u0);
             }
         }
@@ -792,7 +795,7 @@ impl ForceEffect for RopeEffect {
                 let stored = if self.edge_slide_force(ctx.memory, c).is_some() {
                     0.0
                 } else {
-                    k * (h.u - ctx.memory[self.contact_memory_offset(c) + 3])
+                    k * (h.u - self.contact_record(ctx.memory, c).anchor())
                 };
                 p -= (h.force + stored) * h.u_dot;
             }
@@ -844,24 +847,25 @@ impl ForceEffect for RopeEffect {
     }
 
     fn n_memory(&self) -> usize {
-        HOOK_MEM * self.hooks.len() + CONTACT_MEM * self.contact_point.len()
+        RopeMemory::<&[f64]>::len(self.hooks.len(), self.contact_point.len())
     }
 
     fn init_memory(&self, _ctx: &EvalCtx, memory: &mut [f64]) {
+        let mut mem = self.memory_mut(memory);
         for (k, h) in self.hooks.iter().enumerate() {
-            Self::write_hook(memory, k, h);
+            mem.hook_mut(k).set(h);
         }
         for (c, (sigma, ci)) in self.contact_init.iter().enumerate() {
-            let o = self.contact_memory_offset(c);
-            memory[o] = *sigma;
-            memory[o + 1] = ci.mode.code();
-            memory[o + 2] = ci.mu_rope;
+            let mut rec = mem.contact_mut(c);
+            rec.set_sigma(*sigma);
+            rec.set_mode(ci.mode);
+            rec.set_share(ci.mu_rope);
             if let Some(h) = ci.hold {
-                memory[o + 3] = h.u0;
-                memory[o + 4] = h.cap;
+                rec.set_anchor(h.u0);
+                rec.set_cap(h.cap);
             }
-            memory[o + 5] = 0.0;
-            memory[o + 6] = ci.mu;
+            rec.set_edge_slide(0.0);
+            rec.set_mu(ci.mu);
         }
     }
 
@@ -931,10 +935,15 @@ impl ForceEffect for RopeEffect {
             let ev = self.eval_run(ctx, r);
             for (k, &p) in ev.points.iter().enumerate() {
                 if let Some(c) = self.contact_of(p) {
-                    let o = self.contact_memory_offset(c);
-                    let new = [ev.sigma[k], ev.modes[k].code(), ev.share[k]];
-                    if memory[o..o + 3] != new {
-                        memory[o..o + 3].copy_from_slice(&new);
+                    let mut rec = self.memory_mut(memory).into_contact(c);
+                    let (sigma, mode, share) = (ev.sigma[k], ev.modes[k], ev.share[k]);
+                    if rec.sigma() != sigma
+                        || rec.mode_code() != mode.code()
+                        || rec.share() != share
+                    {
+                        rec.set_sigma(sigma);
+                        rec.set_mode(mode);
+                        rec.set_share(share);
                         changed = true;
                     }
                 }

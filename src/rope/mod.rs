@@ -10,6 +10,7 @@ pub mod edge_hold;
 pub mod effect;
 pub mod friction;
 pub mod layout;
+pub mod memory;
 pub mod node;
 pub mod props;
 pub mod run;
@@ -19,9 +20,10 @@ pub mod slip;
 #[cfg(test)]
 mod slip_dense;
 
-pub use effect::{CONTACT_MEM, HOOK_MEM, NodeSegments, RopeEffect};
+pub use effect::{NodeSegments, RopeEffect};
 pub use layout::{
     ContactInit, EdgeHold, HookInit, HookMode, LayoutPoint, LayoutRope, PointAt, SlipMode, hermite,
     ramped,
 };
+pub use memory::{CONTACT_MEM, ContactRecord, HOOK_MEM, HookRecord, RopeMemory};
 pub use props::RopeProps;

@@ -11,6 +11,8 @@ mod hanging;
 mod hard_cases;
 mod jacobian;
 mod lift_cone;
+mod mass_split;
+mod memory;
 mod pull_speed;
 mod pulled;
 mod reported_cone;

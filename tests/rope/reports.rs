@@ -21,7 +21,7 @@ fn sigmas(sim: &RopeBlockSim) -> Vec<f64> {
     for (i, node) in spec.nodes.iter().enumerate() {
         let p = i + 1;
         s.push(match sim.map.rope.contact_of(p) {
-            Some(c) => mem[sim.map.rope.contact_memory_offset(c)],
+            Some(c) => sim.map.rope.memory(mem).contact(c).sigma(),
             None => node.sigma,
         });
     }

@@ -15,7 +15,7 @@ use crate::effect::{EvalCtx, ForceEffect};
 use crate::math::Vec3;
 use crate::model::kinematics::{BodyKin, evaluate, quat_at};
 use crate::model::{AppliedLoad, BodyId, BodyInit, Frame, JointKind, Model, ModelBuilder, Profile};
-use crate::rope::{ContactInit, EdgeHold, LayoutPoint, LayoutRope, PointAt, RopeEffect, SlipMode};
+use crate::rope::{ContactInit, EdgeHold, LayoutPoint, LayoutRope, PointAt, RopeEffect};
 use crate::state::State;
 use std::sync::Arc;
 
@@ -260,8 +260,10 @@ pub fn sync(s: &mut Structure, model: &Model, map: &BuildMap, state: &State) {
     }
     let mem = &state.memory[map.rope_memory..map.rope_memory + map.rope.n_memory()];
     for (k, h) in s.hooks.iter_mut().enumerate() {
-        let o = map.rope.hook_memory_offset(k);
-        let (t0, ramp) = (mem[o + 9], mem[o + 13]);
+        let (t0, ramp) = {
+            let rec = map.rope.memory(mem).hook(k);
+            (rec.t0(), rec.ramp())
+        };
         let (x, v) = map.rope.hook_motion(mem, k, state.t);
         let (p, rate) = map.rope.hook_payout(mem, k, state.t);
         let (v1, r1) = map.rope.hook_targets(mem, k);
@@ -287,14 +289,14 @@ pub fn sync(s: &mut Structure, model: &Model, map: &BuildMap, state: &State) {
         }
     }
     for (c, &(r, i, _)) in map.contacts.iter().enumerate() {
-        let o = map.rope.contact_memory_offset(c);
+        let rec = map.rope.memory(mem).contact(c);
         let n = &mut s.ropes[r].nodes[i];
-        n.sigma = mem[o];
+        n.sigma = rec.sigma();
         if let (Some(ct), Some(h)) = (n.contact.as_mut(), map.rope.contact_edge(c)) {
-            ct.mode = SlipMode::from_code(mem[o + 1]);
-            ct.mu_rope = mem[o + 2];
-            ct.anchor = h.point + h.dir * mem[o + 3];
-            ct.cap = mem[o + 4];
+            ct.mode = rec.mode();
+            ct.mu_rope = rec.share();
+            ct.anchor = h.point + h.dir * rec.anchor();
+            ct.cap = rec.cap();
         }
     }
 }

@@ -286,8 +286,7 @@ impl Manager<'_> {
             let Some(ct) = spec.nodes[rep.node].contact else {
                 continue;
             };
-            let o = base + rope.contact_memory_offset(c);
-            let mu = st.memory[o + 6];
+            let mu = rope.memory(&st.memory[base..]).contact(c).mu();
             // the friction law works on the rope's pull (see NodeReport::pull)
             let n = rep.pull.normal;
             let mesh = self.structure.blocks[ct.block].mesh.as_ref();
@@ -310,16 +309,22 @@ impl Manager<'_> {
             // then moves with the dynamics against a constant friction force on the cone
             // (`cone::edge_friction`; its force is set on the cone again by `enforce_cone`)
             let seg = rep.segments;
-            let slide = st.memory[o + 5];
+            let slide = rope.memory(&st.memory[base..]).contact(c).edge_slide();
             if slide == 0.0 {
                 // the capacity a sticking node would slide at: not used by any force while it
                 // sticks, so no memory change; the system gets it too, so that the memory a
                 // Newton matrix is recorded with is the state's (a restored state's system is
                 // made from the state: without this, a restored run records other bytes)
                 let cap = mu * n.max(0.0);
-                st.memory[o + 4] = cap;
-                if let Some(m) = sys.memory.get_mut(o + 4) {
-                    *m = cap;
+                rope.memory_mut(&mut st.memory[base..])
+                    .contact_mut(c)
+                    .set_cap(cap);
+                if let Some(mut rec) = sys
+                    .memory
+                    .get_mut(base..)
+                    .and_then(|m| rope.memory_mut(m).try_into_contact(c))
+                {
+                    rec.set_cap(cap);
                 }
             }
             let decision =
@@ -329,24 +334,35 @@ impl Manager<'_> {
                 EdgeFriction::Slide(force) => {
                     self.counters.edge_slides += 1;
                     let sign = if slide != 0.0 { slide } else { force.signum() };
-                    Some([sign, force.abs(), st.memory[o + 3]])
+                    Some([
+                        sign,
+                        force.abs(),
+                        rope.memory(&st.memory[base..]).contact(c).anchor(),
+                    ])
                 }
                 EdgeFriction::Restick(force) => {
                     let ctx = rope_ctx(self.map, sys.kins(), &sys.inputs, st);
                     let anchor = rope.hold_anchor_for(&ctx, c, force);
-                    Some([0.0, st.memory[o + 4], anchor.unwrap_or(st.memory[o + 3])])
+                    let rec = rope.memory(&st.memory[base..]).contact(c);
+                    Some([0.0, rec.cap(), anchor.unwrap_or(rec.anchor())])
                 }
             };
+            let stored = {
+                let rec = rope.memory(&st.memory[base..]).contact(c);
+                [rec.edge_slide(), rec.cap(), rec.anchor()]
+            };
             if let Some([state, cap, anchor]) = write
-                && [st.memory[o + 5], st.memory[o + 4], st.memory[o + 3]] != [state, cap, anchor]
+                && stored != [state, cap, anchor]
             {
                 if self.energy_before_slides.is_none() {
                     // the system still holds the step's memory and these positions
                     self.energy_before_slides = Some(self.mechanical_energy(sys, st));
                 }
-                st.memory[o + 5] = state;
-                st.memory[o + 4] = cap;
-                st.memory[o + 3] = anchor;
+                let mut mem = rope.memory_mut(&mut st.memory[base..]);
+                let mut rec = mem.contact_mut(c);
+                rec.set_edge_slide(state);
+                rec.set_cap(cap);
+                rec.set_anchor(anchor);
                 changed = true;
             }
             if let Some(m) = mesh
@@ -440,8 +456,7 @@ impl Manager<'_> {
             searches.resize(searches.len().max(slots), None);
             let mut shares = Vec::new();
             for rep in &reports {
-                let o = base + rope.contact_memory_offset(rep.slot);
-                let share = st.memory[o + 2];
+                let share = rope.memory(&st.memory[base..]).contact(rep.slot).share();
                 let node = node_cone(rope, rep, &st.memory[base..]);
                 let search = &mut searches[rep.slot];
                 let target = match search {
@@ -456,7 +471,7 @@ impl Manager<'_> {
                     continue;
                 }
                 let next = search.get_or_insert_default().next(share, g);
-                shares.push((o + 2, next));
+                shares.push((rep.slot, next));
             }
             if shares.is_empty() {
                 break;
@@ -464,8 +479,9 @@ impl Manager<'_> {
             if self.energy_before_slides.is_none() {
                 self.energy_before_slides = Some(self.mechanical_energy(sys, st));
             }
-            for (i, c) in shares {
-                st.memory[i] = c;
+            let mut mem = rope.memory_mut(&mut st.memory[base..]);
+            for (slot, c) in shares {
+                mem.contact_mut(slot).set_share(c);
             }
             changed = true;
         }
@@ -484,26 +500,26 @@ impl Manager<'_> {
         let mut caps = Vec::new();
         for rep in &reports {
             let c = rep.slot;
-            let o = base + rope.contact_memory_offset(c);
-            if st.memory[o + 5] != 0.0 {
+            let rec = rope.memory(ctx.memory).contact(c);
+            if rec.edge_slide() != 0.0 {
                 // sliding along the edge: friction on the cone, what it leaves along the edge;
                 // the anchor follows (a spring carrying that force here), which a rebuild takes
                 let cap = friction::edge_capacity(rep.mu, rep.pull.normal, rep.pull.along_rope);
-                let force = st.memory[o + 5].signum() * cap;
+                let force = rec.edge_slide().signum() * cap;
                 if let Some(u0) = rope.hold_anchor_for(&ctx, c, force)
-                    && st.memory[o + 3] != u0
+                    && rec.anchor() != u0
                 {
-                    caps.push((o + 3, u0));
+                    anchors.push((c, u0));
                 }
-                if st.memory[o + 4] != cap {
-                    caps.push((o + 4, cap));
+                if rec.cap() != cap {
+                    caps.push((c, cap));
                 }
                 continue;
             }
             if let Some(force) = node_cone(rope, rep, ctx.memory).clipped_hold()
                 && let Some(u0) = rope.hold_anchor_for(&ctx, c, force)
             {
-                anchors.push((base + rope.contact_memory_offset(c) + 3, u0));
+                anchors.push((c, u0));
             }
         }
         if anchors.is_empty() && caps.is_empty() {
@@ -512,8 +528,12 @@ impl Manager<'_> {
         if self.energy_before_slides.is_none() {
             self.energy_before_slides = Some(self.mechanical_energy(sys, st));
         }
-        for (i, value) in anchors.into_iter().chain(caps) {
-            st.memory[i] = value;
+        let mut mem = rope.memory_mut(&mut st.memory[base..]);
+        for (c, u0) in anchors {
+            mem.contact_mut(c).set_anchor(u0);
+        }
+        for (c, cap) in caps {
+            mem.contact_mut(c).set_cap(cap);
         }
         true
     }
@@ -575,7 +595,7 @@ impl Manager<'_> {
         let mut slid = Vec::new();
         for rep in node_reports(sys, self.map, self.structure, st) {
             if let Some((mode, c)) = node_cone(rope, &rep, &st.memory[base..]).slide_out() {
-                slid.push((base + rope.contact_memory_offset(rep.slot), mode, c));
+                slid.push((rep.slot, mode, c));
             }
         }
         if slid.is_empty() {
@@ -584,17 +604,17 @@ impl Manager<'_> {
         if self.energy_before_slides.is_none() {
             self.energy_before_slides = Some(self.mechanical_energy(sys, st));
         }
-        for &(o, mode, c) in &slid {
-            st.memory[o + 1] = mode.code();
-            st.memory[o + 2] = c;
+        let mut mem = rope.memory_mut(&mut st.memory[base..]);
+        for &(slot, mode, c) in &slid {
+            let mut rec = mem.contact_mut(slot);
+            rec.set_mode(mode);
+            rec.set_share(c);
         }
         let reports = node_reports(sys, self.map, self.structure, st);
-        for &(o, _, _) in &slid {
-            if let Some(rep) = reports
-                .iter()
-                .find(|r| base + rope.contact_memory_offset(r.slot) == o)
-            {
-                st.memory[o] = rep.segments.sigma;
+        let mut mem = rope.memory_mut(&mut st.memory[base..]);
+        for &(slot, _, _) in &slid {
+            if let Some(rep) = reports.iter().find(|r| r.slot == slot) {
+                mem.contact_mut(slot).set_sigma(rep.segments.sigma);
             }
         }
         sys.memory.copy_from_slice(&st.memory);

@@ -436,7 +436,9 @@ impl RopeBlockSim {
             ..HookInit::at(x)
         };
         set(&mut h);
-        crate::rope::RopeEffect::write_hook(&mut self.sim.state.memory[base..base + n], k, &h);
+        self.map
+            .rope
+            .write_hook(&mut self.sim.state.memory[base..base + n], k, &h);
         if h.ramp > 0.0 {
             // continuous command: the system follows the new memory, the history stays
             self.sim.sync_memory().map_err(String::from)

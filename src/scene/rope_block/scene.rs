@@ -64,17 +64,17 @@ pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
     let n = sim.map.rope.n_contacts();
     let mut saved = Vec::with_capacity(n);
     for c in 0..n {
-        let o = base + sim.map.rope.contact_memory_offset(c);
-        let m = &mut sim.sim.state.memory;
-        saved.push((m[o + 1], m[o + 2], m[o + 6], m[o + 4]));
+        let mut mem = sim.map.rope.memory_mut(&mut sim.sim.state.memory[base..]);
+        let mut m = mem.contact_mut(c);
+        saved.push((m.mode(), m.share(), m.mu(), m.cap()));
         // frictionless sliding: no share along the rope, no cone to re-stick in, and along the
         // edge a slide against no force (the hold's spring would keep the node at its rigging
         // point: the turn-over started with 1.28 mu N on its edge, and slid off at once)
-        m[o + 1] = SlipMode::SlipForward.code();
-        m[o + 2] = 0.0;
-        m[o + 6] = 0.0;
-        m[o + 5] = 1.0;
-        m[o + 4] = 0.0;
+        m.set_mode(SlipMode::SlipForward);
+        m.set_share(0.0);
+        m.set_mu(0.0);
+        m.set_edge_slide(1.0);
+        m.set_cap(0.0);
     }
     sim.sim.restart().map_err(String::from)?;
     statics::solve(sim, 1e-9 * weight, 300)?;
@@ -89,15 +89,15 @@ pub fn settle(sim: &mut RopeBlockSim, weight: f64) -> Result<(), String> {
     // each hold sticks where its node came to rest, carrying nothing
     let anchors = sim.hold_anchors(0.0);
     for (c, (mode, share, mu, cap)) in saved.into_iter().enumerate() {
-        let o = base + sim.map.rope.contact_memory_offset(c);
-        let m = &mut sim.sim.state.memory;
-        m[o + 1] = mode;
-        m[o + 2] = share;
-        m[o + 6] = mu;
-        m[o + 5] = 0.0;
-        m[o + 4] = cap;
+        let mut mem = sim.map.rope.memory_mut(&mut sim.sim.state.memory[base..]);
+        let mut m = mem.contact_mut(c);
+        m.set_mode(mode);
+        m.set_share(share);
+        m.set_mu(mu);
+        m.set_edge_slide(0.0);
+        m.set_cap(cap);
         if let Some(u0) = anchors[c] {
-            m[o + 3] = u0;
+            m.set_anchor(u0);
         }
     }
     sim.sim.restart().map_err(String::from)
