@@ -1,6 +1,7 @@
 //! The rope effect's memory records (`src/rope/memory.rs`, issue #43 item 4): every named field
-//! sits at the index the serialized RopeBlock state has always stored it at, and a state written
-//! before the records existed restores and continues bit for bit.
+//! sits at the index the serialized RopeBlock state has always stored it at, and a saved state
+//! (written before the records at first, again when the interface changed: see
+//! [`write_state_fixture`]) restores and continues bit for bit.
 
 use mbcosim::rope::{CONTACT_MEM, HOOK_MEM, HookInit, HookMode, RopeMemory, SlipMode};
 use mbcosim::scene::CoSimModel;
