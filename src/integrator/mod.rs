@@ -653,6 +653,28 @@ impl JacobianPoint {
         }
     }
 
+    /// Appends the point a restored state forms its Newton matrix at: `current` when the matrix
+    /// is `valid`, else `pending` (a restored point not formed again yet), as a flag (1: a point
+    /// follows, 0: none) and [`JacobianPoint::write`]'s values.
+    pub fn write_matrix_point(
+        current: &Option<Self>,
+        valid: bool,
+        pending: &Option<Self>,
+        m: &mut Vec<f64>,
+    ) {
+        let point = match (current, valid) {
+            (Some(p), true) => Some(p),
+            _ => pending.as_ref(),
+        };
+        match point {
+            Some(p) => {
+                m.push(1.0);
+                p.write(m);
+            }
+            None => m.push(0.0),
+        }
+    }
+
     /// Reads what [`JacobianPoint::write`] appended, starting at `m[0]`; returns it and the length used.
     pub fn read(m: &[f64]) -> Result<(Self, usize), String> {
         let bad = || "integrator memory: truncated Jacobian point".to_string();

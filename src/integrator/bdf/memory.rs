@@ -23,17 +23,12 @@ impl Bdf {
         m.push(self.lam.len() as f64);
         m.extend_from_slice(&self.lam);
         // the matrix point: the valid one, or a restored one not formed again yet
-        let point = match (&self.jac_point, self.core.jac_valid) {
-            (Some(p), true) => Some(p),
-            _ => self.pending.as_ref(),
-        };
-        match point {
-            Some(p) => {
-                m.push(1.0);
-                p.write(&mut m);
-            }
-            None => m.push(0.0),
-        }
+        JacobianPoint::write_matrix_point(
+            &self.jac_point,
+            self.core.jac_valid,
+            &self.pending,
+            &mut m,
+        );
         // optional (states written before it have none): the previous multipliers
         if let Some((t, l)) = &self.lam_prev {
             m.push(*t);

@@ -13,17 +13,12 @@ impl GenAlpha {
         ];
         m.extend_from_slice(&self.a);
         // the matrix point: the valid one, or a restored one not formed again yet
-        let point = match (&self.jac_point, self.core.jac_valid) {
-            (Some(p), true) => Some(p),
-            _ => self.pending.as_ref(),
-        };
-        match point {
-            Some(p) => {
-                m.push(1.0);
-                p.write(&mut m);
-            }
-            None => m.push(0.0),
-        }
+        JacobianPoint::write_matrix_point(
+            &self.jac_point,
+            self.core.jac_valid,
+            &self.pending,
+            &mut m,
+        );
         m
     }
 

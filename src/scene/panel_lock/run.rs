@@ -149,8 +149,13 @@ impl PanelLock {
     /// that step reaches it). The interface peaks take every accepted step.
     pub fn advance(&mut self, t: f64, one_step: bool) -> Result<(), SolverError> {
         // the interface power at the start of the call (inputs may have changed since the last
-        // step's end): the first step's work starts from it
-        let p = self.root_power();
+        // step's end): the first step's work starts from it; a fixed satellite does not move, so
+        // no power crosses and no multiplier solve is spent on it
+        let p = if self.params.free_satellite {
+            self.root_power()
+        } else {
+            0.0
+        };
         self.interface_peaks.restart_power(self.sim.state.t, p);
         let mut hook = PeakHook::new(&self.layout, &mut self.interface_peaks, one_step);
         self.sim.advance_with(t, &mut hook)
