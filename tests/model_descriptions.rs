@@ -171,8 +171,8 @@ fn the_guid_changes_with_the_interface() {
 /// `rtol`, `atol` and `h_max` are declared once for every model (issue #43 item 3): both
 /// mechanisms show the same range, the one docs/parameter_spec.md decides (written out here,
 /// not read from the declaration). The tolerances' 0 is the integrator's own default
-/// (docs/auto_integrator.md); the values between 0 and the floors are refused when the model is
-/// built (`a_tolerance_below_its_floor_is_refused_at_initialization_naming_it`).
+/// (docs/auto_integrator.md); the values between 0 and the floors are refused where they are
+/// set (`a_tolerance_below_its_floor_is_refused_where_it_is_set_naming_it`).
 #[test]
 fn the_solver_knobs_have_one_range_in_every_model() {
     use mbcosim::scene::port::PortType;
@@ -219,10 +219,10 @@ fn a_tolerance_above_its_range_is_refused_naming_it() {
 }
 
 /// 0 means the integrator's own tolerance; a positive value below the floor (1e3 machine
-/// epsilons for `rtol`, 1e-15 for `atol`) is refused when the model initializes, naming it, and
-/// 0 itself runs.
+/// epsilons for `rtol`, 1e-15 for `atol`) is refused where it is set, naming it and the floor,
+/// and 0 itself runs.
 #[test]
-fn a_tolerance_below_its_floor_is_refused_at_initialization_naming_it() {
+fn a_tolerance_below_its_floor_is_refused_where_it_is_set_naming_it() {
     use mbcosim::scene::native;
     let models = || -> [(&str, Box<dyn mbcosim::scene::CoSimModel>); 2] {
         [
@@ -236,11 +236,15 @@ fn a_tolerance_below_its_floor_is_refused_at_initialization_naming_it() {
             ),
         ]
     };
-    for (knob, below) in [("rtol", 1e-14), ("atol", 1e-16)] {
+    for (knob, below, floor) in [
+        ("rtol", 1e-14, "2.220446049250313e-13"),
+        ("atol", 1e-16, "1e-15"),
+    ] {
         for (name, mut model) in models() {
-            native::set_by_name(model.as_mut(), knob, below).unwrap();
-            let err = model.initialize(0.0).unwrap_err().to_string();
-            assert!(err.contains(knob), "{name}: {err}");
+            let err = native::set_by_name(model.as_mut(), knob, below)
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains(knob) && err.contains(floor), "{name}: {err}");
         }
         for (name, mut model) in models() {
             native::set_by_name(model.as_mut(), knob, 0.0).unwrap();

@@ -495,6 +495,7 @@ mod tests {
                         max: None,
                         open: [false; 2],
                         unit_note: None,
+                        floor: None,
                     },
                     unit: Some("kg"),
                     description: "Total mass.".into(),
@@ -511,6 +512,7 @@ mod tests {
                         max: None,
                         open: [false; 2],
                         unit_note: None,
+                        floor: None,
                     },
                     unit: Some("J"),
                     description: "Energy.".into(),
@@ -565,6 +567,7 @@ mod tests {
             max: None,
             open: [false; 2],
             unit_note: None,
+            floor: None,
         };
         assert!(write(&bad).unwrap_err().contains("needs a start value"));
     }

@@ -356,6 +356,7 @@ mod tests {
                 max: None,
                 open: [false; 2],
                 unit_note: None,
+                floor: None,
             };
             p
         };

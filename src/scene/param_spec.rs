@@ -24,6 +24,9 @@ pub struct Range {
     pub max: Option<f64>,
     /// The lower (`[0]`) or upper (`[1]`) bound is excluded.
     pub open: [bool; 2],
+    /// With `min` 0 meaning a default: the smallest positive value in the set (values in
+    /// `(0, floor)` are not).
+    pub floor: Option<f64>,
 }
 
 impl Range {
@@ -33,6 +36,17 @@ impl Range {
             min,
             max,
             open: [false; 2],
+            floor: None,
+        }
+    }
+
+    /// `{0} U [floor, max]`: 0 means a default (the solver tolerances).
+    pub const fn zero_or(floor: f64, max: f64) -> Self {
+        Range {
+            min: Some(0.0),
+            max: Some(max),
+            open: [false; 2],
+            floor: Some(floor),
         }
     }
 
@@ -44,7 +58,8 @@ impl Range {
         let above = self
             .max
             .is_some_and(|hi| v > hi || (self.open[1] && v == hi));
-        v.is_finite() && !below && !above
+        let in_gap = self.floor.is_some_and(|f| v != 0.0 && v < f);
+        v.is_finite() && !below && !above && !in_gap
     }
 }
 
@@ -219,6 +234,9 @@ impl<P> RealSpec<P> {
         if let Some(note) = self.unit_note {
             spec = spec.with_unit_note(note);
         }
+        if let Some(f) = r.floor {
+            spec = spec.with_floor(f);
+        }
         spec
     }
 }
@@ -246,6 +264,7 @@ pub trait SolverKnobs {
 /// (docs/parameter_spec.md gives the ranges' reasons).
 pub mod solver {
     use super::{Bounds, Range, RealSpec, SolverKnobs};
+    use crate::integrator::{MIN_ATOL, MIN_RTOL};
 
     /// Largest `rtol` [-]: a tenth, beyond which error control no longer controls anything.
     pub const MAX_RTOL: f64 = 0.1;
@@ -274,7 +293,7 @@ pub mod solver {
         RealSpec::new(
             "rtol",
             None,
-            Bounds::Fixed(Range::closed(Some(0.0), Some(MAX_RTOL))),
+            Bounds::Fixed(Range::zero_or(MIN_RTOL, MAX_RTOL)),
             "Relative error tolerance of the adaptive integrators; 0: the integrator's own default (listed with the model's integrators); otherwise at least 1e3 machine epsilons (2.2e-13).",
             get::<P, 0>,
             set::<P, 0>,
@@ -287,7 +306,7 @@ pub mod solver {
         RealSpec::new(
             "atol",
             None,
-            Bounds::Fixed(Range::closed(Some(0.0), Some(MAX_ATOL))),
+            Bounds::Fixed(Range::zero_or(MIN_ATOL, MAX_ATOL)),
             "Absolute error tolerance of the integrator (m, rad, m/s, rad/s); 0: the integrator's own default (listed with the model's integrators); otherwise at least 1e-15.",
             get::<P, 1>,
             set::<P, 1>,
@@ -356,6 +375,7 @@ mod tests {
             min: Some(0.0),
             max: Some(1.0),
             open: [false, true],
+            floor: None,
         };
         assert!(r.contains(0.0));
         assert!(!r.contains(1.0));
@@ -378,9 +398,10 @@ mod tests {
                 start, min, max, ..
             } => {
                 assert_eq!(start, Some(1e-4));
-                // 0 is the integrator's own default; (0, 1e3 eps) is refused by
-                // `Settings::validate` when the model is built
+                // 0 is the integrator's own default; (0, 1e3 eps) is refused where it is set
                 assert_eq!(min, Some(0.0));
+                let r = s.range(&Knobs::default());
+                assert!(r.contains(0.0) && r.contains(1e3 * f64::EPSILON) && !r.contains(1e-14));
                 assert_eq!(max, Some(0.1));
             }
             _ => panic!("not real"),

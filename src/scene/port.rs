@@ -57,6 +57,9 @@ pub enum PortType {
         /// Unit shown in the documentation where none can be declared (`N/m^n`, with an
         /// exponent that is itself a parameter); `None`: the declared unit.
         unit_note: Option<&'static str>,
+        /// With `min` 0 meaning "a default" (the solver tolerances' 0), the smallest positive
+        /// value accepted: values in (0, floor) are refused where they are set.
+        floor: Option<f64>,
     },
     /// Integer value.
     Integer {
@@ -234,6 +237,7 @@ impl PortSpec {
                 max: None,
                 open: [false; 2],
                 unit_note: None,
+                floor: None,
             },
             unit,
             description: description.to_string(),
@@ -278,6 +282,7 @@ impl PortSpec {
                 max: None,
                 open: [false; 2],
                 unit_note: None,
+                floor: None,
             },
             unit,
             description: description.to_string(),
@@ -302,6 +307,7 @@ impl PortSpec {
                 max: None,
                 open: [false; 2],
                 unit_note: None,
+                floor: None,
             },
             unit,
             description: description.to_string(),
@@ -327,6 +333,15 @@ impl PortSpec {
             PortType::Real { min, .. } => *min = Some(lo),
             PortType::Integer { min, .. } => *min = Some(lo as i32),
             _ => {}
+        }
+        self
+    }
+
+    /// Sets a real port's smallest positive value where its minimum 0 means a default
+    /// (`PortType::Real::floor`).
+    pub fn with_floor(mut self, f: f64) -> Self {
+        if let PortType::Real { floor, .. } = &mut self.ty {
+            *floor = Some(f);
         }
         self
     }

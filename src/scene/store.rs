@@ -89,7 +89,18 @@ pub fn check_real(port: &PortSpec, v: f64) -> Result<(), ModelError> {
             "`{name}` = {v} refused: the value must be finite"
         )));
     }
-    if let PortType::Real { min, max, .. } = &port.ty {
+    if let PortType::Real {
+        min, max, floor, ..
+    } = &port.ty
+    {
+        if let Some(f) = floor
+            && v != 0.0
+            && v < *f
+        {
+            return Err(ModelError::InvalidValue(format!(
+                "`{name}` = {v:?} is below its minimum {f:?} (0 takes the default)"
+            )));
+        }
         if let Some(lo) = min
             && v < *lo
         {

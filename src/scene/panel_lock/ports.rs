@@ -30,12 +30,14 @@ const LOCK_ANGLE: Bounds = Bounds::Fixed(Range {
     min: Some(0.2),
     max: Some(std::f64::consts::PI),
     open: [true, false],
+    floor: None,
 });
 /// Stowed angles: stowed < lock - 0.2 <= pi - 0.2.
 const STOWED_ANGLE: Bounds = Bounds::Fixed(Range {
     min: Some(0.0),
     max: Some(std::f64::consts::PI - 0.2),
     open: [false, true],
+    floor: None,
 });
 /// Satellite centre-of-mass offsets [m].
 const CG: Bounds = fixed(-MAX_CG_OFFSET, MAX_CG_OFFSET);
@@ -337,6 +339,7 @@ pub static REAL_PARAMS: &[RealSpec<PanelLockParams>] = &[
             min: Some(0.0),
             max: Some(1.0),
             open: [false, true],
+            floor: None,
         }),
         "Modal damping ratio of the flexible panels' modes (flexible_panels only)."
     )
