@@ -57,6 +57,10 @@ class Fmu:
 def panel3(**kw):
     f = Fmu(DIST3 / "PanelLock.fmu")
     s = f.fmi3(**kw)
+    # generalized-alpha, as these tests were written for (`auto` would run dopri5_tree here,
+    # whose outputs with the intermediate-update callback differ from a plain run in the last
+    # bits: docs/auto_integrator.md)
+    s.setInt64([f.vr["integrator"]], [1])
     s.setFloat64([f.vr["rtol"]], [1e-6])
     s.enterInitializationMode(startTime=0.0)
     s.exitInitializationMode()
@@ -66,6 +70,7 @@ def panel3(**kw):
 def panel2():
     f = Fmu(DIST / "PanelLock.fmu")
     s = f.fmi2()
+    s.setInteger([f.vr["integrator"]], [1])
     s.setReal([f.vr["rtol"]], [1e-6])
     s.setupExperiment(startTime=0.0)
     s.enterInitializationMode()

@@ -127,6 +127,12 @@ def test_every_choice_parameter_is_covered():
     assert found == set(CHOICE_SETUPS), f"choice parameters {sorted(found)} vs the setups {sorted(CHOICE_SETUPS)}"
 
 
+# Items that must give the same run on their setup: PanelLock's `auto` (5) resolves to
+# `dopri5_tree` (4) on rigid panels with a fixed satellite, tolerances included
+# (docs/auto_integrator.md).
+SAME_ITEMS = {("PanelLock", "integrator"): {(4, 5)}}
+
+
 @pytest.mark.parametrize("importer", OTHERS)
 @pytest.mark.parametrize("model,choice", sorted(CHOICE_SETUPS))
 def test_importer_sets_every_choice_through_its_integer_twin(model, choice, importer):
@@ -145,7 +151,10 @@ def test_importer_sets_every_choice_through_its_integer_twin(model, choice, impo
         for b in runs:
             if a < b:
                 moved = [d for d in im.compare(runs[a], runs[b]) if d.rel > im.RTOL]
-                assert moved, f"{model}: {choice} = {a} and {b} set from {importer} give the same outputs"
+                if (a, b) in SAME_ITEMS.get((model, choice), ()):
+                    assert not moved, f"{model}: {choice} = {a} and {b} should give the same run:\n{moved}"
+                else:
+                    assert moved, f"{model}: {choice} = {a} and {b} set from {importer} give the same outputs"
 
 
 @pytest.mark.parametrize("model,choice", sorted(CHOICE_SETUPS))
