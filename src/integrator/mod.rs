@@ -653,6 +653,19 @@ impl JacobianPoint {
         }
     }
 
+    /// The point a restored state forms its Newton matrix at: `current` when the matrix is
+    /// `valid`, else `pending` (a restored point not formed again yet).
+    pub fn restore_point<'a>(
+        current: &'a Option<Self>,
+        valid: bool,
+        pending: &'a Option<Self>,
+    ) -> Option<&'a Self> {
+        match (current, valid) {
+            (Some(p), true) => Some(p),
+            _ => pending.as_ref(),
+        }
+    }
+
     /// Appends the point a restored state forms its Newton matrix at: `current` when the matrix
     /// is `valid`, else `pending` (a restored point not formed again yet), as a flag (1: a point
     /// follows, 0: none) and [`JacobianPoint::write`]'s values.
@@ -662,11 +675,7 @@ impl JacobianPoint {
         pending: &Option<Self>,
         m: &mut Vec<f64>,
     ) {
-        let point = match (current, valid) {
-            (Some(p), true) => Some(p),
-            _ => pending.as_ref(),
-        };
-        match point {
+        match Self::restore_point(current, valid, pending) {
             Some(p) => {
                 m.push(1.0);
                 p.write(m);

@@ -50,10 +50,8 @@ impl GenAlpha {
     }
 
     pub(super) fn write_monitors(&self) -> Vec<f64> {
-        let point = match (&self.jac_point, self.core.jac_valid) {
-            (Some(p), true) => Some(p),
-            _ => self.pending.as_ref(),
-        };
+        let point =
+            JacobianPoint::restore_point(&self.jac_point, self.core.jac_valid, &self.pending);
         crate::integrator::write_monitors(&[&self.rank], &self.lin, point)
     }
 
