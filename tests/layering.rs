@@ -70,3 +70,95 @@ fn only_the_fmi_module_knows_fmi_and_uses_unsafe() {
     assert!(files.len() > 10, "scanned only {} files", files.len());
     assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
+
+/// Non-test source of `src/`: `(path relative to src, code lines)`, without `*_tests.rs` files
+/// and each file's `mod tests` (from its `#[cfg(test)]` line on).
+fn library_code() -> Vec<(String, Vec<(usize, String)>)> {
+    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut out = Vec::new();
+    for f in &files {
+        let rel = f
+            .strip_prefix(&src)
+            .unwrap()
+            .to_string_lossy()
+            .replace('\\', "/");
+        if rel.ends_with("_tests.rs") || rel.starts_with("bin/") {
+            continue;
+        }
+        let text = std::fs::read_to_string(f).unwrap();
+        let end = text.find("#[cfg(test)]\nmod tests").unwrap_or(text.len());
+        let lines = code_lines(&text[..end])
+            .map(|(k, l)| (k, l.to_string()))
+            .collect();
+        out.push((rel, lines));
+    }
+    assert!(out.len() > 10, "scanned only {} files", out.len());
+    out
+}
+
+/// One panic boundary per exported call: `catch_unwind` only in the FMI boundary's guard and in
+/// the exports that run without it (instantiation, freeing, refusing an interface). A model or
+/// a lower floor that caught panics would put a second boundary under the guard.
+#[test]
+fn panics_are_caught_at_the_fmi_boundary_only() {
+    const ALLOWED: [&str; 3] = [
+        "fmi/boundary.rs",
+        "fmi/exports/common.rs",
+        "fmi/exports3/common.rs",
+    ];
+    let mut bad = Vec::new();
+    for (rel, lines) in library_code() {
+        for (line, code) in &lines {
+            if code.contains("catch_unwind(") && !ALLOWED.contains(&rel.as_str()) {
+                bad.push(format!("src/{rel}:{line}: {}", code.trim()));
+            }
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "panic boundaries below the guard:\n{}",
+        bad.join("\n")
+    );
+    // the guard's own boundary wraps the whole body, once
+    let boundary = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src/fmi/boundary.rs"),
+    )
+    .unwrap();
+    let fn_guard = &boundary[boundary.find("pub unsafe fn guard(").unwrap()..];
+    let fn_guard = &fn_guard[..fn_guard.find("\n}\n").unwrap()];
+    assert_eq!(
+        fn_guard.matches("catch_unwind(").count(),
+        2,
+        "the body's and the fatal log's"
+    );
+}
+
+/// `check_step` once per step: called by the FMI wrapper's step and by the trait's `do_step`
+/// for direct callers, each once, and by nothing else (a model's clock takes the checked
+/// `StepRequest`).
+#[test]
+fn step_requests_are_checked_in_two_places_only() {
+    let mut calls = Vec::new();
+    for (rel, lines) in library_code() {
+        for (line, code) in &lines {
+            if code.contains("check_step(") && !code.contains("fn check_step(") {
+                calls.push(format!("src/{rel}:{line}"));
+            }
+        }
+    }
+    let places: Vec<&str> = calls
+        .iter()
+        .map(|c| c.rsplit_once(':').unwrap().0)
+        .collect();
+    assert_eq!(
+        places,
+        if places.first() == Some(&"src/fmi/instance.rs") {
+            ["src/fmi/instance.rs", "src/scene/mod.rs"]
+        } else {
+            ["src/scene/mod.rs", "src/fmi/instance.rs"]
+        },
+        "{calls:?}"
+    );
+}
