@@ -26,6 +26,8 @@ pub mod pid;
 pub mod port;
 pub mod rope_block;
 pub mod scene_file;
+pub mod sim_state;
+pub mod spring_mass_damper;
 pub mod store;
 pub mod view;
 pub mod watch;
@@ -332,6 +334,7 @@ pub fn registry() -> Vec<ModelEntry> {
         ModelEntry::new(panel_lock::info, panel_lock::create),
         ModelEntry::new(pid::info, pid::create),
         ModelEntry::new(rope_block::info, rope_block::create),
+        ModelEntry::new(spring_mass_damper::info, spring_mass_damper::create),
     ]
 }
 
