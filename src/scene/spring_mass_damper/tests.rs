@@ -4,7 +4,6 @@
 
 use super::cosim::create;
 use super::*;
-use crate::scene::CoSimModel;
 use crate::scene::native;
 
 /// `(x, v)` at `t` [s] of the underdamped oscillator `p` under a constant force `force` [N]
