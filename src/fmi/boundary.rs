@@ -44,7 +44,11 @@ pub unsafe fn guard(
     let Some(inst) = entered.instance() else {
         return fmi2Error;
     };
-    let result = catch_unwind(AssertUnwindSafe(|| inst.call(func, mask, body)));
+    // the one panic boundary of the call: models and the layers below catch no panics
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        let outcome = inst.admit(mask).and_then(|()| body(inst));
+        inst.settle(func, outcome)
+    }));
     match result {
         Ok(status) => status,
         Err(payload) => {

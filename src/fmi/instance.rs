@@ -1,8 +1,8 @@
 //! One FMU instance in safe Rust: the model, the state machine, the FMU states.
 //!
-//! Every exported function runs its body through [`Instance::call`], which checks the state
-//! mask, turns an `Err(reason)` into `fmi2Error` with the reason logged, forwards the model's own
-//! messages, escalates the status to the worst one seen, and moves the instance to the `error`
+//! Every exported function runs its body between [`Instance::admit`], which checks the state
+//! mask, and [`Instance::settle`], which turns an `Err(reason)` into `fmi2Error` with the reason
+//! logged, forwards the model's own messages, escalates the status to the worst one seen, and moves the instance to the `error`
 //! state whenever the result is `fmi2Error` or worse. The bodies below never see raw pointers.
 
 use std::collections::HashMap;
@@ -17,7 +17,7 @@ use super::snapshot::{self, Snapshot};
 use super::types::*;
 use crate::scene::port::{BaseType, Causality, ModelInfo, PortSpec, ValueRef};
 use crate::scene::store::{PortIndex, check_integer, check_real, check_writable};
-use crate::scene::watch::{NoWatch, StepEnd, StepWatch};
+use crate::scene::watch::{StepEnd, StepWatch};
 use crate::scene::{CoSimModel, LogLevel, ModelEntry, TIME_RTOL, check_step, scene_file};
 
 /// Result of a function body: the status to return, or the reason for an `fmi2Error`.
@@ -151,22 +151,24 @@ impl Instance {
         self.info
     }
 
-    /// Runs one function body under the state machine (see the module documentation).
-    pub fn call(
-        &mut self,
-        func: &str,
-        mask: Mask,
-        body: impl FnOnce(&mut Self) -> Outcome,
-    ) -> fmi2Status {
-        let result = if mask.contains(self.machine.state) {
-            body(self)
+    /// Whether a function allowed in `mask` may run in the current state; the reason when not.
+    /// The first half of running a function body ([`super::boundary::guard`]).
+    pub fn admit(&self, mask: Mask) -> Outcome<()> {
+        if mask.contains(self.machine.state) {
+            Ok(())
         } else {
             Err(format!(
                 "illegal call sequence: not allowed in state {} (allowed in: {})",
                 self.machine.state.name(),
                 mask.names()
             ))
-        };
+        }
+    }
+
+    /// The second half (see the module documentation): the status of `func`'s `result`, with an
+    /// error's reason and the model's messages logged and the state moved to `error` when the
+    /// status is `fmi2Error` or worse.
+    pub fn settle(&mut self, func: &str, result: Outcome) -> fmi2Status {
         let mut status = match result {
             Ok(s) => s,
             Err(reason) => {
@@ -485,25 +487,11 @@ impl Instance {
         Ok(fmi2OK)
     }
 
-    /// `fmi2DoStep` from `t` over `h` [s].
-    pub fn do_step(&mut self, t: f64, h: f64) -> Outcome {
-        self.do_step_watched(t, h, &mut NoWatch).map(|_| fmi2OK)
-    }
-
-    /// `fmi3DoStep`: [`Instance::do_step`] under the importer's early-return and
-    /// intermediate-update choices ([`ImporterOptions`]); `true` when the step ended early (the
-    /// model's time says where).
-    pub fn do_step3(&mut self, t: f64, h: f64) -> Outcome<bool> {
-        let mut watch = ImporterWatch {
-            options: self.importer,
-        };
-        let end = self.do_step_watched(t, h, &mut watch)?;
-        Ok(matches!(end, StepEnd::Early { .. }))
-    }
-
-    /// The body of both: the step under `watch`.
-    fn do_step_watched(&mut self, t: f64, h: f64, watch: &mut dyn StepWatch) -> Outcome<StepEnd> {
-        check_step(self.model.time(), t, h).map_err(|e| e.to_string())?;
+    /// `fmi2DoStep` and `fmi3DoStep` from `t` over `h` [s] under `watch` (`NoWatch` for FMI
+    /// 2.0, [`Instance::importer_watch`] for FMI 3.0): the one [`check_step`] of the step, the
+    /// stop time, the model's step, finite outputs.
+    pub fn step(&mut self, t: f64, h: f64, watch: &mut dyn StepWatch) -> Outcome<StepEnd> {
+        let request = check_step(self.model.time(), t, h).map_err(|e| e.to_string())?;
         if let Some(stop) = self.machine.stop_time {
             let end = t + h;
             if end > stop + TIME_RTOL * 1f64.max(stop.abs()) {
@@ -512,7 +500,7 @@ impl Instance {
                 ));
             }
         }
-        let end = match self.model.do_step_watched(t, h, watch) {
+        let end = match self.model.do_step_watched(request, watch) {
             Ok(end) => end,
             Err(e) => {
                 self.log_solver_stats(&format!("after the failed step from t = {t} s"));
@@ -533,6 +521,14 @@ impl Instance {
             );
         }
         Ok(end)
+    }
+
+    /// The FMI 3.0 importer's early-return and intermediate-update choices as a step watcher
+    /// ([`ImporterOptions`]).
+    pub fn importer_watch(&self) -> ImporterWatch {
+        ImporterWatch {
+            options: self.importer,
+        }
     }
 
     /// `fmi2GetFMUstate`: a new handle, or `existing` overwritten (0 means none).

@@ -911,3 +911,40 @@ fn fmi3_array_variables_count_their_elements() {
         "mass and force back to their defaults"
     );
 }
+
+#[test]
+fn one_step_request_check_per_do_step_for_every_model() {
+    // the check of a step request runs once per fmi2DoStep, for the test model and every
+    // registered one (a second check in a model's clock or the wrapper would count 2)
+    let mut counted = Vec::new();
+    let entries = std::iter::once(probe_entry()).chain(crate::scene::registry());
+    for entry in entries {
+        let name = (entry.info)().identifier;
+        let h = H::new(entry, false);
+        h.init();
+        crate::scene::check_counter::take();
+        assert_eq!(h.step(0.0, 0.01), fmi2OK, "{name}: {}", h.last_error());
+        assert_eq!(h.step(0.01, 0.01), fmi2OK, "{name}: {}", h.last_error());
+        assert_eq!(crate::scene::check_counter::take(), 2, "{name}: 2 steps");
+        assert_eq!(h.step(0.5, 0.01), fmi2Error, "{name}");
+        assert_eq!(
+            crate::scene::check_counter::take(),
+            1,
+            "{name}: refused step"
+        );
+        counted.push(name);
+    }
+    assert!(counted.len() >= 4, "{counted:?}");
+}
+
+#[test]
+fn one_step_request_check_per_direct_do_step() {
+    // a model driven without the FMI layer (CLI, tests) checks through the trait's do_step
+    let mut m = (probe_entry().create)();
+    m.initialize(0.0).unwrap();
+    crate::scene::check_counter::take();
+    m.do_step(0.0, 0.01).unwrap();
+    assert_eq!(crate::scene::check_counter::take(), 1);
+    assert!(m.do_step(0.5, 0.01).is_err());
+    assert_eq!(crate::scene::check_counter::take(), 1);
+}

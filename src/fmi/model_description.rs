@@ -2,7 +2,7 @@
 //!
 //! The output is deterministic (no date, variables in table order), so the files checked in
 //! under `modelDescription/` can be compared byte for byte with what the table produces
-//! (`tests/model_descriptions.rs`). Rules applied:
+//! (`tests/fmi/model_descriptions.rs`). Rules applied:
 //!
 //! - `UnitDefinitions`: every unit used, with its SI `BaseUnit` exponents ([`super::units`]).
 //! - `TypeDefinitions`: one `SimpleType` per enumeration type.

@@ -40,6 +40,14 @@ pub fn port_labels(identifier: &str) -> &'static [Label] {
             ("u_max", 480.0, 130.0),
             ("u", 590.0, 195.0),
         ],
+        "SpringMassDamper" => &[
+            ("k", 95.0, 150.0),
+            ("c", 95.0, 250.0),
+            ("m", 300.0, 205.0),
+            ("F", 470.0, 185.0),
+            ("x", 300.0, 320.0),
+            ("spring_force", 160.0, 115.0),
+        ],
         _ => &[],
     }
 }
@@ -212,12 +220,27 @@ fn pid(out: &mut String) {
     text(out, 20.0, 30.0, "sampled at each communication point", "");
 }
 
+fn spring_mass_damper(out: &mut String) {
+    out.push_str(
+        "<line x1=\"40\" y1=\"120\" x2=\"40\" y2=\"280\" stroke=\"black\" stroke-width=\"3\"/>\n",
+    );
+    out.push_str("<polyline points=\"40,160 80,160 90,145 110,175 130,145 150,175 170,145 180,160 250,160\" fill=\"none\" stroke=\"black\" stroke-width=\"1.5\"/>\n");
+    out.push_str("<path d=\"M40 240 H120 M120 225 V255 M110 225 H150 V255 H110 M135 240 H250\" fill=\"none\" stroke=\"black\" stroke-width=\"1.5\"/>\n");
+    out.push_str(
+        "<rect x=\"250\" y=\"130\" width=\"120\" height=\"140\" fill=\"#eef\" stroke=\"black\"/>\n",
+    );
+    arrow(out, 370.0, 200.0, 460.0, 200.0, "#c00");
+    arrow(out, 250.0, 300.0, 350.0, 300.0, "black");
+    text(out, 20.0, 30.0, "m x'' + c x' + k x = F", "");
+}
+
 /// The sketch of a registered model; `None` for a model without one.
 pub fn svg(identifier: &str) -> Option<String> {
     let draw: fn(&mut String) = match identifier {
         "PanelLock" => panel_lock,
         "RopeBlock" => rope_block,
         "PidController" => pid,
+        "SpringMassDamper" => spring_mass_damper,
         _ => return None,
     };
     let mut out = String::from(HEAD);

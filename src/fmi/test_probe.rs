@@ -116,8 +116,12 @@ impl CoSimModel for Probe {
         self.ports.mark_initialized();
         Ok(())
     }
-    fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
-        crate::scene::check_step(self.time, t, h)?;
+    fn do_step_watched(
+        &mut self,
+        request: crate::scene::StepRequest,
+        _watch: &mut dyn crate::scene::watch::StepWatch,
+    ) -> Result<crate::scene::watch::StepEnd, ModelError> {
+        let (t, h) = (request.t(), request.h());
         if self.ports.get_boolean(PANIC_NOW)? {
             panic!("probe asked to panic");
         }
@@ -140,7 +144,7 @@ impl CoSimModel for Probe {
                 message: "negative force".into(),
             });
         }
-        Ok(())
+        Ok(crate::scene::watch::StepEnd::Complete)
     }
     fn time(&self) -> f64 {
         self.time

@@ -2,7 +2,7 @@
 //!
 //! C enums are plain `c_uint` aliases with constants, exactly as bindgen renders them, so that
 //! an out-of-range value coming from an importer is just a number to refuse, never undefined
-//! behaviour. `tests/fmi_signatures.rs` checks every export against the `fmi-sys` typedefs.
+//! behaviour. `tests/fmi/fmi_signatures.rs` checks every export against the `fmi-sys` typedefs.
 
 #![allow(non_camel_case_types, non_upper_case_globals)]
 

@@ -11,7 +11,7 @@
 //! started at `t0` takes the same steps as one started at 0 (outputs shifted by `t0`).
 
 use super::bytes::{ByteReader, ByteWriter};
-use super::{ModelError, check_step};
+use super::{ModelError, StepRequest};
 
 /// Time resolution of the snapping [s]: a step within 1e-3 of a whole number of these is taken as
 /// that whole number; steps below one are refused.
@@ -92,10 +92,10 @@ impl Clock {
         self.now
     }
 
-    /// Checks a step request from `t` over `h` [s] (see [`check_step`]) and returns the step
-    /// the model takes (see the module documentation).
-    pub fn step(&self, t: f64, h: f64) -> Result<Step, ModelError> {
-        check_step(self.time(), t, h)?;
+    /// The step the model takes for `request` (checked by [`super::check_step`] against this
+    /// clock's time; see the module documentation).
+    pub fn step(&self, request: StepRequest) -> Result<Step, ModelError> {
+        let (t, h) = (request.t(), request.h());
         if h < RESOLUTION {
             return Err(ModelError::InvalidValue(format!(
                 "communication step size {h} s is below the model's time resolution of 1 ns"
@@ -160,6 +160,12 @@ pub fn same_time(a: f64, b: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::check_step;
+
+    /// The clock's step for a request checked as the FMI layer checks it.
+    fn at(c: &Clock, t: f64, h: f64) -> Result<Step, ModelError> {
+        c.step(check_step(c.time(), t, h)?)
+    }
 
     #[test]
     fn importer_rounding_lands_on_the_same_step_ends() {
@@ -180,9 +186,9 @@ mod tests {
                 (t_ns + h_ns) as f64 / 1e9 - t_ns as f64 / 1e9,
             );
             differed += usize::from(h_lc != h);
-            let a = multiplied.step(t_mul, h).unwrap();
-            let b = added.step(t_added, h).unwrap();
-            let c = nanos.step(t_lc, h_lc).unwrap();
+            let a = at(&multiplied, t_mul, h).unwrap();
+            let b = at(&added, t_added, h).unwrap();
+            let c = at(&nanos, t_lc, h_lc).unwrap();
             assert_eq!(
                 (a.end.to_bits(), b.end.to_bits()),
                 (c.end.to_bits(), c.end.to_bits()),
@@ -210,9 +216,9 @@ mod tests {
         );
         for k in 0..5000 {
             let t = k as f64 * 0.05;
-            let a = zero.step(t, 0.05).unwrap();
-            let b = late.step(1000.0 + t, 0.05).unwrap();
-            let c = early.step(-1.0 + t, 0.05).unwrap();
+            let a = at(&zero, t, 0.05).unwrap();
+            let b = at(&late, 1000.0 + t, 0.05).unwrap();
+            let c = at(&early, -1.0 + t, 0.05).unwrap();
             assert_eq!(
                 (a.end.to_bits(), b.end.to_bits()),
                 (c.end.to_bits(), c.end.to_bits())
@@ -228,7 +234,7 @@ mod tests {
     fn steps_of_no_whole_nanoseconds_are_taken_as_given() {
         let (mut c, mut t) = (Clock::new(0.0).unwrap(), 0.0);
         for h in [1.0 / 3.0, 0.123_456_789_012_3, 2e-4 / 3.0] {
-            let step = c.step(t, h).unwrap();
+            let step = at(&c, t, h).unwrap();
             assert_eq!((step.end, step.h, step.time), (t + h, h, t + h));
             c.advance(&step);
             t += h;
@@ -239,9 +245,9 @@ mod tests {
     fn refusals_name_the_cause() {
         let c = Clock::new(0.0).unwrap();
         assert!(Clock::new(f64::NAN).is_err());
-        let e = c.step(0.0, 1e-10).unwrap_err().to_string();
+        let e = at(&c, 0.0, 1e-10).unwrap_err().to_string();
         assert!(e.contains("resolution of 1 ns"), "{e}");
-        let e = c.step(0.5, 0.1).unwrap_err().to_string();
+        let e = at(&c, 0.5, 0.1).unwrap_err().to_string();
         assert!(e.contains("does not match"), "{e}");
         assert!(Clock::restore(0.0, -1.0, 0.0).is_err());
     }

@@ -26,6 +26,8 @@ pub mod pid;
 pub mod port;
 pub mod rope_block;
 pub mod scene_file;
+pub mod sim_state;
+pub mod spring_mass_damper;
 pub mod store;
 pub mod view;
 pub mod watch;
@@ -141,21 +143,24 @@ pub trait CoSimModel: Send {
     /// Builds the system from the parameters and finds consistent initial conditions at `t_start` [s].
     fn initialize(&mut self, t_start: f64) -> Result<(), ModelError>;
 
-    /// Advances from `t` to `t + h` [s]; `t` must equal the model's current time (within rounding).
-    fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError>;
+    /// Advances from `t` to `t + h` [s]; `t` must equal the model's current time (within
+    /// rounding). The one check of the request ([`check_step`]) is made here, then the step is
+    /// [`CoSimModel::do_step_watched`] without a watcher.
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
+        let request = check_step(self.time(), t, h)?;
+        self.do_step_watched(request, &mut watch::NoWatch)
+            .map(|_| ())
+    }
 
-    /// [`CoSimModel::do_step`] under `watch` ([`watch`]): the step may end early, at an event of
-    /// the model (when the watcher stops at events) or where the watcher asks; the model's time
-    /// then tells where. The default (a model without events or internal steps) completes the
-    /// step.
+    /// The step `request` (checked once by its caller, [`check_step`]) under `watch`
+    /// ([`watch`]): the step may end early, at an event of the model (when the watcher stops at
+    /// events) or where the watcher asks; the model's time then tells where. A model without
+    /// events or internal steps ignores `watch` and completes the step.
     fn do_step_watched(
         &mut self,
-        t: f64,
-        h: f64,
-        _watch: &mut dyn watch::StepWatch,
-    ) -> Result<watch::StepEnd, ModelError> {
-        self.do_step(t, h).map(|()| watch::StepEnd::Complete)
-    }
+        request: StepRequest,
+        watch: &mut dyn watch::StepWatch,
+    ) -> Result<watch::StepEnd, ModelError>;
 
     /// Current simulation time [s].
     fn time(&self) -> f64;
@@ -220,9 +225,31 @@ pub trait CoSimModel: Send {
 /// points with rounding jitter (e.g. `0.009999999999999998` for `0.01`).
 pub const TIME_RTOL: f64 = 1e-9;
 
+/// A communication step request that passed [`check_step`]: the only way to build one, so a
+/// model handed a `StepRequest` need not check it again (the check runs once per step).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepRequest {
+    t: f64,
+    h: f64,
+}
+
+impl StepRequest {
+    /// The communication point the step starts from [s] (the importer's value).
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+
+    /// The communication step size [s] (the importer's value, positive and finite).
+    pub fn h(&self) -> f64 {
+        self.h
+    }
+}
+
 /// Checks a step request: `h` [s] positive and finite, `t` [s] finite and equal to `model_time`
 /// [s] within [`TIME_RTOL`] relative to `max(1 s, |t|, |model_time|)`.
-pub fn check_step(model_time: f64, t: f64, h: f64) -> Result<(), ModelError> {
+pub fn check_step(model_time: f64, t: f64, h: f64) -> Result<StepRequest, ModelError> {
+    #[cfg(test)]
+    check_counter::note();
     if !(h.is_finite() && h > 0.0) {
         return Err(ModelError::InvalidValue(format!(
             "communication step size {h} s refused: it must be positive and finite"
@@ -239,7 +266,28 @@ pub fn check_step(model_time: f64, t: f64, h: f64) -> Result<(), ModelError> {
             "communication point t = {t} s does not match the model time {model_time} s (tolerance {tol:e} s)"
         )));
     }
-    Ok(())
+    Ok(StepRequest { t, h })
+}
+
+/// Counts [`check_step`] calls on this thread, for the unit tests that hold the check to once
+/// per step.
+#[cfg(test)]
+pub mod check_counter {
+    use std::cell::Cell;
+
+    thread_local! {
+        static CALLS: Cell<usize> = const { Cell::new(0) };
+    }
+
+    /// One more call.
+    pub fn note() {
+        CALLS.with(|c| c.set(c.get() + 1));
+    }
+
+    /// Calls so far on this thread; resets the count.
+    pub fn take() -> usize {
+        CALLS.with(|c| c.replace(0))
+    }
 }
 
 /// A data file shipped with a model (packed into the FMU's `resources/` folder).
@@ -286,6 +334,7 @@ pub fn registry() -> Vec<ModelEntry> {
         ModelEntry::new(panel_lock::info, panel_lock::create),
         ModelEntry::new(pid::info, pid::create),
         ModelEntry::new(rope_block::info, rope_block::create),
+        ModelEntry::new(spring_mass_damper::info, spring_mass_damper::create),
     ]
 }
 

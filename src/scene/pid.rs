@@ -32,7 +32,8 @@ use super::clock::Clock;
 use super::param_spec::{Bounds, Range, RealSpec};
 use super::port::{ModelInfo, PortSpec, ValueRef, Variability};
 use super::store::PortStore;
-use super::{CoSimModel, LogLevel, LogRecord, ModelError};
+use super::watch::{StepEnd, StepWatch};
+use super::{CoSimModel, LogLevel, LogRecord, ModelError, StepRequest};
 
 /// Version of the serialized state (2: the clock, start time and elapsed time; version 1
 /// states stored the time, read as a start time).
@@ -379,11 +380,15 @@ impl CoSimModel for Pid {
         Ok(())
     }
 
-    fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
+    fn do_step_watched(
+        &mut self,
+        request: StepRequest,
+        _watch: &mut dyn StepWatch,
+    ) -> Result<StepEnd, ModelError> {
         if !self.ports.is_initialized() {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
-        let step = self.state.clock.step(t, h)?;
+        let step = self.state.clock.step(request)?;
         let h = step.h;
         let p = self.params()?;
         let (e, x) = self.sample()?;
@@ -407,7 +412,7 @@ impl CoSimModel for Pid {
                 self.state.clock.time()
             )));
         }
-        Ok(())
+        Ok(StepEnd::Complete)
     }
 
     fn time(&self) -> f64 {

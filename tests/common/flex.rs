@@ -104,7 +104,7 @@ pub fn upward_crossings(
 
 /// Small motions of a panel hanging from a hinge about its body y axis through `rho_f` (body
 /// x pointing down, `A0 = R_Y(pi/2)`, gravity `g` [m/s^2] along world -Z): mass and stiffness
-/// matrices over `[theta; a]` (derivation in `tests/flex_pendulum.rs`).
+/// matrices over `[theta; a]` (derivation in `tests/flex/flex_pendulum.rs`).
 pub fn hanging_linearization(
     data: &ModalBodyData,
     rho_f: &Vec3,

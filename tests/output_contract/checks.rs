@@ -574,4 +574,26 @@ pub const CHECKS: &[Check] = &[
         ],
         against: "1 at rest, 1e-6, for the rigs and example scenes; during a hoist = -hook fz / the hook load at rest, 1e-5",
     },
+    // ---------------------------------------------------------------- SpringMassDamper
+    Check {
+        model: "SpringMassDamper",
+        outputs: &["x", "v"],
+        sampling: Instant,
+        tests: &[
+            "src/scene/spring_mass_damper/tests.rs::free_damped_oscillation_matches_the_closed_form",
+            "src/scene/spring_mass_damper/tests.rs::step_force_matches_the_closed_form",
+            "tests/python/test_spring_mass_damper.py::test_matches_the_closed_form",
+        ],
+        against: "the closed-form damped oscillation about F/k (free, step force, an input step at 1 s through fmpy), 1e-6 of the amplitude (measured 6e-12)",
+    },
+    Check {
+        model: "SpringMassDamper",
+        outputs: &["a", "spring_force"],
+        sampling: Instant,
+        tests: &[
+            "src/scene/spring_mass_damper/tests.rs::free_damped_oscillation_matches_the_closed_form",
+            "tests/python/test_spring_mass_damper.py::test_matches_the_closed_form",
+        ],
+        against: "-k x - c v and (F - k x - c v) / m by hand from the reported x and v, 1e-12",
+    },
 ];

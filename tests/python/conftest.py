@@ -57,6 +57,13 @@ SCENARIOS = {
         step_independence=dict(values={"setpoint": 1.0, "measurement": 0.3, "kp": 2.0, "ki": 1.5},
                                output="u", exact=lambda t: 2.0 * 0.7 + 1.5 * 0.7 * t),
     ),
+    "SpringMassDamper": dict(
+        values={"c": 1.0, "k": 200.0},
+        stop=3.0,
+        step=0.01,
+        inputs={"F": lambda t: 5.0 * math.sin(4.0 * t)},
+        alt_values={"m": 2.0, "x0": -0.2},
+    ),
 }
 
 

@@ -30,8 +30,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-/// Multibody co-simulation models (PanelLock, RopeBlock, PidController) as FMI 2.0 and FMI 3.0
-/// co-simulation FMUs: pack them, run them natively, reproduce the studies.
+/// Multibody co-simulation models (PanelLock, RopeBlock, PidController, SpringMassDamper) as FMI
+/// 2.0 and FMI 3.0 co-simulation FMUs: pack them, run them natively, reproduce the studies.
 #[derive(Parser)]
 #[command(name = "mbcosim", version, arg_required_else_help = true)]
 struct Cli {

@@ -5,6 +5,7 @@ use crate::fmi::machine::{
     ALIVE, DO_STEP, GET_OUTPUT_DERIVATIVES, GET_STATUS, SET_INPUT_DERIVATIVES,
 };
 use crate::fmi::types::*;
+use crate::scene::watch::NoWatch;
 
 /// Not provided (`canInterpolateInputs="false"`): `fmi2Error`.
 ///
@@ -66,7 +67,12 @@ pub unsafe extern "C" fn fmi2DoStep(
 ) -> fmi2Status {
     unsafe {
         guard(c, "fmi2DoStep", DO_STEP, |i| {
-            i.do_step(currentCommunicationPoint, communicationStepSize)
+            i.step(
+                currentCommunicationPoint,
+                communicationStepSize,
+                &mut NoWatch,
+            )
+            .map(|_| fmi2OK)
         })
     }
 }

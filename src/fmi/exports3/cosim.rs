@@ -3,6 +3,7 @@
 use crate::fmi::boundary::{guard, out_ref};
 use crate::fmi::machine::{DO_STEP, GET_OUTPUT_DERIVATIVES};
 use crate::fmi::types3::*;
+use crate::scene::watch::StepEnd;
 
 /// Advances from `currentCommunicationPoint` over `communicationStepSize` [s]. With
 /// `earlyReturnAllowed` at instantiation the step ends at the model's first event (located in
@@ -37,9 +38,10 @@ pub unsafe extern "C" fn fmi3DoStep(
             for f in flags.iter_mut() {
                 **f = 0;
             }
-            let result = i.do_step3(currentCommunicationPoint, communicationStepSize);
+            let mut watch = i.importer_watch();
+            let result = i.step(currentCommunicationPoint, communicationStepSize, &mut watch);
             *last = i.last_successful_time();
-            let early = result?;
+            let early = matches!(result?, StepEnd::Early { .. });
             *flags[2] = u8::from(early);
             Ok(crate::fmi::types::fmi2OK)
         })

@@ -12,8 +12,8 @@ use crate::scene::port::ValueRef;
 use crate::scene::scene_file::SceneTable;
 use crate::scene::store::PortStore;
 use crate::scene::view::Snapshot;
-use crate::scene::watch::{NoWatch, StepEnd, StepWatch, advance_watched};
-use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
+use crate::scene::watch::{StepEnd, StepWatch, advance_watched};
+use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, StepRequest};
 use crate::state::State;
 
 /// Version of the serialized FMU state (2: the clock, start time and elapsed time, in
@@ -268,20 +268,16 @@ impl CoSimModel for PanelLockModel {
         Ok(())
     }
 
-    fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
-        self.do_step_watched(t, h, &mut NoWatch).map(|_| ())
-    }
-
     fn do_step_watched(
         &mut self,
-        t: f64,
-        h: f64,
+        request: StepRequest,
         watch: &mut dyn StepWatch,
     ) -> Result<StepEnd, ModelError> {
+        let (t, h) = (request.t(), request.h());
         if !self.ports.is_initialized() {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
-        let step = self.clock.step(t, h)?;
+        let step = self.clock.step(request)?;
         let start = self.clock.start();
         let before = self.lock_times();
         let scene = self.scene()?;

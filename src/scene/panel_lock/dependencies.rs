@@ -22,7 +22,7 @@
 //!   identity attitude, the system with zero momentum, the flexible panels undeformed).
 //!
 //! Solver settings, contact-law and latch parameters and damping coefficients act only once the
-//! array moves. `tests/initial_dependencies.rs` checks these declarations by perturbing every
+//! array moves. `tests/fmi/initial_dependencies.rs` checks these declarations by perturbing every
 //! known in several configurations: the input dependencies are exact there, the parameter
 //! dependencies a superset of what the perturbations show (never missing one).
 

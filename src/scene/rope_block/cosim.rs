@@ -40,9 +40,8 @@ use crate::scene::port::{PortType, ValueRef};
 use crate::scene::scene_file::SceneTable;
 use crate::scene::store::PortStore;
 use crate::scene::view::Snapshot;
-use crate::scene::watch::{NoWatch, StepEnd, StepWatch, advance_watched};
-use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError};
-use std::panic::{AssertUnwindSafe, catch_unwind};
+use crate::scene::watch::{StepEnd, StepWatch, advance_watched};
+use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, StepRequest};
 
 /// Version of the serialized FMU state (2 adds the friction-slide dissipation and the energy
 /// guard's reference; 3 the clock, start time and elapsed time, in place of the time; 4 the
@@ -113,14 +112,6 @@ impl Default for RopeBlockModel {
     fn default() -> Self {
         Self::new()
     }
-}
-
-/// Text of a caught panic payload.
-fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
-    p.downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| p.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "unknown panic".into())
 }
 
 impl RopeBlockModel {
@@ -438,34 +429,21 @@ impl CoSimModel for RopeBlockModel {
             ));
         }
         self.clock = Clock::new(t_start)?;
-        match catch_unwind(AssertUnwindSafe(|| self.start())) {
-            Ok(r) => r?,
-            Err(p) => {
-                self.scene = None;
-                return Err(ModelError::SolverFailure(format!(
-                    "RopeBlock set-up failed with an internal error: {}",
-                    panic_text(p.as_ref())
-                )));
-            }
-        }
+        self.start()?;
         self.ports.mark_initialized();
         Ok(())
     }
 
-    fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
-        self.do_step_watched(t, h, &mut NoWatch).map(|_| ())
-    }
-
     fn do_step_watched(
         &mut self,
-        t: f64,
-        h: f64,
+        request: StepRequest,
         watch: &mut dyn StepWatch,
     ) -> Result<StepEnd, ModelError> {
+        let (t, h) = (request.t(), request.h());
         if !self.ports.is_initialized() {
             return Err(ModelError::NotAllowed("do_step before initialize".into()));
         }
-        let step = self.clock.step(t, h)?;
+        let step = self.clock.step(request)?;
         // a step that h_max cannot cover within the integrator's max_steps per call fails only
         // after minutes of CPU (fmi3DoStep(t, 1e300) without a stop time took 97 s): refuse it
         let (h_max, max_steps) = {
@@ -482,10 +460,8 @@ impl CoSimModel for RopeBlockModel {
         let (t0, t_end) = (self.clock.elapsed(), step.end);
         let start = self.clock.start();
         let scene = self.scene()?;
-        let stopped = match catch_unwind(AssertUnwindSafe(|| {
-            advance_watched(&mut scene.sim, t_end, start, watch)
-        })) {
-            Ok(Ok(stopped)) => {
+        let stopped = match advance_watched(&mut scene.sim, t_end, start, watch) {
+            Ok(stopped) => {
                 for note in scene.sim.sim.take_solver_notes() {
                     self.log.push(LogRecord {
                         level: LogLevel::Warning,
@@ -494,21 +470,12 @@ impl CoSimModel for RopeBlockModel {
                 }
                 stopped
             }
-            Ok(Err(e)) => {
+            Err(e) => {
                 return Err(ModelError::SolverFailure(format!(
                     "RopeBlock solver failed in the step from t = {} s to {} s: {e}{}",
                     start + t0,
                     start + t_end,
                     remedy(&e)
-                )));
-            }
-            Err(p) => {
-                self.scene = None;
-                return Err(ModelError::SolverFailure(format!(
-                    "RopeBlock: internal error in the step from t = {} s to {} s: {}",
-                    start + t0,
-                    start + t_end,
-                    panic_text(p.as_ref())
                 )));
             }
         };

@@ -15,7 +15,7 @@
 //!
 //! The equilibrium is settled with the rope sliding freely over the edges and then every node
 //! sticking, so the friction coefficient does not shape it; solver settings, damping and drag
-//! (nothing moves) do not either. `tests/initial_dependencies.rs` checks these declarations by
+//! (nothing moves) do not either. `tests/fmi/initial_dependencies.rs` checks these declarations by
 //! perturbing every known in several configurations: the input dependencies (none) are exact,
 //! the parameter dependencies a superset of what the perturbations show (never missing one).
 

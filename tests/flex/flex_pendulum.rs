@@ -22,7 +22,7 @@
 //! which tells it apart from the rigid period (the correction is about 9e-5 here: the
 //! self-equilibrated load barely projects on the low modes of this panel).
 
-mod common;
+use crate::common;
 use common::flex::{hanging_linearization, lowest_mode, panel, upward_crossings};
 use mbcosim::flex::ModalBodyData;
 use mbcosim::integrator::{IntegratorKind, Settings};

@@ -3,7 +3,7 @@
 //! quadratic-velocity, elastic, damping, gravity) and the mass matrix blocks (assembled M(a) equal
 //! to `mass_mul`, symmetric, and equal to the invariants' `M(a)`).
 
-mod common;
+use crate::common;
 use common::flex::panel;
 use common::jacobian::{assembled, force_jacobian_mismatch};
 use mbcosim::dae::System;

@@ -5,7 +5,7 @@
 //! The FMU is packed into a temporary folder around the cdylib that `cargo test` has just built
 //! next to this test executable, so the test checks the current sources.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

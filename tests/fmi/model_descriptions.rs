@@ -126,7 +126,7 @@ fn interface_fingerprint(info: &mbcosim::scene::port::ModelInfo) -> u64 {
 /// this test until the model gets a new GUID and both are recorded anew.
 #[test]
 fn the_guid_changes_with_the_interface() {
-    let recorded: [(&str, &str, u64); 3] = [
+    let recorded: [(&str, &str, u64); 4] = [
         (
             "PanelLock",
             "{6df60479-b89e-496b-a2fd-dfb926e87222}",
@@ -141,6 +141,11 @@ fn the_guid_changes_with_the_interface() {
             "PidController",
             "{d3273808-9b6c-429a-8343-c6d18db11dab}",
             0x8c75_b021_d43a_1c76,
+        ),
+        (
+            "SpringMassDamper",
+            "{2cf7553d-8235-494e-a966-408337f98079}",
+            0x40e5_63bc_3b75_f3e2,
         ),
     ];
     let mut problems = Vec::new();

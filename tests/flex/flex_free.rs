@@ -4,7 +4,7 @@
 //! vector, elastic forces). The initial state mixes a spin about all three axes (well below the
 //! first elastic frequency, ~22 Hz) with an excitation of every mode.
 
-mod common;
+use crate::common;
 use common::flex::{modal_state, momenta, panel};
 use mbcosim::flex::ModalBodyData;
 use mbcosim::integrator::{IntegratorKind, Settings};

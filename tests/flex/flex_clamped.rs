@@ -8,7 +8,7 @@
 //! reduced mode (tip deflection about 1 cm, no damping) and the period is measured from upward
 //! zero crossings of the tip deflection over three periods.
 
-mod common;
+use crate::common;
 use common::flex::{lowest_mode, panel, upward_crossings};
 use mbcosim::flex::ModalBodyData;
 use mbcosim::flex::eigen::generalized_eigenvalues;

@@ -2,7 +2,7 @@
 //! FMU positions the packed PanelLock FMU's root hinge through its motor input, the same loop as
 //! `tests/python/test_panel_lock.py` runs in fmpy.
 
-mod common;
+use crate::common;
 
 use common::packed::{Fmi, packed};
 

@@ -4,7 +4,7 @@
 //! next to this test executable (`target/<profile>/deps/libmbcosim.so`), so the test always
 //! checks the current sources; `tests/run_all.sh` additionally checks `dist/` with fmpy.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

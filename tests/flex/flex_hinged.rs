@@ -14,7 +14,7 @@
 //! `flex_pendulum.rs`, coordinates restricted); (3) at a larger amplitude (0.3 rad) energy is
 //! conserved and the dropped rows stay satisfied.
 
-mod common;
+use crate::common;
 use common::flex::{hanging_linearization, lowest_mode, panel, upward_crossings};
 use mbcosim::flex::ModalBodyData;
 use mbcosim::integrator::{IntegratorKind, Settings};
