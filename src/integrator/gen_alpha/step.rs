@@ -243,13 +243,9 @@ impl GenAlpha {
                     for i in 0..nv {
                         self.tmp[i] = c * h * h * (self.a1[i] - self.a[i]);
                     }
-                    // the estimate along the joints' tangent space (`tmp`) and the whole one
-                    // (`full`); per step, or without joints, both are the whole one
+                    // the whole estimate (`full`); `tmp` is projected onto the joints' tangent
+                    // space below only where the blend uses it
                     self.full.copy_from_slice(&self.tmp);
-                    if unit && let Err(e) = self.project_estimate(sys, t1) {
-                        self.core.jac_valid = false;
-                        return StepOutcome::Failed(e);
-                    }
                     // round-off the estimate carries: accelerations carry the round-off of
                     // positions `dx` (`eps scale`, or the last Newton correction if the
                     // iteration stalled in the round-off band) as `dx / (b h^2)` along the
@@ -296,9 +292,13 @@ impl GenAlpha {
                     } else {
                         whole_weight(whole_roundoff)
                     };
-                    err = if g >= 1.0 {
+                    err = if g >= 1.0 || !unit {
                         whole
                     } else {
+                        if let Err(e) = self.project_estimate(sys, t1) {
+                            self.core.jac_valid = false;
+                            return StepOutcome::Failed(e);
+                        }
                         for (e, w) in self.werr.iter_mut().zip(&self.wx) {
                             *e = share * w + tangent_floor;
                         }
