@@ -2,8 +2,9 @@
 //! multibody solver needs to restore a run bit for bit (state, inputs, integrator history,
 //! work counters, monitors), written and read in one place.
 //!
-//! PanelLock and RopeBlock keep their own writers (their formats predate this one and carry
-//! model data in between); a new model calls [`write`] and [`read`].
+//! PanelLock and RopeBlock write their own sequence (their formats predate this one and carry
+//! model data in between) around the shared solver state ([`write_state`], [`read_state`]); a
+//! new model calls [`write`] and [`read`].
 
 use super::ModelError;
 use super::bytes::{ByteReader, ByteWriter};
@@ -12,9 +13,9 @@ use crate::integrator::Stats;
 use crate::sim::Simulation;
 use crate::state::State;
 
-/// Writes `sim`'s running state.
-pub fn write(w: &mut ByteWriter, sim: &Simulation) {
-    let st = &sim.state;
+/// Writes the solver state `st` (time, coordinates, multipliers, work counters, effect
+/// memory): the part of every model's serialized state that [`read_state`] reads back.
+pub fn write_state(w: &mut ByteWriter, st: &State) {
     w.f64(st.t);
     w.f64s(&st.q);
     w.f64s(&st.v);
@@ -23,6 +24,34 @@ pub fn write(w: &mut ByteWriter, sim: &Simulation) {
     w.f64(st.energy_dissipated);
     w.f64(st.work_input);
     w.f64s(&st.memory);
+}
+
+/// Reads what [`write_state`] wrote; with `elapsed` [s] (the model clock's elapsed time) the
+/// state's time must match it ([`same_time`]), checked before anything else is read.
+pub fn read_state(r: &mut ByteReader, elapsed: Option<f64>) -> Result<State, ModelError> {
+    let t = r.finite_f64("state time")?;
+    if let Some(elapsed) = elapsed
+        && !same_time(t, elapsed)
+    {
+        return Err(ModelError::BadState(format!(
+            "corrupt state: scene time {t} s does not match the clock's elapsed time {elapsed} s"
+        )));
+    }
+    Ok(State {
+        t,
+        q: r.f64s("positions")?,
+        v: r.f64s("speeds")?,
+        vdot: r.f64s("accelerations")?,
+        lambda: r.f64s("multipliers")?,
+        energy_dissipated: r.f64("dissipated energy")?,
+        work_input: r.f64("input work")?,
+        memory: r.f64s("effect memory")?,
+    })
+}
+
+/// Writes `sim`'s running state.
+pub fn write(w: &mut ByteWriter, sim: &Simulation) {
+    write_state(w, &sim.state);
     w.f64s(&sim.system.inputs);
     w.f64s(&sim.integrator_memory());
     w.f64s(&sim.stats().to_numbers());
@@ -33,22 +62,7 @@ pub fn write(w: &mut ByteWriter, sim: &Simulation) {
 /// the same parameters); `elapsed` [s] is the model clock's elapsed time, which the state's
 /// time must match ([`same_time`]).
 pub fn read(r: &mut ByteReader, sim: &mut Simulation, elapsed: f64) -> Result<(), ModelError> {
-    let t = r.finite_f64("state time")?;
-    if !same_time(t, elapsed) {
-        return Err(ModelError::BadState(format!(
-            "corrupt state: scene time {t} s does not match the clock's elapsed time {elapsed} s"
-        )));
-    }
-    let state = State {
-        t,
-        q: r.f64s("positions")?,
-        v: r.f64s("speeds")?,
-        vdot: r.f64s("accelerations")?,
-        lambda: r.f64s("multipliers")?,
-        energy_dissipated: r.f64("dissipated energy")?,
-        work_input: r.f64("input work")?,
-        memory: r.f64s("effect memory")?,
-    };
+    let state = read_state(r, Some(elapsed))?;
     let bad = |e: String| ModelError::BadState(format!("corrupt state: {e}"));
     let inputs = r.f64s("inputs")?;
     if inputs.len() != sim.system.inputs.len() || inputs.iter().any(|u| !u.is_finite()) {

@@ -14,7 +14,6 @@ use crate::scene::store::PortStore;
 use crate::scene::view::Snapshot;
 use crate::scene::watch::{StepEnd, StepWatch, advance_watched};
 use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, StepRequest};
-use crate::state::State;
 
 /// Version of the serialized FMU state (2: the clock, start time and elapsed time, in
 /// place of the time, and the solver counters; version 1 states start at 0 s and count from 0;
@@ -336,15 +335,7 @@ impl CoSimModel for PanelLockModel {
             Some(s) => {
                 w.bool(true);
                 w.u64(s.params.array_digest());
-                let st = &s.sim.state;
-                w.f64(st.t);
-                w.f64s(&st.q);
-                w.f64s(&st.v);
-                w.f64s(&st.vdot);
-                w.f64s(&st.lambda);
-                w.f64(st.energy_dissipated);
-                w.f64(st.work_input);
-                w.f64s(&st.memory);
+                crate::scene::sim_state::write_state(&mut w, &s.sim.state);
                 w.f64s(&s.sim.system.inputs);
                 w.f64s(&s.sim.integrator_memory());
                 w.f64s(&s.sim.stats().to_numbers());
@@ -387,23 +378,8 @@ impl CoSimModel for PanelLockModel {
                     params.array_digest()
                 )));
             }
-            let t = r.finite_f64("state time")?;
-            if !crate::scene::clock::same_time(t, restored.clock.elapsed()) {
-                return Err(ModelError::BadState(format!(
-                    "corrupt state: scene time {t} s does not match the clock's elapsed time {} s",
-                    restored.clock.elapsed()
-                )));
-            }
-            let state = State {
-                t,
-                q: r.f64s("positions")?,
-                v: r.f64s("speeds")?,
-                vdot: r.f64s("accelerations")?,
-                lambda: r.f64s("multipliers")?,
-                energy_dissipated: r.f64("dissipated energy")?,
-                work_input: r.f64("input work")?,
-                memory: r.f64s("effect memory")?,
-            };
+            let state =
+                crate::scene::sim_state::read_state(&mut r, Some(restored.clock.elapsed()))?;
             let inputs = r.f64s("inputs")?;
             let memory = r.f64s("integrator memory")?;
             let stats = if version >= 2 {
