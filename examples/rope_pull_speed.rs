@@ -14,8 +14,10 @@
 //!   rejections, Newton work, edge slides, CPU time of the thread, and T2/T1 across the node
 //!   (its two segments) sampled every 1 ms, mean over 1-2 s, least and largest.
 //!
-//! Run: `cargo run --release --example rope_pull_speed [-- capstan | tilted [T1 tilt]]` (both
-//! by default; `tilted 9.81e5 20` runs that one case at the three speeds).
+//! Run: `cargo run --release --example rope_pull_speed [-- capstan | tilted [T1 tilt]]
+//! [pseudo_coefficient]` (both by default; `tilted 9.81e5 20` runs that one case at the three
+//! speeds; a friction law's name, `edge_first` (the default) or `pseudo_coefficient`, runs the
+//! rigs under that law).
 //! The figures are in docs/rope_friction.md ("Pulled at a speed").
 
 #[allow(dead_code)]
@@ -26,17 +28,25 @@ mod pulled;
 mod rig;
 
 use mbcosim::model::Profile;
+use mbcosim::rope::friction::FrictionLaw;
 use pulled::hooked;
 use rig::{Hold, Wrap};
 
-fn capstan() {
-    println!("capstan pulled at 0.2 m/s, 2 s, samples every 1 ms");
+fn capstan(law: FrictionLaw) {
+    println!(
+        "capstan pulled at 0.2 m/s, 2 s, samples every 1 ms, friction law {}",
+        law.name()
+    );
     for k in [32, 64] {
         for t1 in [9.81e3, 9.81e5] {
             let pull = (Profile::constant(t1), Profile::constant(t1));
+            let props = mbcosim::rope::RopeProps {
+                friction_law: law,
+                ..rig::steel_rope()
+            };
             let rig = Wrap {
                 end_mass: 100.0 * t1 / 9.81e3,
-                ..Wrap::drum(k, 0.52, t1, rig::steel_rope(), pull, Hold::Fixed)
+                ..Wrap::drum(k, 0.52, t1, props, pull, Hold::Fixed)
             };
             let mut sim = hooked(&rig, 0.2);
             let (mut over_ends, mut local) = (0.0f64, 0.0f64);
@@ -103,12 +113,15 @@ fn tilted_cases(args: &[String]) -> Vec<(f64, f64)> {
     out
 }
 
-fn tilted(args: &[String]) {
-    println!("tilted sharp edge pulled by the hook, 2 s; T2/T1 across the node every 1 ms");
+fn tilted(args: &[String], law: FrictionLaw) {
+    println!(
+        "tilted sharp edge pulled by the hook, 2 s; T2/T1 across the node every 1 ms; friction law {}",
+        law.name()
+    );
     for (t1, tilt) in tilted_cases(args) {
         for v in [0.05, 0.1, 0.2] {
             let start = cpu_seconds();
-            let r = pulled::run_tilted(t1, tilt, v);
+            let r = pulled::run_tilted_under(law, t1, tilt, v);
             println!(
                 "T1 {t1:.3e} N, tilt {tilt:4.1} deg, v {v:.2} m/s: steps {}, rejected {}, Newton {} (failed {}), edge slides {}; T2/T1 over 1-2 s mean {:.4}, least {:.4}, largest {:.4}; {:.2} s CPU",
                 r.steps,
@@ -127,11 +140,15 @@ fn tilted(args: &[String]) {
 
 fn main() {
     let what: Vec<String> = std::env::args().skip(1).collect();
-    let all = what.is_empty();
+    let law = what
+        .iter()
+        .find_map(|w| FrictionLaw::from_name(w))
+        .unwrap_or_default();
+    let all = !what.iter().any(|w| w == "capstan" || w == "tilted");
     if all || what.iter().any(|w| w == "capstan") {
-        capstan();
+        capstan(law);
     }
     if all || what.iter().any(|w| w == "tilted") {
-        tilted(&what);
+        tilted(&what, law);
     }
 }

@@ -36,6 +36,8 @@ pub const SLIDE_BAND: f64 = 1e-9;
 pub struct NodeCone<'a> {
     /// Cone coefficient `mu` [-].
     pub mu: f64,
+    /// How the cone splits friction between edge and rope ([`friction::FrictionLaw`]).
+    pub law: friction::FrictionLaw,
     /// Slip mode along the rope.
     pub mode: SlipMode,
     /// The rope's pull on the node in the contact frame ([`friction::rope_pull`]) [N].
@@ -78,7 +80,12 @@ impl NodeCone<'_> {
         if !(self.mode == SlipMode::Stick && self.pull.normal > 0.0 && self.beyond()) {
             return None;
         }
-        let share = friction::rope_share(self.mu, self.pull.normal, self.hold_force);
+        let share = self.law.rope_share(
+            self.mu,
+            self.pull.normal,
+            self.hold_force,
+            self.pull.along_rope,
+        );
         let forward = self.t_next > self.t_prev;
         let mode = if forward {
             SlipMode::SlipForward
@@ -92,8 +99,7 @@ impl NodeCone<'_> {
     /// [`SLIDE_BAND`] below its boundary: the coefficient of the share its edge load and geometry
     /// leave ([`Self::share_target`]); `None` otherwise.
     pub fn settled_share(&self) -> Option<f64> {
-        let below = self.friction() < self.mu * self.pull.normal * (1.0 - SLIDE_BAND);
-        if self.beyond() || below {
+        if self.beyond() || self.below() {
             self.share_target()
         } else {
             None
@@ -112,6 +118,37 @@ impl NodeCone<'_> {
         Some(self.coefficient(want, self.mode == SlipMode::SlipForward))
     }
 
+    /// Under the pseudo friction coefficient, a node the rope slides through whose friction is
+    /// outside its cone: the rope's part `|F_r| / |F|` of the trial's direction, which the radial
+    /// scaling keeps (the rope then slides with the share `mu |F_r| / |F|`,
+    /// [`Self::radial_target`], and the hold is cut to what that leaves along the edge,
+    /// `mu N |F_e| / |F|`, [`Self::clipped_hold`]). `None` under edge first, while the rope
+    /// sticks, or inside the cone (a sliding node below the cone gets [`Self::share_target`]
+    /// under both laws: the edge's load is inside its radial part, so only the rope moves).
+    pub fn radial_fraction(&self) -> Option<f64> {
+        let sliding = self.mode != SlipMode::Stick && self.pull.normal > 0.0;
+        if self.law != friction::FrictionLaw::PseudoCoefficient || !sliding || !self.beyond() {
+            return None;
+        }
+        let trial = Reaction {
+            normal: self.pull.normal,
+            along_edge: self.hold_force,
+            along_rope: self.pull.along_rope,
+        };
+        // rho |F_r| / (mu N) = |F_r| / |F| beyond the cone
+        Some(trial.pseudo_friction(self.mu) * self.pull.along_rope.abs() / (self.mu * trial.normal))
+    }
+
+    /// The coefficient of the share `mu fraction` (the rope's part of the radially scaled
+    /// force, [`Self::radial_fraction`]) at this geometry; `None` where the rope sticks or
+    /// `N <= 0`.
+    pub fn radial_target(&self, fraction: f64) -> Option<f64> {
+        if self.mode == SlipMode::Stick || self.pull.normal <= 0.0 {
+            return None;
+        }
+        Some(self.coefficient(self.mu * fraction, self.mode == SlipMode::SlipForward))
+    }
+
     /// The force [N] the hold is cut to ([`friction::edge_capacity`] with the hold's sign) where
     /// it exceeds what the cone leaves along the edge, at a sliding node or where the edge load
     /// alone exceeds `mu N`; `None` otherwise.
@@ -121,6 +158,11 @@ impl NodeCone<'_> {
         let sticks = self.mode == SlipMode::Stick;
         (fe > cap && (!sticks || fe > self.mu * self.pull.normal.max(0.0)))
             .then(|| self.hold_force.signum() * cap)
+    }
+
+    /// Whether the node's friction is below the cone's boundary by more than [`SLIDE_BAND`].
+    pub fn below(&self) -> bool {
+        self.friction() < self.mu * self.pull.normal * (1.0 - SLIDE_BAND)
     }
 
     /// Whether a node sticking along the rope has friction outside its cone.
@@ -284,6 +326,7 @@ mod tests {
     ) -> NodeCone<'a> {
         NodeCone {
             mu: MU,
+            law: friction::FrictionLaw::EdgeFirst,
             mode,
             pull,
             hold_force,

@@ -538,6 +538,13 @@ impl RopeEffect {
         (rec.mode(), rec.share())
     }
 
+    /// The friction law of contact slot `c`'s cone (its rope's `friction_law`).
+    #[inline]
+    pub fn friction_law(&self, c: usize) -> super::friction::FrictionLaw {
+        let p = self.contact_point[c] as usize;
+        self.props[self.rope_of[p] as usize].friction_law
+    }
+
     /// Coefficient `mu` of contact slot `c`'s Coulomb cone from the memory.
     #[inline]
     pub fn contact_mu(&self, memory: &[f64], c: usize) -> f64 {

@@ -126,6 +126,116 @@ impl Reaction {
     }
 }
 
+/// How a node's Coulomb cone splits its friction between the edge and the rope when the trial
+/// friction leaves the cone (the RopeBlock parameter `friction_law`). Both laws share the cone
+/// `|(F_e, F_r)| <= mu N` and decide stick and slide alike; they differ only in where on the cone
+/// the friction lands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FrictionLaw {
+    /// The closest point of the cone in the metric of the two elements' compliances, in the
+    /// limit of the stiff hold: the edge keeps its load (up to `mu N`) and the rope slides with
+    /// the share `sqrt(mu^2 - (F_e/N)^2)` ([`return_map`], [`rope_share`]). The default.
+    #[default]
+    EdgeFirst,
+    /// Servin's pseudo friction coefficient, as the rope paper uses it: the whole tangential
+    /// force is scaled radially by `rho` ([`Reaction::pseudo_friction`]), keeping the direction
+    /// of the trial `(F_e, F_r)`; the rope slides with the share `mu |F_r| / |F|` and the edge
+    /// keeps `mu N |F_e| / |F|` ([`radial_map`], [`FrictionLaw::rope_share`]).
+    PseudoCoefficient,
+}
+
+/// Items of the `friction_law` choice (1-based codes: [`FrictionLaw::code`]).
+pub static FRICTION_LAWS: &[(&str, &str)] = &[
+    (
+        "edge_first",
+        "the edge keeps its load, the rope slides with what the cone leaves, sqrt(mu^2 - (F_e/N)^2)",
+    ),
+    (
+        "pseudo_coefficient",
+        "the rope paper's pseudo friction coefficient: the combined tangential force scaled radially by rho = min(1, mu N / |F|)",
+    ),
+];
+
+impl FrictionLaw {
+    /// The law's code, 1-based as in [`FRICTION_LAWS`].
+    pub fn code(self) -> i32 {
+        match self {
+            FrictionLaw::EdgeFirst => 1,
+            FrictionLaw::PseudoCoefficient => 2,
+        }
+    }
+
+    /// The law of code `code` (1-based); `None` for any other code.
+    pub fn from_code(code: i32) -> Option<Self> {
+        match code {
+            1 => Some(FrictionLaw::EdgeFirst),
+            2 => Some(FrictionLaw::PseudoCoefficient),
+            _ => None,
+        }
+    }
+
+    /// The law named `name` ([`FRICTION_LAWS`]).
+    pub fn from_name(name: &str) -> Option<Self> {
+        FRICTION_LAWS
+            .iter()
+            .position(|(n, _)| *n == name)
+            .and_then(|i| Self::from_code(i as i32 + 1))
+    }
+
+    /// The law's item name.
+    pub fn name(self) -> &'static str {
+        FRICTION_LAWS[(self.code() - 1) as usize].0
+    }
+
+    /// The return mapping of the trial friction (`along_edge`, `along_rope` [N]) at normal
+    /// force `normal` [N] onto the cone of coefficient `mu` [-] under this law.
+    pub fn map(self, mu: f64, normal: f64, along_edge: f64, along_rope: f64) -> ConeStep {
+        match self {
+            FrictionLaw::EdgeFirst => return_map(mu, normal, along_edge, along_rope),
+            FrictionLaw::PseudoCoefficient => radial_map(mu, normal, along_edge, along_rope),
+        }
+    }
+
+    /// The friction coefficient [-] with which the rope slides through the node for the trial
+    /// friction (`along_edge`, `along_rope` [N]) at normal force `normal` [N]: its friction along
+    /// the rope over `N` once the trial is mapped onto the cone. The rope leaves the band of
+    /// this share exactly when the trial leaves the cone, under both laws. Edge first:
+    /// [`rope_share`] (the rope's own trial does not enter). Pseudo coefficient:
+    /// `mu |F_r| / |F|`, the rope's part of the radially scaled force (`mu` without any
+    /// friction in the trial, and without a normal force).
+    pub fn rope_share(self, mu: f64, normal: f64, along_edge: f64, along_rope: f64) -> f64 {
+        match self {
+            FrictionLaw::EdgeFirst => rope_share(mu, normal, along_edge),
+            FrictionLaw::PseudoCoefficient => {
+                let f = along_edge.hypot(along_rope);
+                if normal <= 0.0 || f == 0.0 {
+                    mu
+                } else {
+                    mu * along_rope.abs() / f
+                }
+            }
+        }
+    }
+}
+
+/// The pseudo friction coefficient's mapping: the trial (`along_edge`, `along_rope` [N]) scaled
+/// by `rho` ([`Reaction::pseudo_friction`] at `normal` [N] and `mu` [-]), its direction kept:
+/// the closest point of the cone in the plain (Euclidean) metric. No friction while the plate
+/// would pull.
+pub fn radial_map(mu: f64, normal: f64, along_edge: f64, along_rope: f64) -> ConeStep {
+    let trial = Reaction {
+        normal,
+        along_edge,
+        along_rope,
+    };
+    let rho = trial.pseudo_friction(mu);
+    ConeStep {
+        inside: rho == 1.0,
+        along_edge: rho * along_edge,
+        along_rope: rho * along_rope,
+    }
+}
+
 /// The node's friction after the return mapping onto the cone `|(F_e, F_r)| <= mu N`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConeStep {
@@ -284,6 +394,39 @@ mod tests {
         let c = edge_capacity(mu, n, 0.8 * mu * n);
         assert!((c - 0.6 * mu * n).abs() < 1e-9);
         assert_eq!(return_map(mu, -1.0, 1.0, 0.0).along_edge, 0.0);
+    }
+
+    #[test]
+    fn the_pseudo_coefficient_scales_the_trial_radially() {
+        let (mu, n) = (0.2, 1e4);
+        let law = FrictionLaw::PseudoCoefficient;
+        // inside: unchanged, as edge first
+        let m = law.map(mu, n, 1e3, -1e3);
+        assert!(m.inside && m.along_edge == 1e3 && m.along_rope == -1e3);
+        // outside: (1.2e3, -4e3) has |F| = 4176.1 N against mu N = 2e3: rho = 0.47891, both
+        // components scaled by it, the direction kept (hand calculation)
+        let m = law.map(mu, n, 1.2e3, -4e3);
+        let rho = 2e3 / (1.2e3f64.powi(2) + 4e3f64.powi(2)).sqrt();
+        assert!(!m.inside);
+        assert!((m.along_edge - 1.2e3 * rho).abs() < 1e-9);
+        assert!((m.along_rope + 4e3 * rho).abs() < 1e-9);
+        assert!((m.along_edge.hypot(m.along_rope) - mu * n).abs() < 1e-9);
+        // where edge first keeps the edge's load and cuts the rope to 1.6e3 N
+        let e = FrictionLaw::EdgeFirst.map(mu, n, 1.2e3, -4e3);
+        assert!(e.along_edge == 1.2e3 && (e.along_rope + 1.6e3).abs() < 1e-9);
+        // the rope's share is its part of the scaled force, mu |F_r| / |F|
+        let s = law.rope_share(mu, n, 1.2e3, -4e3);
+        assert!((s * n - 4e3 * rho).abs() < 1e-9);
+        // no edge load: both laws give the rope mu; no friction at all: mu; plate pulling: none
+        assert_eq!(law.rope_share(mu, n, 0.0, 5e3), mu);
+        assert_eq!(law.rope_share(mu, n, 0.0, 0.0), mu);
+        assert_eq!(law.map(mu, -1.0, 1.0, 1.0).along_edge, 0.0);
+        // names and codes
+        for l in [FrictionLaw::EdgeFirst, law] {
+            assert_eq!(FrictionLaw::from_code(l.code()), Some(l));
+            assert_eq!(FrictionLaw::from_name(l.name()), Some(l));
+        }
+        assert_eq!(FrictionLaw::default(), FrictionLaw::EdgeFirst);
     }
 
     #[test]

@@ -26,6 +26,9 @@ pub struct RopeProps {
     pub friction: f64,
     /// Minimum breaking load [N] (reported, never enforced).
     pub breaking_load: f64,
+    /// How a contact node's cone splits friction between edge and rope when it slides
+    /// ([`super::friction::FrictionLaw`]; edge first by default).
+    pub friction_law: super::friction::FrictionLaw,
 }
 
 impl Default for RopeProps {
@@ -40,6 +43,7 @@ impl Default for RopeProps {
             fluid_density: 1.225,
             friction: 0.15,
             breaking_load: 2.5e6,
+            friction_law: super::friction::FrictionLaw::EdgeFirst,
         }
     }
 }

@@ -146,8 +146,8 @@ pub fn eval(
 
 /// Whether the rope starts sliding through the sticking contact node of slot `c` (points `p`:
 /// previous, node, next; tensions `tp`, `tn` [N] of its segments): the node's Coulomb cone
-/// leaves the share `s` along the rope ([`friction::rope_share`] of the hold's force along the
-/// edge and the rope's pull); the rope slides in the direction of the larger tension, with that
+/// leaves the share `s` along the rope ([`friction::FrictionLaw::rope_share`] of the hold's
+/// force along the edge and the rope's pull at this trial, where the node sticks); the rope slides in the direction of the larger tension, with that
 /// share, when the tensions leave the share's band.
 fn starts_sliding(
     e: &RopeEffect,
@@ -169,7 +169,9 @@ fn starts_sliding(
             let frame = ContactFrame::new(&edge, &friction::any_normal(&edge), &ea, &eb);
             let pull = friction::rope_pull(&frame, &ea, &eb, tp, tn);
             let fe = e.edge_hold(ctx, c).map(|h| h.force).unwrap_or(0.0);
-            let s = friction::rope_share(mu, pull.normal, fe);
+            let s = e
+                .friction_law(c)
+                .rope_share(mu, pull.normal, fe, pull.along_rope);
             if pull.normal > 0.0 {
                 // the law's coefficient in the rope's plane that gives the share in the
                 // edge's frame (they differ while the rope is tilted along the edge)

@@ -134,8 +134,8 @@ fn the_guid_changes_with_the_interface() {
         ),
         (
             "RopeBlock",
-            "{e2800f8d-1315-47c5-a9e6-b0f2a23a20b2}",
-            0x80dc_0494_f501_23a6,
+            "{72837ef2-af5d-4268-b848-abbcd5919726}",
+            0x0c49_7f3b_347a_da4c,
         ),
         (
             "PidController",

@@ -15,6 +15,7 @@ use crate::rig::*;
 use mbcosim::math::Vec3;
 use mbcosim::model::Profile;
 use mbcosim::rope::SlipMode;
+use mbcosim::rope::friction::FrictionLaw;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -153,6 +154,26 @@ fn drum_of_64_contact_nodes_follows_the_polygon_law_inside_the_cone() {
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
+/// The 64-edge drum under the rope paper's pseudo friction coefficient (issue #45 item 4): each
+/// edge is across the rope, so no load acts along the edges and the polygon law holds to the
+/// same 0.5 %, with every node inside its cone (on it while sliding) to 1e-9.
+#[test]
+fn drum_of_64_contact_nodes_follows_the_polygon_law_under_the_pseudo_coefficient() {
+    let mut failures = Vec::new();
+    for t1 in [9.81e3, 9.81e5] {
+        let mut rig = drum(64, t1, 100.0 * t1 / 9.81e3);
+        rig.props.friction_law = FrictionLaw::PseudoCoefficient;
+        failures.extend(check(
+            "drum k = 64, pseudo coefficient",
+            rig,
+            t1,
+            false,
+            1e-3,
+        ));
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
 /// The 256-edge drum's polygon law, checked against the capstan law it approaches.
 fn drum_256_law() {
     let capstan = (MU * PI).exp();
@@ -228,4 +249,68 @@ fn rope_pulled_around_a_rounded_corner_both_ways() {
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// Issue #42's "no tension spike above the strand's load by more than 1e-6 relative" on the
+/// 32-edge drum, at 9.81 kN and 981 kN. A rope pulled at a speed rings axially at about 1e-3
+/// of its load (docs/rope_friction.md, "Pulled at a speed": 49-59 N between neighbours at
+/// 18 kN is a strand node accelerating at 15-18 m/s^2, physics, not a report error), so the
+/// check needs a quasi-static rig: end 1 held at T1, end 2's pull raised smoothly from T1 to
+/// 1.015 T1 over 2 s along `T1 (1.015 - 0.015 cos(2 pi t / 8 s))` (zero rate at the start, so
+/// no step excites the axial modes, whose periods are milliseconds; end loads of 10 kg, so the
+/// inertia of the ends' motion under the rising load is below 1e-8 of it), which stays below
+/// the per-edge slip ratio 1.0197: every node sticks, the drum's friction carries the
+/// difference. At every sample (10 ms) no segment's tension may exceed the larger applied end
+/// load, the load the strand carries (an input, not a reported tension), by more than 1e-6
+/// relative; and the segment at end 2 carries that load to 1e-6 (the rig is quasi-static).
+/// Raised to 1.15 T1 instead, the nodes near end 2 start sliding at about 0.7 s and from there
+/// the strand rings at up to 3.4e-4 of its load (docs/rope_friction.md, 2026-12-07 "rope3"):
+/// the stick-slip onset excites the axial modes, so that rig is not quasi-static.
+#[test]
+fn quasi_static_drum_of_32_edges_has_no_tension_above_the_strands_load() {
+    use mbcosim::model::Profile;
+    let period = 8.0;
+    let omega = 2.0 * PI / period;
+    for t1 in [9.81e3, 9.81e5] {
+        let load = |t: f64| t1 * (1.015 - 0.015 * (omega * t).cos());
+        let f2 = Profile::Sine {
+            offset: 1.015 * t1,
+            amplitude: 0.015 * t1,
+            omega,
+            phase: -0.5 * PI,
+        };
+        let rig = Wrap {
+            end_mass: 10.0,
+            ..Wrap::drum(
+                32,
+                0.52,
+                t1,
+                steel_rope(),
+                (Profile::constant(t1), f2),
+                Hold::Fixed,
+            )
+        };
+        let mut sim = rig.sim(settings(1e-3));
+        let (mut worst_over, mut worst_end, mut sliding) = (f64::NEG_INFINITY, 0.0f64, 0);
+        for s in 1..=200 {
+            let t = 1e-2 * s as f64;
+            sim.advance_to(t).unwrap();
+            let strand = load(t).max(t1);
+            let ten: Vec<f64> = sim.rope_tensions(0).iter().map(|x| x.0).collect();
+            let top = ten.iter().fold(f64::NEG_INFINITY, |a, x| a.max(*x));
+            worst_over = worst_over.max(top / strand - 1.0);
+            worst_end = worst_end.max((ten[ten.len() - 1] / strand - 1.0).abs());
+            sliding += sim
+                .slip_modes()
+                .iter()
+                .filter(|m| **m != SlipMode::Stick)
+                .count();
+        }
+        println!(
+            "quasi-static drum k = 32, T1 {t1:.3e} N: largest segment tension over the strand's load {worst_over:+.2e}, end-2 segment against its load {worst_end:.2e}, sliding node samples {sliding}"
+        );
+        assert!(worst_over <= 1e-6, "T1 {t1}: {worst_over:e}");
+        assert!(worst_end <= 1e-6, "T1 {t1}: {worst_end:e}");
+        assert!(sliding == 0, "T1 {t1}: {sliding} node samples slid");
+    }
 }

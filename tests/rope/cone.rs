@@ -21,6 +21,7 @@ use crate::rig::*;
 use mbcosim::math::Vec3;
 use mbcosim::model::Profile;
 use mbcosim::rope::SlipMode;
+use mbcosim::rope::friction::FrictionLaw;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -41,6 +42,11 @@ struct Tilted {
 
 /// Runs the strand tilted by `tilt_deg` at `t1` [N]; prints a summary.
 fn tilted_run(tilt_deg: f64, t1: f64) -> Tilted {
+    tilted_run_under(FrictionLaw::EdgeFirst, tilt_deg, t1)
+}
+
+/// [`tilted_run`] under the friction law `law`.
+fn tilted_run_under(law: FrictionLaw, tilt_deg: f64, t1: f64) -> Tilted {
     let g = 0.25 * PI;
     let a = tilt_deg.to_radians();
     let e1 = Vec3::new(-g.sin(), -g.cos(), 0.0);
@@ -53,7 +59,10 @@ fn tilted_run(tilt_deg: f64, t1: f64) -> Tilted {
         e2,
         strand: 2.0,
         nodes: 3,
-        props: steel_rope(),
+        props: mbcosim::rope::RopeProps {
+            friction_law: law,
+            ..steel_rope()
+        },
         t_init: vec![t1, t1],
         end_mass: 100.0 * t1 / 9.81e3,
         f1: Profile::constant(t1),
@@ -119,7 +128,8 @@ fn tilted_run(tilt_deg: f64, t1: f64) -> Tilted {
         }
     }
     println!(
-        "tilt {tilt_deg:4.1} deg, T1 {t1:.3e} N: max friction / (mu N) {worst_cone:.9}, least while sliding 1 - {:.1e}, T2/T1 over the sharp-edge ratio (untilted) {worst_law:+.2e}, sliding samples {slid}/60",
+        "{}: tilt {tilt_deg:4.1} deg, T1 {t1:.3e} N: max friction / (mu N) {worst_cone:.9}, least while sliding 1 - {:.1e}, T2/T1 over the sharp-edge ratio (untilted) {worst_law:+.2e}, sliding samples {slid}/60",
+        law.name(),
         1.0 - least_sliding
     );
     Tilted { slid, first_bad }
@@ -136,6 +146,27 @@ fn tilted_strand_friction_inside_one_cone() {
             failures.extend(first_bad);
             // pulled at 1.6 T1 the rope must slide through the node (friction along the rope is
             // bounded by the sharp-edge ratio 1.5 at any tilt)
+            if slid == 0 {
+                failures.push(format!("tilt {tilt}, T1 {t1}: the rope never slid"));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The same rig under the rope paper's pseudo friction coefficient (issue #45 item 4): the
+/// cone is the same, only the split between edge and rope differs, so the same criteria hold,
+/// friction inside the cone to 1e-9 at every output point, on it while the rope slides, and
+/// untilted the sharp-edge law exactly (no load along the edge, where both laws coincide).
+#[test]
+fn tilted_strand_friction_inside_one_cone_under_the_pseudo_coefficient() {
+    let mut failures = Vec::new();
+    for t1 in [9.81e3, 9.81e5] {
+        for tilt in [0.0, 10.0, 20.0] {
+            let Tilted {
+                slid, first_bad, ..
+            } = tilted_run_under(FrictionLaw::PseudoCoefficient, tilt, t1);
+            failures.extend(first_bad);
             if slid == 0 {
                 failures.push(format!("tilt {tilt}, T1 {t1}: the rope never slid"));
             }

@@ -8,6 +8,7 @@
 use crate::rig::*;
 use mbcosim::math::Vec3;
 use mbcosim::model::Profile;
+use mbcosim::rope::friction::FrictionLaw;
 use mbcosim::rope::{RopeProps, SlipMode};
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -29,6 +30,11 @@ fn props() -> RopeProps {
 /// Whether a rope over one 90 degree edge at rest with tensions `t1`, `q t1` slides within
 /// `duration` [s], and how far the pulled end moved [m].
 fn single_edge(q: f64, t1: f64, hold: Hold, duration: f64) -> (bool, f64) {
+    single_edge_under(FrictionLaw::EdgeFirst, q, t1, hold, duration)
+}
+
+/// [`single_edge`] under the friction law `law`.
+fn single_edge_under(law: FrictionLaw, q: f64, t1: f64, hold: Hold, duration: f64) -> (bool, f64) {
     let g = 0.25 * PI;
     let rig = Wrap {
         mesh: Arc::new(wedge(0.5 * PI)),
@@ -37,7 +43,10 @@ fn single_edge(q: f64, t1: f64, hold: Hold, duration: f64) -> (bool, f64) {
         e2: Vec3::new(g.sin(), -g.cos(), 0.0),
         strand: 2.0,
         nodes: 3,
-        props: props(),
+        props: RopeProps {
+            friction_law: law,
+            ..props()
+        },
         t_init: vec![t1, q * t1],
         end_mass: 100.0,
         f1: Profile::constant(t1),
@@ -62,11 +71,17 @@ fn single_edge_slides(q: f64, t1: f64, hold: Hold) -> bool {
 
 /// Bisection on T2/T1 for the slip threshold.
 fn single_edge_threshold(t1: f64, hold: Hold) -> f64 {
+    single_edge_threshold_under(FrictionLaw::EdgeFirst, t1, hold)
+}
+
+/// [`single_edge_threshold`] under the friction law `law`.
+fn single_edge_threshold_under(law: FrictionLaw, t1: f64, hold: Hold) -> f64 {
+    let slides = |q: f64| single_edge_under(law, q, t1, hold, 0.01).0;
     let (mut lo, mut hi) = (1.0, 2.0);
-    assert!(!single_edge_slides(lo + 1e-3, t1, hold) && single_edge_slides(hi, t1, hold));
+    assert!(!slides(lo + 1e-3) && slides(hi));
     while hi - lo > 2e-4 {
         let mid = 0.5 * (lo + hi);
-        if single_edge_slides(mid, t1, hold) {
+        if slides(mid) {
             hi = mid;
         } else {
             lo = mid;
@@ -100,6 +115,25 @@ fn single_edge_slip_threshold_is_not_capstan() {
         println!(
             "  0.99 x reference: slip {s_lo}, end moved {x_lo:.2e} m; 1.01 x: slip {s_hi}, moved {x_hi:.2e} m"
         );
+        assert!(!s_lo && x_lo < 1e-9 && s_hi && x_hi > 1e-3);
+    }
+}
+
+/// The sharp edge under the rope paper's pseudo friction coefficient (issue #45 item 4): with no
+/// load along the edge the radial scaling and the edge-first split coincide, so the slip
+/// threshold is the sharp-edge ratio 1.500 to the same 1 % as under the default law, nothing moves
+/// 1 % below it and the rope runs 1 % above it.
+#[test]
+fn single_edge_slip_threshold_under_the_pseudo_coefficient() {
+    let law = FrictionLaw::PseudoCoefficient;
+    let reference = ratio(0.5 * PI);
+    for t1 in [1e4, 1e6] {
+        let q = single_edge_threshold_under(law, t1, Hold::Fixed);
+        let rel = (q - reference) / reference;
+        println!("pseudo coefficient, T1 = {t1:.0e} N: threshold {q:.4}, rel err {rel:.1e}");
+        assert!(rel.abs() < 0.01, "threshold {q}");
+        let (s_lo, x_lo) = single_edge_under(law, 0.99 * reference, t1, Hold::Fixed, 0.2);
+        let (s_hi, x_hi) = single_edge_under(law, 1.01 * reference, t1, Hold::Fixed, 0.2);
         assert!(!s_lo && x_lo < 1e-9 && s_hi && x_hi > 1e-3);
     }
 }

@@ -8,6 +8,7 @@ use super::rig::{self, Hold, Wrap};
 use mbcosim::integrator::IntegratorKind;
 use mbcosim::math::Vec3;
 use mbcosim::model::Profile;
+use mbcosim::rope::friction::FrictionLaw;
 use mbcosim::rope::{HookInit, SlipMode};
 use mbcosim::scene::rope_block::{ContactSettings, EndSpec, RopeBlockSim};
 use std::f64::consts::PI;
@@ -83,7 +84,14 @@ pub struct TiltedRun {
 
 /// Runs the tilted edge ([`tilted_rig`] at `t1` [N], `tilt` [deg]) pulled at `v` [m/s] for 2 s.
 pub fn run_tilted(t1: f64, tilt: f64, v: f64) -> TiltedRun {
-    let mut sim = hooked(&tilted_rig(t1, tilt), v);
+    run_tilted_under(FrictionLaw::EdgeFirst, t1, tilt, v)
+}
+
+/// [`run_tilted`] with the friction law `law`.
+pub fn run_tilted_under(law: FrictionLaw, t1: f64, tilt: f64, v: f64) -> TiltedRun {
+    let mut rig = tilted_rig(t1, tilt);
+    rig.props.friction_law = law;
+    let mut sim = hooked(&rig, v);
     let (mut sum, mut n, mut least, mut largest) = (0.0, 0, f64::INFINITY, 0.0f64);
     for s in 1..=2000 {
         let t = 1e-3 * s as f64;

@@ -9,6 +9,7 @@
 //! friction / (mu N) reached 1.952 in the default lift.
 
 use mbcosim::math::Vec3;
+use mbcosim::rope::friction::FrictionLaw;
 use mbcosim::scene::rope_block::{RopeBlockParams, RopeBlockScene};
 
 /// Output columns of one contact slot.
@@ -130,6 +131,21 @@ fn lift_reports_contact_forces_inside_the_cone() {
 }
 
 #[test]
+fn lift_reports_contact_forces_inside_the_cone_under_the_pseudo_coefficient() {
+    // the reviewer's lift under the rope paper's friction law (issue #45 item 4): the cone's
+    // criteria do not depend on how it splits friction between edge and rope
+    let mut p = RopeBlockParams::default();
+    p.rope.friction_law = FrictionLaw::PseudoCoefficient;
+    let hoist = |scene: &mut RopeBlockScene, t: f64| {
+        let vz = if t < 1.0 - 1e-9 { 0.0 } else { 0.2 };
+        scene.set_hook(0, Vec3::new(0.0, 0.0, vz), 0.0).unwrap();
+    };
+    let cone = run(RopeBlockScene::new(p).unwrap(), 60, 0.05, hoist);
+    assert_inside("lift, pseudo coefficient", &cone, 200);
+    assert!(cone.sliding > 0, "the lift never slid through a node");
+}
+
+#[test]
 fn turnover_reports_contact_forces_inside_the_cone() {
     // crane B lowering its slings at 0.4 m/s, as the shipped turn-over scenario is driven
     let scene = RopeBlockScene::new(RopeBlockParams::turnover()).unwrap();
@@ -147,15 +163,27 @@ fn friction_off_reports_exactly_zero_friction_and_no_slip() {
     // a block hanging at rest on frictionless slings (the reviewer's CLI case): the rope runs
     // freely through every node, so no friction acts; the normal force is the bisector's share of
     // the two equal tensions, checked against the reported tensions independently
-    for integrator in [
-        mbcosim::integrator::IntegratorKind::GenAlpha,
-        mbcosim::integrator::IntegratorKind::Bdf,
+    // under both friction laws (issue #45 item 4)
+    for (integrator, law) in [
+        (
+            mbcosim::integrator::IntegratorKind::GenAlpha,
+            FrictionLaw::EdgeFirst,
+        ),
+        (
+            mbcosim::integrator::IntegratorKind::Bdf,
+            FrictionLaw::EdgeFirst,
+        ),
+        (
+            mbcosim::integrator::IntegratorKind::GenAlpha,
+            FrictionLaw::PseudoCoefficient,
+        ),
     ] {
         let mut p = RopeBlockParams {
             integrator,
             ..RopeBlockParams::default()
         };
         p.rope.friction = 0.0;
+        p.rope.friction_law = law;
         let mut scene = RopeBlockScene::new(p).unwrap();
         let slots = slots(&scene);
         let mut seen = 0;
@@ -172,7 +200,7 @@ fn friction_off_reports_exactly_zero_friction_and_no_slip() {
                 assert_eq!(
                     (out[s.friction], out[s.slip]),
                     (0.0, 0.0),
-                    "{integrator:?}, t = {} s, slot {i}",
+                    "{integrator:?}, {law:?}, t = {} s, slot {i}",
                     0.5 * k as f64
                 );
             }

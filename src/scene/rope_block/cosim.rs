@@ -192,6 +192,13 @@ impl RopeBlockModel {
         p.settle = true;
         p.segments = self.ports.get_integer(ivr::SEGMENTS)? as usize;
         p.integrator = integrator_of(self.choice(ivr::INTEGRATOR, ivr::INTEGRATOR_NUMBER)?);
+        let law = self.choice(ivr::FRICTION_LAW, ivr::FRICTION_LAW_NUMBER)?;
+        p.rope.friction_law =
+            crate::rope::friction::FrictionLaw::from_code(law).ok_or_else(|| {
+                ModelError::InvalidValue(format!(
+                    "friction_law = {law} does not exist (1 edge_first, 2 pseudo_coefficient)"
+                ))
+            })?;
         p.contact_outputs = self.ports.get_integer(ivr::CONTACT_OUTPUTS)? as usize;
         let file = self.ports.get_string(SVR_MESH_FILE)?;
         if let Some(rig) = &self.rig_file {

@@ -26,11 +26,13 @@ use crate::scene::port::{Causality, ModelInfo, PortSpec};
 /// Parameters that do not act on the initial equilibrium (nor does any input): the real
 /// parameters declared motion-only ([`crate::scene::param_spec::RealSpec::motion_only`]: solver
 /// knobs, damping, friction, drag, the hook ramp) and these.
-const NOT_STATICS_CHOICES: [&str; 6] = [
+const NOT_STATICS_CHOICES: [&str; 8] = [
     "integrator",
     "integrator_number",
     "hook_command",
     "hook_command_number",
+    "friction_law",
+    "friction_law_number",
     "contact_outputs",
     "drag",
 ];

@@ -13,7 +13,7 @@ use crate::dae::System;
 use crate::integrator::{SolverError, StepAction, StepHook};
 use crate::math::Vec3;
 use crate::rope::cone::{EdgeFriction, NodeCone, ShareSearch, edge_friction};
-use crate::rope::friction::{self, ContactFrame, Reaction};
+use crate::rope::friction::{self, ContactFrame, FrictionLaw, Reaction};
 use crate::rope::shell::detect::{clears_edge, segment_crossing};
 use crate::rope::{NodeSegments, RopeEffect, SlipMode};
 use crate::state::State;
@@ -247,6 +247,7 @@ pub fn node_reports(
 fn node_cone<'a>(rope: &RopeEffect, rep: &'a NodeReport, mem: &[f64]) -> NodeCone<'a> {
     NodeCone {
         mu: rope.contact_mu(mem, rep.slot),
+        law: rope.friction_law(rep.slot),
         mode: rope.contact_state(mem, rep.slot).0,
         pull: &rep.pull,
         hold_force: rep.hold_force,
@@ -430,38 +431,73 @@ impl Manager<'_> {
         // it, which can push a neighbour that sticks out of its cone (4.4e-9 relative on the
         // 64-edge drum, tests/rope/capstan.rs): decided again until no sticking node is outside
         for pass in 0..4 {
-            changed |= self.settle_shares(sys, st);
+            changed |= self.settle_shares(sys, st, true);
             if pass == 3 || !self.slide_outside_sticking(sys, st) {
                 break;
             }
             changed = true;
         }
-        self.clip_holds(sys, st) || changed
+        changed |= self.clip_holds(sys, st);
+        if self
+            .structure
+            .ropes
+            .iter()
+            .any(|r| r.props.friction_law == FrictionLaw::PseudoCoefficient)
+        {
+            // the radial law cuts holds by far more than the edge-first one (every hold of a
+            // node outside its cone), and a hold's force is set through its anchor, whose
+            // round-off (stiffness times the coordinate's last bit: a few 1e-6 N on the lift's
+            // 1e9 N/m holds, 2e-9 of its friction) leaves the node off the cone: the rope's
+            // share closes that residual (as under edge first: the rope takes what the edge
+            // leaves), a share being set to 1e-11
+            changed |= self.settle_shares(sys, st, false);
+        }
+        changed
     }
 
     /// Gives every node the rope slides through with friction outside its cone, or below it by
     /// more than [`crate::rope::cone::SLIDE_BAND`], the share its edge load and geometry leave:
     /// `N` moves with the share, so each such node searches its fixed point ([`ShareSearch`])
-    /// over a few passes, until its share is its target to [`SHARE_TOL`]. Returns whether the
+    /// over a few passes, until its share is its target to [`SHARE_TOL`]. With `radial`, a node
+    /// under the pseudo friction coefficient that is outside its cone gets instead the rope's
+    /// part of the radially scaled force ([`NodeCone::radial_fraction`], its direction taken at
+    /// the first pass; its hold is cut to the rest by [`Self::clip_holds`]). Returns whether the
     /// memory changed.
-    fn settle_shares(&mut self, sys: &mut System, st: &mut State) -> bool {
+    fn settle_shares(&mut self, sys: &mut System, st: &mut State, radial: bool) -> bool {
         let mut changed = false;
         let rope = &self.map.rope;
         let base = self.map.rope_memory;
         // the fixed-point searches of the nodes being settled, by contact slot
         let mut searches: Vec<Option<ShareSearch>> = Vec::new();
+        // under the pseudo friction coefficient, the rope's part of the trial's direction, taken
+        // at the first pass that finds the node outside its cone and kept through the passes
+        // (the radial scaling keeps the trial's direction; taken again at the settled share, the
+        // direction would drift to the edge-first split)
+        let mut fractions: Vec<Option<f64>> = Vec::new();
         for _ in 0..SHARE_PASSES {
             let reports = node_reports(sys, self.map, self.structure, st);
             let slots = reports.iter().map(|r| r.slot + 1).max().unwrap_or(0);
             searches.resize(searches.len().max(slots), None);
+            fractions.resize(searches.len(), None);
             let mut shares = Vec::new();
             for rep in &reports {
                 let share = rope.memory(&st.memory[base..]).contact(rep.slot).share();
                 let node = node_cone(rope, rep, &st.memory[base..]);
                 let search = &mut searches[rep.slot];
-                let target = match search {
-                    Some(_) => node.share_target(),
-                    None => node.settled_share(),
+                let fraction = &mut fractions[rep.slot];
+                if radial && search.is_none() && fraction.is_none() {
+                    *fraction = node.radial_fraction();
+                } else if fraction.is_some() && node.below() {
+                    // `N` grew with the share until the trial lies inside the cone there: no
+                    // scaling is left to do, the rope takes what the edge's load leaves (as
+                    // for any sliding node below its cone), searched afresh
+                    *fraction = None;
+                    *search = None;
+                }
+                let target = match (*fraction, &search) {
+                    (Some(f), _) => node.radial_target(f),
+                    (None, Some(_)) => node.share_target(),
+                    (None, None) => node.settled_share(),
                 };
                 let Some(g) = target else {
                     continue;

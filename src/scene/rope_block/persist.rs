@@ -75,6 +75,8 @@ fn read_props(r: &mut ByteReader<'_>) -> Result<RopeProps, ModelError> {
         fluid_density: v[6],
         friction: v[7],
         breaking_load: v[8],
+        // a choice of the parameters, not in the bytes (`read_sim` sets it)
+        friction_law: Default::default(),
     })
 }
 
@@ -425,6 +427,10 @@ pub fn read_sim(
     let (com, _, _) = params.mass_properties(&design);
     let mesh = Arc::new(design.translated(&(-com)).map_err(ModelError::BadState)?);
     let mut structure = read_structure(r, &mesh, version)?;
+    // the friction law is a parameter (fixed for a run), like the mesh
+    for rope in &mut structure.ropes {
+        rope.props.friction_law = params.rope.friction_law;
+    }
     // the ground comes from the parameters (its contact has no memory)
     structure.ground = params
         .ground

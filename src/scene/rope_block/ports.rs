@@ -296,6 +296,10 @@ pub mod ivr {
     pub const INTEGRATOR_NUMBER: ValueRef = SLOT0 + 2 * super::MAX_CONTACT_SLOTS as ValueRef;
     /// `hook_command_number`, the Integer twin of `hook_command`.
     pub const HOOK_COMMAND_NUMBER: ValueRef = INTEGRATOR_NUMBER + 1;
+    /// `friction_law` (enumeration [`crate::rope::friction::FRICTION_LAWS`]).
+    pub const FRICTION_LAW: ValueRef = HOOK_COMMAND_NUMBER + 1;
+    /// `friction_law_number`, the Integer twin of `friction_law`.
+    pub const FRICTION_LAW_NUMBER: ValueRef = FRICTION_LAW + 1;
 }
 
 /// Items of the `hook_command` enumeration (1-based): what the hook inputs command.
@@ -668,6 +672,8 @@ pub fn info() -> &'static ModelInfo {
             int_param("contact_outputs", ivr::CONTACT_OUTPUTS, MAX_CONTACT_SLOTS as i32, 0, MAX_CONTACT_SLOTS as i32, "Contact slots filled in the outputs (the table always has 8; the rest read 0)."),
             int_port("hook_command", ivr::HOOK_COMMAND, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "HookCommand", items: HOOK_COMMANDS, start: Some(hook_command::VELOCITY) }, "What the hook inputs command: velocity (hookN_vx/vy/vz) or position (hookN_dx/dy/dz, displacements from the start position); hookN_payout_rate in both."),
             choice::number_twin("hook_command", HOOK_COMMANDS, ivr::HOOK_COMMAND_NUMBER),
+            int_port("friction_law", ivr::FRICTION_LAW, Causality::Parameter, Variability::Fixed, PortType::Enumeration { type_name: "FrictionLaw", items: crate::rope::friction::FRICTION_LAWS, start: Some(crate::rope::friction::FrictionLaw::EdgeFirst.code()) }, "How a contact node's Coulomb cone splits friction between the edge and the rope once it slides: edge_first (the edge keeps its load, the rope the rest) or pseudo_coefficient (the rope paper's radial scaling of the combined tangential force); docs/rope_friction.md."),
+            choice::number_twin("friction_law", crate::rope::friction::FRICTION_LAWS, ivr::FRICTION_LAW_NUMBER),
         ];
         for (vr, name, start, desc) in [
             (bvr::FRICTION, "friction", true, "Coulomb friction between rope and plate edges (off: frictionless, `mu` ignored)."),
@@ -719,7 +725,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{e2800f8d-1315-47c5-a9e6-b0f2a23a20b2}",
+            guid: "{72837ef2-af5d-4268-b848-abbcd5919726}",
             description: "Ship-block lift with lumped-mass wire-rope slings contacting the block's shell plate edges through contact nodes with Coulomb friction; one-hook lift or two-hook turn-over.",
             ports,
             default_stop_time: 10.0,
