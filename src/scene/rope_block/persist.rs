@@ -21,7 +21,6 @@ use crate::rope::{HOOK_MEM, HookInit, HookMode, RopeProps, SlipMode};
 use crate::scene::ModelError;
 use crate::scene::bytes::{ByteReader, ByteWriter};
 use crate::sim::Simulation;
-use crate::state::State;
 use nalgebra::Quaternion;
 use std::sync::Arc;
 
@@ -354,15 +353,7 @@ fn check_lug_point(s: &Structure, rope: &str, end: &EndSpec) -> Result<(), Model
 /// Writes a running simulation.
 pub fn write_sim(w: &mut ByteWriter, s: &RopeBlockSim) {
     write_structure(w, &s.structure);
-    let st = &s.sim.state;
-    w.f64(st.t);
-    w.f64s(&st.q);
-    w.f64s(&st.v);
-    w.f64s(&st.vdot);
-    w.f64s(&st.lambda);
-    w.f64(st.energy_dissipated);
-    w.f64(st.work_input);
-    w.f64s(&st.memory);
+    crate::scene::sim_state::write_state(w, &s.sim.state);
     w.f64s(&s.sim.system.inputs);
     w.f64s(&s.sim.integrator_memory());
     let c = &s.counters;
@@ -417,11 +408,12 @@ fn widen_hook_memory(
 }
 
 /// Reads what [`write_sim`] wrote for a scene with parameters `params`, in state format
-/// `version` (1 had no slide dissipation).
+/// `version` (1 had no slide dissipation); the state's time must be the clock's `elapsed` [s].
 pub fn read_sim(
     r: &mut ByteReader<'_>,
     params: &RopeBlockParams,
     version: u32,
+    elapsed: f64,
 ) -> Result<RopeBlockSim, ModelError> {
     let design = params.design_mesh().map_err(ModelError::BadState)?;
     let (com, _, _) = params.mass_properties(&design);
@@ -437,16 +429,7 @@ pub fn read_sim(
         .map(|g| g.spec(&mesh))
         .transpose()
         .map_err(ModelError::BadState)?;
-    let state = State {
-        t: r.finite_f64("state time")?,
-        q: r.f64s("positions")?,
-        v: r.f64s("speeds")?,
-        vdot: r.f64s("accelerations")?,
-        lambda: r.f64s("multipliers")?,
-        energy_dissipated: r.f64("dissipated energy")?,
-        work_input: r.f64("input work")?,
-        memory: r.f64s("effect memory")?,
-    };
+    let state = crate::scene::sim_state::read_state(r, Some(elapsed))?;
     let inputs = r.f64s("inputs")?;
     let memory = r.f64s("integrator memory")?;
     let mut c = [0u64; 6];
