@@ -18,7 +18,7 @@ use super::types::*;
 use crate::scene::port::{BaseType, Causality, ModelInfo, PortSpec, ValueRef};
 use crate::scene::store::{PortIndex, check_integer, check_real, check_writable};
 use crate::scene::watch::{StepEnd, StepWatch};
-use crate::scene::{CoSimModel, LogLevel, ModelEntry, TIME_RTOL, check_step, scene_file};
+use crate::scene::{CoSimModel, LogLevel, ModelEntry, TIME_RTOL, scene_file};
 
 /// Result of a function body: the status to return, or the reason for an `fmi2Error`.
 pub type Outcome<T = fmi2Status> = Result<T, String>;
@@ -488,10 +488,11 @@ impl Instance {
     }
 
     /// `fmi2DoStep` and `fmi3DoStep` from `t` over `h` [s] under `watch` (`NoWatch` for FMI
-    /// 2.0, [`Instance::importer_watch`] for FMI 3.0): the one [`check_step`] of the step, the
+    /// 2.0, [`Instance::importer_watch`] for FMI 3.0): the one request check of the step
+    /// ([`CoSimModel::step_request`]), the
     /// stop time, the model's step, finite outputs.
     pub fn step(&mut self, t: f64, h: f64, watch: &mut dyn StepWatch) -> Outcome<StepEnd> {
-        let request = check_step(self.model.time(), t, h).map_err(|e| e.to_string())?;
+        let request = self.model.step_request(t, h).map_err(|e| e.to_string())?;
         if let Some(stop) = self.machine.stop_time {
             let end = t + h;
             if end > stop + TIME_RTOL * 1f64.max(stop.abs()) {

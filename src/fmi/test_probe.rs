@@ -109,11 +109,10 @@ impl CoSimModel for Probe {
     fn ports_mut(&mut self) -> &mut PortStore {
         &mut self.ports
     }
-    fn initialize(&mut self, t: f64) -> Result<(), ModelError> {
+    fn set_up(&mut self, t: f64) -> Result<(), ModelError> {
         self.time = t;
         let x0 = self.ports.get_real(MASS)? * self.ports.get_real(FORCE)?;
         self.put_x(x0)?;
-        self.ports.mark_initialized();
         Ok(())
     }
     fn do_step_watched(

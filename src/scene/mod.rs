@@ -140,14 +140,42 @@ pub trait CoSimModel: Send {
         self.ports().get_string(vr)
     }
 
-    /// Builds the system from the parameters and finds consistent initial conditions at `t_start` [s].
-    fn initialize(&mut self, t_start: f64) -> Result<(), ModelError>;
+    /// Builds the system from the parameters and finds consistent initial conditions at
+    /// `t_start` [s]; once only (the lifecycle guard of every model): refused when the ports are
+    /// already initialized, and on success the fixed parameters are frozen
+    /// ([`PortStore::mark_initialized`]). The model's own part is [`CoSimModel::set_up`].
+    fn initialize(&mut self, t_start: f64) -> Result<(), ModelError> {
+        if self.ports().is_initialized() {
+            return Err(ModelError::NotAllowed(
+                "the model is already initialized (reset it to initialize again)".into(),
+            ));
+        }
+        self.set_up(t_start)?;
+        self.ports_mut().mark_initialized();
+        Ok(())
+    }
+
+    /// The model's part of [`CoSimModel::initialize`]: builds the system from the parameters
+    /// and finds consistent initial conditions at `t_start` [s]. Called once, on ports not yet
+    /// initialized; the caller marks them initialized after it succeeds.
+    fn set_up(&mut self, t_start: f64) -> Result<(), ModelError>;
+
+    /// The checked request to step from `t` over `h` [s]: refused before
+    /// [`CoSimModel::initialize`] (the lifecycle guard of every model), then [`check_step`]
+    /// against the model's time. The only caller of [`check_step`]; called once per step, by
+    /// the FMI wrapper's step and by [`CoSimModel::do_step`].
+    fn step_request(&self, t: f64, h: f64) -> Result<StepRequest, ModelError> {
+        if !self.ports().is_initialized() {
+            return Err(ModelError::NotAllowed("do_step before initialize".into()));
+        }
+        check_step(self.time(), t, h)
+    }
 
     /// Advances from `t` to `t + h` [s]; `t` must equal the model's current time (within
-    /// rounding). The one check of the request ([`check_step`]) is made here, then the step is
+    /// rounding). The one check of the request ([`CoSimModel::step_request`]) is made here, then the step is
     /// [`CoSimModel::do_step_watched`] without a watcher.
     fn do_step(&mut self, t: f64, h: f64) -> Result<(), ModelError> {
-        let request = check_step(self.time(), t, h)?;
+        let request = self.step_request(t, h)?;
         self.do_step_watched(request, &mut watch::NoWatch)
             .map(|_| ())
     }

@@ -356,12 +356,7 @@ impl CoSimModel for Pid {
         &mut self.ports
     }
 
-    fn initialize(&mut self, t_start: f64) -> Result<(), ModelError> {
-        if self.ports.is_initialized() {
-            return Err(ModelError::NotAllowed(
-                "the controller is already initialized".into(),
-            ));
-        }
+    fn set_up(&mut self, t_start: f64) -> Result<(), ModelError> {
         if !t_start.is_finite() {
             return Err(ModelError::InvalidValue(format!(
                 "start time {t_start} must be finite"
@@ -376,7 +371,6 @@ impl CoSimModel for Pid {
             clock: Clock::new(t_start)?,
         };
         self.publish(&p, p.kp * e, e)?;
-        self.ports.mark_initialized();
         Ok(())
     }
 
@@ -385,9 +379,6 @@ impl CoSimModel for Pid {
         request: StepRequest,
         _watch: &mut dyn StepWatch,
     ) -> Result<StepEnd, ModelError> {
-        if !self.ports.is_initialized() {
-            return Err(ModelError::NotAllowed("do_step before initialize".into()));
-        }
         let step = self.state.clock.step(request)?;
         let h = step.h;
         let p = self.params()?;

@@ -222,12 +222,7 @@ impl CoSimModel for PanelLockModel {
         Ok(())
     }
 
-    fn initialize(&mut self, t_start: f64) -> Result<(), ModelError> {
-        if self.ports.is_initialized() {
-            return Err(ModelError::NotAllowed(
-                "PanelLock is already initialized".into(),
-            ));
-        }
+    fn set_up(&mut self, t_start: f64) -> Result<(), ModelError> {
         let clock = Clock::new(t_start)?;
         let p = self.params()?;
         let solver = p.solver_settings();
@@ -263,7 +258,6 @@ impl CoSimModel for PanelLockModel {
         self.scene = Some(scene);
         self.clock = clock;
         self.publish()?;
-        self.ports.mark_initialized();
         Ok(())
     }
 
@@ -273,9 +267,6 @@ impl CoSimModel for PanelLockModel {
         watch: &mut dyn StepWatch,
     ) -> Result<StepEnd, ModelError> {
         let (t, h) = (request.t(), request.h());
-        if !self.ports.is_initialized() {
-            return Err(ModelError::NotAllowed("do_step before initialize".into()));
-        }
         let step = self.clock.step(request)?;
         let start = self.clock.start();
         let before = self.lock_times();

@@ -429,15 +429,9 @@ impl CoSimModel for RopeBlockModel {
         &mut self.ports
     }
 
-    fn initialize(&mut self, t_start: f64) -> Result<(), ModelError> {
-        if self.ports.is_initialized() {
-            return Err(ModelError::NotAllowed(
-                "RopeBlock is already initialized".into(),
-            ));
-        }
+    fn set_up(&mut self, t_start: f64) -> Result<(), ModelError> {
         self.clock = Clock::new(t_start)?;
         self.start()?;
-        self.ports.mark_initialized();
         Ok(())
     }
 
@@ -447,9 +441,6 @@ impl CoSimModel for RopeBlockModel {
         watch: &mut dyn StepWatch,
     ) -> Result<StepEnd, ModelError> {
         let (t, h) = (request.t(), request.h());
-        if !self.ports.is_initialized() {
-            return Err(ModelError::NotAllowed("do_step before initialize".into()));
-        }
         let step = self.clock.step(request)?;
         // a step that h_max cannot cover within the integrator's max_steps per call fails only
         // after minutes of CPU (fmi3DoStep(t, 1e300) without a stop time took 97 s): refuse it

@@ -162,16 +162,12 @@ impl CoSimModel for Model {
         &mut self.ports
     }
 
-    fn initialize(&mut self, t_start: f64) -> Result<(), ModelError> {
-        if self.ports.is_initialized() {
-            return Err(ModelError::NotAllowed("already initialized".into()));
-        }
+    fn set_up(&mut self, t_start: f64) -> Result<(), ModelError> {
         let force = self.ports.get_real(FORCE)?;
         self.clock = Clock::new(t_start)?;
         let run = Oscillator::new(&self.params()?, force).map_err(ModelError::InvalidValue)?;
         self.run = Some(run);
         self.publish()?;
-        self.ports.mark_initialized();
         Ok(())
     }
 
