@@ -30,22 +30,51 @@ fn code_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
         .filter(|(_, l)| !l.trim().is_empty())
 }
 
-#[test]
-fn only_the_fmi_module_knows_fmi_and_uses_unsafe() {
+/// Source of `src/` as `(path relative to src, code lines)`: every file whole, or with
+/// `library_only` the non-test source (no `*_tests.rs`, `tests.rs` or `src/bin/` files, and each
+/// file cut at its `#[cfg(test)] mod tests`).
+fn source_code(library_only: bool) -> Vec<(String, Vec<(usize, String)>)> {
     let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut files = Vec::new();
     rust_files(&src, &mut files);
-    let mut bad = Vec::new();
+    let mut out = Vec::new();
     for f in &files {
         let rel = f
             .strip_prefix(&src)
             .unwrap()
             .to_string_lossy()
             .replace('\\', "/");
+        let test_file =
+            rel.ends_with("_tests.rs") || rel.ends_with("/tests.rs") || rel.starts_with("bin/");
+        if library_only && test_file {
+            continue;
+        }
+        let text = std::fs::read_to_string(f).unwrap();
+        let end = match library_only {
+            true => text.find("#[cfg(test)]\nmod tests").unwrap_or(text.len()),
+            false => text.len(),
+        };
+        let lines = code_lines(&text[..end])
+            .map(|(k, l)| (k, l.to_string()))
+            .collect();
+        out.push((rel, lines));
+    }
+    assert!(out.len() > 10, "scanned only {} files", out.len());
+    out
+}
+
+/// Non-test source of `src/` (see [`source_code`]).
+fn library_code() -> Vec<(String, Vec<(usize, String)>)> {
+    source_code(true)
+}
+
+#[test]
+fn only_the_fmi_module_knows_fmi_and_uses_unsafe() {
+    let mut bad = Vec::new();
+    for (rel, lines) in source_code(false) {
         let in_fmi = rel.starts_with("fmi/");
         let in_bin = rel.starts_with("bin/");
-        let text = std::fs::read_to_string(f).unwrap();
-        for (line, code) in code_lines(&text) {
+        for (line, code) in &lines {
             if !in_fmi
                 && !in_bin
                 && rel != "lib.rs"
@@ -67,35 +96,7 @@ fn only_the_fmi_module_knows_fmi_and_uses_unsafe() {
             }
         }
     }
-    assert!(files.len() > 10, "scanned only {} files", files.len());
     assert!(bad.is_empty(), "{}", bad.join("\n"));
-}
-
-/// Non-test source of `src/`: `(path relative to src, code lines)`, without `*_tests.rs` and `tests.rs` files
-/// and each file's `mod tests` (from its `#[cfg(test)]` line on).
-fn library_code() -> Vec<(String, Vec<(usize, String)>)> {
-    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut files = Vec::new();
-    rust_files(&src, &mut files);
-    let mut out = Vec::new();
-    for f in &files {
-        let rel = f
-            .strip_prefix(&src)
-            .unwrap()
-            .to_string_lossy()
-            .replace('\\', "/");
-        if rel.ends_with("_tests.rs") || rel.ends_with("/tests.rs") || rel.starts_with("bin/") {
-            continue;
-        }
-        let text = std::fs::read_to_string(f).unwrap();
-        let end = text.find("#[cfg(test)]\nmod tests").unwrap_or(text.len());
-        let lines = code_lines(&text[..end])
-            .map(|(k, l)| (k, l.to_string()))
-            .collect();
-        out.push((rel, lines));
-    }
-    assert!(out.len() > 10, "scanned only {} files", out.len());
-    out
 }
 
 /// One panic boundary per exported call: `catch_unwind` only in the FMI boundary's guard and in

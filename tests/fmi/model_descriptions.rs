@@ -12,30 +12,21 @@ fn dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("modelDescription")
 }
 
+/// The FMI 2.0 descriptions under `modelDescription/` and the FMI 3.0 ones under
+/// `modelDescription/fmi3/` (docs/fmi3.md) must equal what the same tables produce.
 #[test]
 fn checked_in_descriptions_match_the_tables() {
+    type Checker = fn(&mbcosim::scene::ModelEntry, &std::path::Path) -> Result<String, String>;
+    let checkers: [(&str, Checker); 2] = [
+        ("FMI 2.0", package::checked_description),
+        ("FMI 3.0", package::checked_description3),
+    ];
     let mut problems = Vec::new();
-    for e in registry() {
-        if let Err(msg) = package::checked_description(&e, &dir()) {
-            problems.push(msg);
-        }
-    }
-    assert!(
-        problems.is_empty(),
-        "{}\n(regenerate with `{}`)",
-        problems.join("\n"),
-        package::REGENERATE
-    );
-}
-
-/// The FMI 3.0 descriptions under `modelDescription/fmi3/` (docs/fmi3.md) must equal what the
-/// same tables produce.
-#[test]
-fn checked_in_fmi3_descriptions_match_the_tables() {
-    let mut problems = Vec::new();
-    for e in registry() {
-        if let Err(msg) = package::checked_description3(&e, &dir()) {
-            problems.push(msg);
+    for (version, check) in checkers {
+        for e in registry() {
+            if let Err(msg) = check(&e, &dir()) {
+                problems.push(format!("{version}: {msg}"));
+            }
         }
     }
     assert!(
