@@ -43,6 +43,7 @@ pub mod machine;
 pub mod metadata;
 pub mod model_description;
 pub mod model_description3;
+pub mod osp;
 pub mod package;
 pub mod platform;
 pub mod resource_location;

@@ -14,6 +14,9 @@
 //! resources/...                     the model's data files, when it has any
 //! ```
 //!
+//! Beside each archive, for a model with power ports: `<Identifier>_OspModelDescription.xml`,
+//! its OSP-IS port file ([`super::osp`]), where libcosim looks for it.
+//!
 //! The archive is reproducible: entries in a fixed order with a fixed 1980-01-01 timestamp, and
 //! the description's `generationDateAndTime` is the time the caller passes (the commit time,
 //! [`super::metadata`]), never the clock.
@@ -195,6 +198,11 @@ fn write_fmu(
     }
     zip.finish().map_err(zerr)?.sync_all().map_err(io)?;
     fs::rename(&partial, &target).map_err(|e| format!("renaming to {}: {e}", target.display()))?;
+    // the OSP-IS port file beside the FMU, where libcosim looks for it (docs/osp_ports.md)
+    if let Some(ports) = super::osp::write(entry)? {
+        let path = out_dir.join(super::osp::file_name(info.identifier));
+        fs::write(&path, ports).map_err(|e| format!("writing {}: {e}", path.display()))?;
+    }
     Ok(target)
 }
 

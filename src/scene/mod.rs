@@ -24,6 +24,7 @@ pub mod panel_lock;
 pub mod param_spec;
 pub mod pid;
 pub mod port;
+pub mod power_port;
 pub mod rope_block;
 pub mod scene_file;
 pub mod sim_state;
@@ -335,6 +336,8 @@ pub struct ModelEntry {
     pub create: fn() -> Box<dyn CoSimModel>,
     /// Data files the model needs at run time (empty for most models).
     pub resources: &'static [Resource],
+    /// The model's power ports (effort beside flow), for masters that join models port to port.
+    pub power_ports: fn() -> Vec<power_port::PowerPort>,
 }
 
 impl ModelEntry {
@@ -347,6 +350,7 @@ impl ModelEntry {
             info,
             create,
             resources: &[],
+            power_ports: power_port::none,
         }
     }
 
@@ -354,15 +358,26 @@ impl ModelEntry {
     pub const fn with_resources(self, resources: &'static [Resource]) -> Self {
         Self { resources, ..self }
     }
+
+    /// The same entry with power ports.
+    pub const fn with_power_ports(self, power_ports: fn() -> Vec<power_port::PowerPort>) -> Self {
+        Self {
+            power_ports,
+            ..self
+        }
+    }
 }
 
 /// All models this library serves, looked up by GUID or identifier.
 pub fn registry() -> Vec<ModelEntry> {
     vec![
-        ModelEntry::new(panel_lock::info, panel_lock::create),
+        ModelEntry::new(panel_lock::info, panel_lock::create)
+            .with_power_ports(panel_lock::power_ports::power_ports),
         ModelEntry::new(pid::info, pid::create),
-        ModelEntry::new(rope_block::info, rope_block::create),
-        ModelEntry::new(spring_mass_damper::info, spring_mass_damper::create),
+        ModelEntry::new(rope_block::info, rope_block::create)
+            .with_power_ports(rope_block::power_ports::power_ports),
+        ModelEntry::new(spring_mass_damper::info, spring_mass_damper::create)
+            .with_power_ports(spring_mass_damper::power_ports),
     ]
 }
 

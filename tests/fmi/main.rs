@@ -15,5 +15,6 @@ mod fmi_importer;
 mod fmi_signatures;
 mod initial_dependencies;
 mod model_descriptions;
+mod osp_ports;
 mod snapshot_replay;
 mod start_values;

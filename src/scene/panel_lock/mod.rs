@@ -67,6 +67,7 @@ pub mod flex_panel;
 pub mod interface;
 mod params;
 pub mod ports;
+pub mod power_ports;
 mod run;
 pub mod satellite;
 pub mod study;

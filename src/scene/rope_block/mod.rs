@@ -21,6 +21,7 @@ pub mod manager;
 pub mod params;
 pub mod persist;
 pub mod ports;
+pub mod power_ports;
 pub mod rig;
 pub mod rig_checks;
 pub mod rig_digest;

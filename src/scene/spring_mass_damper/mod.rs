@@ -22,6 +22,20 @@ pub mod cosim;
 
 pub use cosim::{IDENTIFIER, create, info};
 
+use crate::scene::power_port::{PortDomain, PowerPort};
+
+/// The mass's power port: the input force `F` beside the mass's velocity `v` (along x), so a
+/// model that outputs a force and takes a velocity (a rope's winch line, a hook) can be joined
+/// to it.
+pub fn power_ports() -> Vec<PowerPort> {
+    vec![PowerPort::new(
+        "mass",
+        PortDomain::LinearMechanical,
+        &["F"],
+        &["v"],
+    )]
+}
+
 use crate::integrator::{IntegratorKind, Settings, SolverError};
 use crate::math::Vec3;
 use crate::model::{AppliedLoad, BodyId, Frame, ModelBuilder, Profile, SpringDamper};
