@@ -42,6 +42,11 @@ pub(crate) struct Seg {
     pub elastic: f64,
     pub l: f64,
     pub ldot: f64,
+    /// Rate the dashpot works on [m/s]: `l_dot - l L_dot / L`, the segment's strain rate times
+    /// its rest length `L` (equal to `l_dot` when the rest length is constant). The damping
+    /// tension `law.t - elastic` times this rate is the power the dashpot dissipates, `c L
+    /// (strain rate)^2 >= 0`.
+    pub dashpot_rate: f64,
     /// Force on the first point [N] (the second gets the opposite).
     pub force: Vec3,
     /// `dF/dd`, `dF/dd_dot` with `d = p_b - p_a`.
@@ -93,10 +98,19 @@ pub(crate) fn plain_segment(
         elastic,
         l,
         ldot,
+        dashpot_rate: ldot - l * rest_rate / rest,
         force: u * law.t,
         kd,
         cd,
     }
+}
+
+/// Line pull [N] a winch holds on plain segment `s` of rest length `rest` [m] (axial stiffness
+/// `ea` [N]) while it changes that rest length: the power conjugate of the pay-out rate, `-dV/dL`
+/// of the strain energy plus the damping tension's share `T_d l / L` (the dashpot's rate
+/// `l_dot - l L_dot / L` falls by `l / L` per unit pay-out rate). Zero while the segment is slack.
+pub(crate) fn winch_pull(ea: f64, s: &Seg, rest: f64) -> f64 {
+    -segment::strain_energy_drest(ea, s.l, rest) + (s.law.t - s.elastic) * s.l / rest
 }
 
 /// All ropes of a scene.
@@ -785,7 +799,10 @@ impl ForceEffect for RopeEffect {
         let mut p = 0.0;
         for &i in &self.plain {
             let s = self.eval_plain(ctx, i as usize);
-            p += (s.law.t - s.elastic) * s.ldot;
+            // the dashpot's own rate, not `l_dot`: while a winch pays out, `l_dot` also carries
+            // the rest length's growth, which is no dissipation (its share goes to the winch's
+            // input power below)
+            p += (s.law.t - s.elastic) * s.dashpot_rate;
         }
         for r in 0..self.runs.len() {
             let ev = self.eval_run(ctx, r);
@@ -832,7 +849,7 @@ impl ForceEffect for RopeEffect {
             if rate != 0.0 {
                 let ea = self.props[self.rope_of[i] as usize].ea;
                 let rest = self.sigma_at(ctx, i + 1) - self.sigma_at(ctx, i);
-                p += segment::strain_energy_drest(ea, s.l, rest) * rate;
+                p -= winch_pull(ea, &s, rest) * rate;
             }
         }
         for r in 0..self.runs.len() {

@@ -226,3 +226,57 @@ fn port_work_does_not_move_with_the_communication_step() {
         assert!((a - b).abs() < 1e-4 * a.abs(), "{name}: {a} vs {b}");
     }
 }
+
+#[test]
+fn dissipated_energy_never_falls_while_the_winch_pays_out_and_in() {
+    // a 1000 kg block on soft slings (EA 1e6 N, damped) at gravity 1 m/s^2, the winch paying out
+    // and in at 0.8 sin(8 t) m/s with no ramp, 1 ms communication steps over 1.5 s (the block
+    // drops, the slings go slack and snatch at about 1.39 s): `energy_dissipated` is the damper's
+    // and friction's work, c L (strain rate)^2 >= 0, so it never falls (second law). Before the
+    // dashpot's power was taken on its own rate `l_dot - l L_dot / L` (it took `l_dot`, which also
+    // carries the paid-out length) it fell to -30.8 J, by up to 13.5 J in one step. The books
+    // still close: the damper's share of the pay-out went into the winch's input power
+    // (`winch_pull`), and the ports' work still equals `energy_input` to 1e-9.
+    let mut m = started(
+        &[("segments", 20)],
+        &[
+            ("block_mass", 1000.0),
+            ("rope_ea", 1e6),
+            ("gravity", 1.0),
+            ("hook_ramp_time", 0.0),
+        ],
+    );
+    let h = 1e-3;
+    let mut last = get(&m, "energy_dissipated");
+    let (mut worst_fall, mut worst_books, mut peak_winch) = (0.0f64, 0.0f64, 0.0f64);
+    for i in 0..1500 {
+        let t = i as f64 * h;
+        set(&mut m, "hook0_payout_rate", 0.8 * (8.0 * t).sin());
+        m.do_step(t, h).unwrap();
+        let d = get(&m, "energy_dissipated");
+        worst_fall = worst_fall.max(last - d);
+        last = d;
+        let (work, input) = (
+            get(&m, "hook0_work") + get(&m, "hook0_winch_work"),
+            get(&m, "energy_input"),
+        );
+        worst_books = worst_books.max((work - input).abs() / input.abs().max(1.0));
+        peak_winch = peak_winch.max(get(&m, "hook0_winch_force").abs());
+    }
+    println!(
+        "largest fall of energy_dissipated {worst_fall:.2e} J (end {last:.1} J); ports' work against energy_input {worst_books:.1e}; winch force peak {peak_winch:.3e} N"
+    );
+    assert!(last > 1.0, "nothing was dissipated: the case tests nothing");
+    assert!(
+        peak_winch > 1e4,
+        "no snatch: the case tests less than it says"
+    );
+    assert!(
+        worst_fall <= 1e-9 * last,
+        "energy_dissipated fell by {worst_fall} J"
+    );
+    assert!(
+        worst_books < 1e-9,
+        "ports' work off energy_input by {worst_books:.1e}"
+    );
+}

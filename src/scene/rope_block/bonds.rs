@@ -9,9 +9,10 @@
 //!   while hoisting a hanging load).
 //! - `winch_force` [N]: `-dV/dL` of the slings' strain energy `V` with respect to the unstretched
 //!   length `L` paid out at the hook, `EA (e + e^2 / 2)` per sling end (`e` the strain of the
-//!   segment at the hook): the line pull the winch holds, the conjugate of the pay-out rate in the
-//!   model's energy (it exceeds the tension `EA e` by `EA e^2 / 2`, the strain energy per unit
-//!   length carried with the paid-out rope).
+//!   segment at the hook), plus the axial damping tension's share `T_d l / L`
+//!   ([`winch_pull`]): the line pull the winch holds, the conjugate of the pay-out rate in the
+//!   model's energy (at rest it exceeds the tension `EA e` by `EA e^2 / 2`, the strain energy per
+//!   unit length carried with the paid-out rope).
 //! - winch power [W] = `-winch_force x payout_rate`: delivered INTO the model (negative while
 //!   paying out under load).
 //!
@@ -21,8 +22,7 @@
 
 use crate::effect::EvalCtx;
 use crate::math::Vec3;
-use crate::rope::effect::{NONE, RopeEffect};
-use crate::rope::segment::strain_energy_drest;
+use crate::rope::effect::{NONE, RopeEffect, winch_pull};
 
 /// One hook's bonds at one state.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -86,7 +86,7 @@ pub fn hook_bonds(rope: &RopeEffect, ctx: &EvalCtx) -> Vec<HookBond> {
         let s = rope.eval_plain(ctx, i);
         let ea = rope.props[rope.rope_of[i] as usize].ea;
         let rest = rope.sigma_at(ctx, i + 1) - rope.sigma_at(ctx, i);
-        let pull = -strain_energy_drest(ea, s.l, rest);
+        let pull = winch_pull(ea, &s, rest);
         // `s.force` acts on the segment's first point, its opposite on the second
         if let Some(k) = ha {
             out[k].force += s.force;

@@ -521,7 +521,7 @@ pub const BOND_OUTPUTS: [(&str, &str, &str); 7] = [
     (
         "winch_force",
         "N",
-        "line force of the winch, -dV/dL of the slings' strain energy per length paid out (EA (e + e^2/2) per sling; power bond with hook#_payout_rate)",
+        "line force of the winch, the power conjugate of the pay-out rate: -dV/dL of the slings' strain energy plus the axial damping tension's share T_d l/L per sling (EA (e + e^2/2) per sling at rest; power bond with hook#_payout_rate)",
     ),
     (
         "winch_power",
