@@ -59,3 +59,20 @@ def test_port_connection_equals_the_scalar_connections(winch_runs):
     v = ref.series["winch.v"]
     assert 1e-2 < np.max(np.abs(v)) < 5.0, f"the winch drum's largest speed {np.max(np.abs(v))} m/s"
     assert np.all(np.isfinite(v))
+
+
+def test_the_joined_winch_is_passive():
+    """The rope and the drum are both passive, so joined at a power port their motion must die
+    out: over 4 s the drum's largest speed in the last second is below 5 % of the first
+    second's. Before the winch's line force carried the slings' damping share (2026-12-08) the
+    force was not the pay-out rate's power conjugate and the joined pair gained energy (drum speed
+    0.45 -> 1.68 m/s from the first to the second half second, and runs past 1.4 s stopped)."""
+    packed("RopeBlock")
+    packed("SpringMassDamper")
+    case = osp_ports.rope_winch(DIST, stop=4.0)
+    ref = im.run_fmpy(case, time_mode="libcosim")
+    v = ref.series["winch.v"]
+    per_second = round(1.0 / case.step)
+    first, last = np.max(np.abs(v[:per_second])), np.max(np.abs(v[-per_second:]))
+    assert first > 0.1, f"the drum hardly moved ({first} m/s)"
+    assert last < 0.05 * first, f"drum speed {first:.3g} m/s in the first second, {last:.3g} m/s in the last"
