@@ -82,6 +82,9 @@ pub struct GenAlpha {
     /// Weights of the error test of a step [m, rad] (adaptive mode).
     werr: Vec<f64>,
     tmp: Vec<f64>,
+    /// The whole error estimate of a step before its projection onto the joints' tangent
+    /// space [m, rad] (adaptive mode).
+    full: Vec<f64>,
     /// The interpolated chart increment, speeds and positions at a trial instant inside a step
     /// (contact-event location).
     xd: Vec<f64>,
@@ -159,6 +162,43 @@ const ERROR_SAFETY: f64 = 12.0;
 /// `ERROR_SAFETY / NOISE_ALLOWANCE` = 0.5.
 const NOISE_ALLOWANCE: f64 = 2.0 * ERROR_SAFETY;
 
+/// What the projection of the error estimate onto the joints' tangent space
+/// ([`GenAlpha::project_estimate`]) leaves of the estimate's round-off `c dx / b`, as a factor
+/// on it, given the step's share of the tolerance (`h / 1 s` per unit step): the estimate's
+/// round-off along the tangent is that of the accelerations' tangential part, `eps |a|`, and
+/// of the normal part the solve's round-off, so it falls with the step as the tolerance of
+/// the step does (measured: on the tangential part alone, with this allowance, the runs fell
+/// 10x per decade of rtol down to 1e-10 on chain2 and the four-bar, 5-7 rejections per run).
+fn projected_noise(share: f64) -> f64 {
+    share
+}
+
+/// Factor on the tangential part of the error estimate where it stands in for the whole one
+/// ([`whole_weight`]): the tangential part alone is smaller than the whole estimate by what the
+/// normal part carried, and the runs ended 3x (chain2: 4.2 .. 6.1 x rtol) to 10x (four-bar:
+/// 84 .. 131 x rtol) less accurate than with the whole estimate (1.6 and 12 x rtol).
+const TANGENT_SAFETY: f64 = 4.0;
+
+/// Weight of the whole error estimate against its tangential part (the rest), given the share
+/// `s` of the tolerance that the whole estimate's round-off allowance takes: 1 up to
+/// [`ROUNDOFF_SHARE_LIMIT`] / 10 (the error control of before, bit for bit), 0 from
+/// [`ROUNDOFF_SHARE_LIMIT`] on (where the whole estimate's round-off stopped the run before),
+/// linear in `log10 s` between. The normal part is physical at loose tolerances (it carries
+/// the change of the centripetal accelerations: steering by the tangential part alone took 1.7x
+/// (chain2) to 2.5x (four-bar) the steps at equal error) and round-off at tight ones (the
+/// whole estimate with only the positions' round-off, or also the last Newton correction, as
+/// its allowance collapsed the steps at rtol 1e-9 and 1e-10 on chain2 and the four-bar).
+fn whole_weight(s: f64) -> f64 {
+    let lo = 0.1 * ROUNDOFF_SHARE_LIMIT;
+    if s <= lo {
+        1.0
+    } else if s >= ROUNDOFF_SHARE_LIMIT {
+        0.0
+    } else {
+        (ROUNDOFF_SHARE_LIMIT / s).log10()
+    }
+}
+
 /// Share of the error tolerance that the round-off allowance may take at the step the
 /// controller asks for after a rejection; beyond it the run stops with a message naming the
 /// tolerance. Round-off of the index-3 form then also shows in the result: with a limit of
@@ -229,6 +269,7 @@ impl GenAlpha {
             wn: Vec::new(),
             werr: Vec::new(),
             tmp: Vec::new(),
+            full: Vec::new(),
             xd: Vec::new(),
             vd: Vec::new(),
             qd: Vec::new(),
@@ -247,6 +288,7 @@ impl GenAlpha {
             &mut self.wn,
             &mut self.werr,
             &mut self.tmp,
+            &mut self.full,
         ] {
             v.resize(nv, 0.0);
         }

@@ -5,6 +5,17 @@ use super::*;
 /// Generalized-alpha's step, rejection and proposal for the step loop
 /// ([`implicit::advance`]): halves the last step of a call or divides the call into equal
 /// steps, rejects steps that gain energy, stops when the tolerance is below round-off.
+impl GenAlpha {
+    /// Share of the tolerance the round-off allowance takes at the step the controller asks
+    /// for after a rejection of step `h` [s]: the allowance measured at `h` rescaled by the
+    /// ratio of the steps' shares of the tolerance to that of their allowances.
+    fn roundoff_share(&self, h: f64) -> f64 {
+        let s = &self.core.s;
+        let (at_h, at_next) = (s.error_share(h), s.error_share(self.core.h));
+        self.err_roundoff * at_h / at_next * projected_noise(at_next) / projected_noise(at_h)
+    }
+}
+
 impl ImplicitMethod for GenAlpha {
     type Estimate = f64;
 
@@ -73,7 +84,7 @@ impl ImplicitMethod for GenAlpha {
         if err >= self.gain_ratio
             && self.core.s.error_per_unit_step
             && !self.rank.inside()
-            && (self.err_roundoff * h / self.core.h >= ROUNDOFF_SHARE_LIMIT
+            && (self.roundoff_share(h) >= ROUNDOFF_SHARE_LIMIT
                 || step_control::collapsed(self.core.h, st.t))
         {
             return Err(SolverError::at(
@@ -83,7 +94,7 @@ impl ImplicitMethod for GenAlpha {
                     rtol: self.core.s.rtol,
                     atol: self.core.s.atol,
                     h: self.core.h,
-                    share: self.err_roundoff * h / self.core.h,
+                    share: self.roundoff_share(h),
                 },
             ));
         }
