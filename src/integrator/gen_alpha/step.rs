@@ -283,6 +283,7 @@ impl GenAlpha {
                     // share of the tolerance the whole estimate's round-off allowance takes
                     self.full.fill(floor);
                     let whole_roundoff = wrms(&self.full, &self.werr);
+                    (self.whole_err, self.whole_roundoff) = (whole, whole_roundoff);
                     self.full.fill(tangent_floor);
                     self.err_roundoff = wrms(&self.full, &self.werr);
                     // inside a singular configuration the allowance is widened instead
