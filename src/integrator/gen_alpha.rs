@@ -56,6 +56,19 @@ pub struct GenAlpha {
     /// The round-off allowance of the last error test, relative to the step's share of the
     /// tolerance (adaptive mode; see [`NOISE_ALLOWANCE`]).
     err_roundoff: f64,
+    /// The whole (unprojected) error estimate of the step just tried, relative to its tolerance
+    /// widened by its round-off allowance, with [`ERROR_SAFETY`] (adaptive mode).
+    whole_err: f64,
+    /// The share of the step's tolerance that the whole estimate's round-off allowance took at
+    /// the step just tried (adaptive mode).
+    whole_roundoff: f64,
+    /// [`Self::whole_roundoff`] of the last accepted step of the controller's size (not cut to
+    /// land on an event or a call's end, not the first after a rejection); infinite before the
+    /// first one (no collapse into the round-off band is judged then, see
+    /// [`collapses_into_roundoff`]).
+    accepted_roundoff: f64,
+    /// Whether a step was rejected since the last proposal after an accepted step.
+    after_rejection: bool,
     lin: LinearSolver,
     jac_h: f64,
     /// Where the current Newton matrix was formed.
@@ -82,6 +95,9 @@ pub struct GenAlpha {
     /// Weights of the error test of a step [m, rad] (adaptive mode).
     werr: Vec<f64>,
     tmp: Vec<f64>,
+    /// The whole error estimate of a step before its projection onto the joints' tangent
+    /// space [m, rad] (adaptive mode).
+    full: Vec<f64>,
     /// The interpolated chart increment, speeds and positions at a trial instant inside a step
     /// (contact-event location).
     xd: Vec<f64>,
@@ -159,12 +175,71 @@ const ERROR_SAFETY: f64 = 12.0;
 /// `ERROR_SAFETY / NOISE_ALLOWANCE` = 0.5.
 const NOISE_ALLOWANCE: f64 = 2.0 * ERROR_SAFETY;
 
+/// What the projection of the error estimate onto the joints' tangent space
+/// ([`GenAlpha::project_estimate`]) leaves of the estimate's round-off `c dx / b`, as a factor
+/// on it, given the step's share of the tolerance (`h / 1 s` per unit step): the estimate's
+/// round-off along the tangent is that of the accelerations' tangential part, `eps |a|`, and
+/// of the normal part the solve's round-off, so it falls with the step as the tolerance of
+/// the step does (measured: on the tangential part alone, with this allowance, the runs fell
+/// 10x per decade of rtol down to 1e-10 on chain2 and the four-bar, 5-7 rejections per run).
+fn projected_noise(share: f64) -> f64 {
+    share
+}
+
+/// Factor on the tangential part of the error estimate where it stands in for the whole one
+/// ([`whole_weight`]): the tangential part alone is smaller than the whole estimate by what the
+/// normal part carried, and the runs ended 3x (chain2: 4.2 .. 6.1 x rtol) to 10x (four-bar:
+/// 84 .. 131 x rtol) less accurate than with the whole estimate (1.6 and 12 x rtol).
+const TANGENT_SAFETY: f64 = 4.0;
+
+/// Weight of the whole error estimate against its tangential part (the rest), given the share
+/// `s` of the tolerance that the whole estimate's round-off allowance takes: 1 up to
+/// [`ROUNDOFF_SHARE_LIMIT`] / 10 (the error control of before, bit for bit), 0 from
+/// [`ROUNDOFF_SHARE_LIMIT`] on (where the whole estimate's round-off stopped the run before),
+/// linear in `log10 s` between. The normal part is physical at loose tolerances (it carries
+/// the change of the centripetal accelerations: steering by the tangential part alone took 1.7x
+/// (chain2) to 2.5x (four-bar) the steps at equal error) and round-off at tight ones (the
+/// whole estimate with only the positions' round-off, or also the last Newton correction, as
+/// its allowance collapsed the steps at rtol 1e-9 and 1e-10 on chain2 and the four-bar).
+fn whole_weight(s: f64) -> f64 {
+    let lo = 0.1 * ROUNDOFF_SHARE_LIMIT;
+    if s <= lo {
+        1.0
+    } else if s >= ROUNDOFF_SHARE_LIMIT {
+        0.0
+    } else {
+        (ROUNDOFF_SHARE_LIMIT / s).log10()
+    }
+}
+
 /// Share of the error tolerance that the round-off allowance may take at the step the
 /// controller asks for after a rejection; beyond it the run stops with a message naming the
 /// tolerance. Round-off of the index-3 form then also shows in the result: with a limit of
 /// 2 (0.5), the four-bar at rtol 1e-9 returned 190 x rtol after 337 rejected steps (its share
 /// was 0.14 there); at 0.1 it stops, and the chains still run at 1e-9 (6.5 and 1.4 x rtol).
 const ROUNDOFF_SHARE_LIMIT: f64 = 0.1;
+
+/// Whether a rejection drops the steps into the whole estimate's round-off band from outside
+/// it: a motion faster than the tolerance follows, refused like a tolerance below round-off.
+/// `whole` is the rejected step's whole error estimate (relative, with its round-off
+/// allowance), `accepted` the round-off share of the last accepted step, `next` that of the
+/// step the controller asks for now.
+///
+/// A tolerance tight enough for the round-off band puts every step there (rtol 1e-9 and
+/// 1e-10 on the suite's chains and four-bar: shares of 0.1 .. 100 at every step), and the
+/// tangential estimate steers them ([`whole_weight`]). A loose tolerance reaches the band only
+/// where a motion asks for steps a decade or more below the run's: the millimetre yoke under a
+/// 600 N m root spring at rtol 1e-4 (it turns at about 1e4 rad/s) ran at shares of 0.006 and
+/// cut its step from 2.6e-7 s to 7.7e-9 s at a latch contact (share 0.2), where the whole
+/// estimate still asked for a 10x shorter step (68 times its tolerance). The tangential estimate
+/// passes that contact at steps of 3e-10 s and then runs on at 3e-8 .. 3e-7 s: 85,000 steps
+/// and 20 s CPU for the first 0.01 s communication step; refused here instead after 0.2 s CPU.
+/// The conditions are each part of the stop before the tangential estimate (a rejection by the
+/// whole estimate whose next step's share reaches [`ROUNDOFF_SHARE_LIMIT`]), so it refuses
+/// nothing that was not refused before.
+fn collapses_into_roundoff(whole: f64, accepted: f64, next: f64) -> bool {
+    whole >= 1.0 && accepted < 0.1 * ROUNDOFF_SHARE_LIMIT && next >= ROUNDOFF_SHARE_LIMIT
+}
 
 /// Factor on the step size from the error `err` (per unit step `O(h^2)`, per step `O(h^3)`) and
 /// the energy gain ratio `gain` (`O(h^3)`), both relative to their tolerances: the smaller of
@@ -210,6 +285,10 @@ impl GenAlpha {
             p_tried: None,
             gain_ratio: 0.0,
             err_roundoff: 0.0,
+            whole_err: 0.0,
+            whole_roundoff: 0.0,
+            accepted_roundoff: f64::INFINITY,
+            after_rejection: false,
             lin: LinearSolver::new(),
             jac_h: 0.0,
             jac_point: None,
@@ -229,6 +308,7 @@ impl GenAlpha {
             wn: Vec::new(),
             werr: Vec::new(),
             tmp: Vec::new(),
+            full: Vec::new(),
             xd: Vec::new(),
             vd: Vec::new(),
             qd: Vec::new(),
@@ -247,6 +327,7 @@ impl GenAlpha {
             &mut self.wn,
             &mut self.werr,
             &mut self.tmp,
+            &mut self.full,
         ] {
             v.resize(nv, 0.0);
         }

@@ -5,6 +5,24 @@ use super::*;
 /// Generalized-alpha's step, rejection and proposal for the step loop
 /// ([`implicit::advance`]): halves the last step of a call or divides the call into equal
 /// steps, rejects steps that gain energy, stops when the tolerance is below round-off.
+impl GenAlpha {
+    /// Share of the tolerance the round-off allowance takes at the step the controller asks
+    /// for after a rejection of step `h` [s]: the allowance measured at `h` rescaled by the
+    /// ratio of the steps' shares of the tolerance to that of their allowances.
+    fn roundoff_share(&self, h: f64) -> f64 {
+        let s = &self.core.s;
+        let (at_h, at_next) = (s.error_share(h), s.error_share(self.core.h));
+        self.err_roundoff * at_h / at_next * projected_noise(at_next) / projected_noise(at_h)
+    }
+
+    /// Share of the tolerance the whole estimate's round-off allowance takes at the step the
+    /// controller asks for after a rejection of step `h` [s].
+    fn whole_roundoff_share(&self, h: f64) -> f64 {
+        let s = &self.core.s;
+        self.whole_roundoff * s.error_share(h) / s.error_share(self.core.h)
+    }
+}
+
 impl ImplicitMethod for GenAlpha {
     type Estimate = f64;
 
@@ -59,6 +77,7 @@ impl ImplicitMethod for GenAlpha {
     fn rejected(&mut self, st: &State, h: f64, err: &f64, _: u32) -> Result<(), SolverError> {
         let err = *err;
         self.core.stats.rejected += 1;
+        self.after_rejection = true;
         if self.gain_ratio > err {
             self.core.stats.rejected_energy += 1;
         } else {
@@ -70,10 +89,15 @@ impl ImplicitMethod for GenAlpha {
         );
         // inside a singular configuration the positions' round-off grows with the conditioning
         // for a while: the allowance widens the test there instead of stopping the run
+        // a step collapse from outside the whole estimate's round-off band into it is a motion
+        // the tolerance cannot follow ([`collapses_into_roundoff`])
+        let whole_share = self.whole_roundoff_share(h);
+        let fast = collapses_into_roundoff(self.whole_err, self.accepted_roundoff, whole_share);
         if err >= self.gain_ratio
             && self.core.s.error_per_unit_step
             && !self.rank.inside()
-            && (self.err_roundoff * h / self.core.h >= ROUNDOFF_SHARE_LIMIT
+            && (fast
+                || self.roundoff_share(h) >= ROUNDOFF_SHARE_LIMIT
                 || step_control::collapsed(self.core.h, st.t))
         {
             return Err(SolverError::at(
@@ -83,7 +107,11 @@ impl ImplicitMethod for GenAlpha {
                     rtol: self.core.s.rtol,
                     atol: self.core.s.atol,
                     h: self.core.h,
-                    share: self.err_roundoff * h / self.core.h,
+                    share: if fast {
+                        whole_share
+                    } else {
+                        self.roundoff_share(h)
+                    },
                 },
             ));
         }
@@ -131,6 +159,13 @@ impl ImplicitMethod for GenAlpha {
     }
 
     fn propose(&mut self, h: f64, natural: f64, err: &f64) {
+        // the run's own steps: not those cut to land on an event or the end of a call, nor
+        // the first after a rejection (at the millimetre yoke's latch contact that one took
+        // 10x the share of the steps before it)
+        if h >= natural && !self.after_rejection {
+            self.accepted_roundoff = self.whole_roundoff;
+        }
+        self.after_rejection = false;
         self.core.h = self.step_policy().after_acceptance(
             h,
             natural,

@@ -243,10 +243,14 @@ impl GenAlpha {
                     for i in 0..nv {
                         self.tmp[i] = c * h * h * (self.a1[i] - self.a[i]);
                     }
+                    // the whole estimate (`full`); `tmp` is projected onto the joints' tangent
+                    // space below only where the blend uses it
+                    self.full.copy_from_slice(&self.tmp);
                     // round-off the estimate carries: accelerations carry the round-off of
                     // positions `dx` (`eps scale`, or the last Newton correction if the
-                    // iteration stalled in the round-off band) as `dx / (b h^2)`, so the
-                    // estimate carries `c dx / b` whatever the step
+                    // iteration stalled in the round-off band) as `dx / (b h^2)` along the
+                    // constraint normals, i.e. `c dx / b` whatever the step; the projection
+                    // removes that part up to what [`projected_noise`] leaves
                     let noise = if nc == 0 || !unit {
                         // no constraints: positions are not projected, accelerations carry no
                         // round-off of `1 / h^2`
@@ -256,25 +260,52 @@ impl GenAlpha {
                     } else {
                         f64::EPSILON * scale
                     } * self.rank.round_off_amplification();
+                    // the round-off allowance of the whole estimate, and what is left of it
+                    // along the tangent space
                     let floor = NOISE_ALLOWANCE * c.abs() * noise / self.beta;
-                    // the step's share of the tolerance, widened by the round-off: a step
-                    // shortened to reach a communication point (down to 1e-12 s in event
-                    // location) is not rejected for round-off it cannot remove
                     let share = self.core.s.error_share(h);
-                    for (e, w) in self.werr.iter_mut().zip(&self.wx) {
-                        *e = share * w + floor;
-                    }
+                    let tangent_floor = floor * projected_noise(share);
                     let safety = if self.core.s.error_per_unit_step {
                         ERROR_SAFETY
                     } else {
                         1.0
                     };
-                    err = safety * wrms(&self.tmp, &self.werr);
+                    // the step's share of the tolerance, widened by the round-off: a step
+                    // shortened to reach a communication point (down to 1e-12 s in event
+                    // location) is not rejected for round-off it cannot remove
+                    for (e, w) in self.werr.iter_mut().zip(&self.wx) {
+                        *e = share * w + floor;
+                    }
+                    let whole = safety * wrms(&self.full, &self.werr);
                     for (e, w) in self.werr.iter_mut().zip(&self.wx) {
                         *e = share * w;
                     }
-                    self.tmp.fill(floor);
-                    self.err_roundoff = wrms(&self.tmp, &self.werr);
+                    // share of the tolerance the whole estimate's round-off allowance takes
+                    self.full.fill(floor);
+                    let whole_roundoff = wrms(&self.full, &self.werr);
+                    (self.whole_err, self.whole_roundoff) = (whole, whole_roundoff);
+                    self.full.fill(tangent_floor);
+                    self.err_roundoff = wrms(&self.full, &self.werr);
+                    // inside a singular configuration the allowance is widened instead
+                    // (the tangent space itself is ill-determined there)
+                    let g = if self.rank.inside() {
+                        1.0
+                    } else {
+                        whole_weight(whole_roundoff)
+                    };
+                    err = if g >= 1.0 || !unit {
+                        whole
+                    } else {
+                        if let Err(e) = self.project_estimate(sys, t1) {
+                            self.core.jac_valid = false;
+                            return StepOutcome::Failed(e);
+                        }
+                        for (e, w) in self.werr.iter_mut().zip(&self.wx) {
+                            *e = share * w + tangent_floor;
+                        }
+                        let tangential = TANGENT_SAFETY * safety * wrms(&self.tmp, &self.werr);
+                        g * whole + (1.0 - g) * tangential
+                    };
                     self.gain_ratio = self.energy_gain(sys, st, h);
                 }
                 return StepOutcome::Converged(err);
@@ -316,6 +347,39 @@ impl GenAlpha {
         })?;
         for (v, dv) in self.v1.iter_mut().zip(&self.rhs[..nv]) {
             *v += dv;
+        }
+        Ok(())
+    }
+
+    /// Projects the error estimate in `tmp` [m, rad] onto the joints' tangent space at `q1`
+    /// (`G e = 0`), with the step's Newton matrix as the metric (one more solve, no new
+    /// factorization; call after [`GenAlpha::project_speeds`], which evaluated the constraints
+    /// at `q1`). Both the exact and the computed positions lie on the joints, so the true local
+    /// error has no first-order component along the constraint normals; that component of
+    /// `c h^2 (a1 - a0)` is the positions' round-off amplified by `1 / (b h^2)` (the index-3
+    /// form's round-off floor: before, rtol 1e-9 was refused on the four-bar and 1e-10 on the
+    /// chains, docs/integrator_error_control.md).
+    pub(super) fn project_estimate(
+        &mut self,
+        sys: &mut System,
+        t1: f64,
+    ) -> Result<(), NewtonFailure> {
+        let (nv, nc) = (sys.n_v(), sys.n_c());
+        if nc == 0 {
+            return Ok(());
+        }
+        self.rhs[..nv].fill(0.0);
+        self.lam_scratch.resize(nc, 0.0);
+        sys.g_mul(&self.tmp, &mut self.lam_scratch);
+        for r in 0..nc {
+            self.rhs[nv + r] = -self.lam_scratch[r];
+        }
+        self.lin.solve(&mut self.rhs).map_err(|e| NewtonFailure {
+            t: t1,
+            cause: NewtonCause::SingularMatrix(e),
+        })?;
+        for (e, de) in self.tmp.iter_mut().zip(&self.rhs[..nv]) {
+            *e += de;
         }
         Ok(())
     }
