@@ -143,7 +143,7 @@ def test_locked_frequency_through_fmpy_equals_the_table1_column(tmp_path):
     paper's zero-backlash latch on a 50 mm cam, k 1e7 and 1e8 N/m^1.5): the FMU computes it
     inside a communication step when the last hinge locks, the study after its run from the end
     state's memory, both from the designed locked pose (docs/panel_lock_locked_frequency.md), to
-    1e-12. It is 0 until every hinge has latched, and a flexible array's value differs from the
+    1e-9 (the CSV's 10 significant digits). It is 0 until every hinge has latched, and a flexible array's value differs from the
     rigid one's (the panels' modes are in it)."""
     stop = 15.0
     native("table1", "--set", "n_panels=1", "--stop", stop, "--out", tmp_path)
@@ -161,7 +161,7 @@ def test_locked_frequency_through_fmpy_equals_the_table1_column(tmp_path):
         assert np.all(res["locked_frequency"][~locked] == 0.0), k
         f = res["locked_frequency"][locked]
         assert np.all(f == f[0]), k  # computed once
-        assert abs(f[0] / study - 1.0) < 1e-12, (k, f[0], study)
+        assert abs(f[0] / study - 1.0) < 1e-9, (k, f[0], study)  # the CSV has 10 digits
     rigid = simulate_fmu(str(PANEL), start_values={**values, "flexible_panels": False, "n_modes": 0},
                          stop_time=stop, output_interval=0.1, output=["locked_frequency"])
     assert abs(rigid["locked_frequency"][-1] / f[0] - 1.0) > 1e-6, (rigid["locked_frequency"][-1], f[0])
