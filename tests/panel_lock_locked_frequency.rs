@@ -118,7 +118,8 @@ fn hand_frequency(p: &PanelLockParams) -> f64 {
 }
 
 /// (a) The output of the FMU's model against the hand calculation, 0 until both hinges have
-/// latched; and it survives a state save and restore.
+/// latched; it survives a state save and restore, and a state of the format before it computes
+/// it on restore.
 #[test]
 fn locked_frequency_of_one_rigid_panel_by_hand() {
     let p = one_rigid_panel();
@@ -150,6 +151,20 @@ fn locked_frequency_of_one_rigid_panel_by_hand() {
     let mut r = PanelLockModel::new();
     r.deserialize(&bytes).unwrap();
     assert_eq!(read(&r, "locked_frequency").to_bits(), f.to_bits());
+    // a state of format 6 (before the output: no value and locked set at its end) computes it on
+    // restore; the header is the identifier (u64 length + bytes) and the u32 format
+    let tail = 8 + 8 + 8 * 2;
+    let mut v6 = bytes[..bytes.len() - tail].to_vec();
+    let at = 8 + "PanelLock".len();
+    assert_eq!(v6[at..at + 4], 7u32.to_le_bytes());
+    v6[at..at + 4].copy_from_slice(&6u32.to_le_bytes());
+    let mut r = PanelLockModel::new();
+    r.deserialize(&v6).unwrap();
+    let again = read(&r, "locked_frequency");
+    assert!(
+        (again / f - 1.0).abs() < 1e-12,
+        "{again} Hz after a format 6 state, {f} Hz"
+    );
 }
 
 /// (b) The output against the free vibration it describes. The one-panel array with a nearly
