@@ -273,3 +273,30 @@ fn computing_it_leaves_the_run_bit_for_bit() {
     }
     assert_eq!(none.outputs().locked_frequency, 0.0);
 }
+
+/// A free-floating satellite: the locked array has rigid-body motions without stiffness, so no
+/// static equilibrium is found; the output stays 0 (finite) after every hinge latched and the log
+/// says why, once.
+#[test]
+fn a_free_satellite_gives_0_and_says_why() {
+    let mut m = PanelLockModel::new();
+    set_by_name(&mut m, "free_satellite", 1.0).unwrap();
+    m.initialize(0.0).unwrap();
+    let mut notes = Vec::new();
+    for i in 0..400 {
+        m.do_step(i as f64 * 0.1, 0.1).unwrap();
+        notes.extend(
+            m.take_log()
+                .into_iter()
+                .filter(|r| r.message.contains("locked_frequency")),
+        );
+    }
+    assert!(all_latched(&m, 4));
+    assert_eq!(read(&m, "locked_frequency"), 0.0);
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(
+        notes[0].message.contains("stays 0") && notes[0].message.contains("equilibrium"),
+        "{:?}",
+        notes[0]
+    );
+}
