@@ -190,7 +190,7 @@ fn locked_modes_match_the_hand_built_linearization() {
     let f_hand = linearized_frequency(&p);
     let mut s = PanelLock::new(p).unwrap();
     s.advance_to(60.0).unwrap();
-    let (eq, f) = locked_modes(&mut s).unwrap();
+    let (eq, f) = locked_modes(&s).unwrap();
     let rel = (f[0] - f_hand).abs() / f_hand;
     println!(
         "locked modes: {:.6} Hz (then {:.4}, {:.4} Hz), hand model {f_hand:.6} Hz, rel {rel:.2e}; equilibrium in {} iterations, unbalanced {:.1e}",
@@ -211,7 +211,7 @@ fn locked_frequency_is_the_small_amplitude_vibration_of_the_paper_array() {
     let mut s = PanelLock::new(PanelLockParams::flexible(10)).unwrap();
     s.advance_to(40.0).unwrap();
     assert!(s.lock_times().iter().all(|t| t.is_finite()));
-    let (eq, f) = locked_modes(&mut s).unwrap();
+    let (eq, f) = locked_modes(&s).unwrap();
     let t0 = s.sim.state.t;
     let v: Vec<f64> = s.sim.state.v.iter().map(|x| 0.01 * x).collect();
     s.sim.state.q.copy_from_slice(&eq.q);

@@ -120,8 +120,8 @@ fn the_guid_changes_with_the_interface() {
     let recorded: [(&str, &str, u64); 4] = [
         (
             "PanelLock",
-            "{6df60479-b89e-496b-a2fd-dfb926e87222}",
-            0x431f_7006_48d9_faba,
+            "{0d731b86-81f5-4830-8d8c-4a13aed89c98}",
+            0xc728_b9e9_7dd0_7a71,
         ),
         (
             "RopeBlock",

@@ -4,7 +4,7 @@ communication step within the solver tolerance, and a PID FMU closes a loop arou
 
 import numpy as np
 import pytest
-from conftest import DIST, native_table
+from conftest import DIST, native, native_table, strip_unit
 from fmpy import read_model_description, simulate_fmu
 from fmpy.fmi2 import FMU2Slave
 from fmpy import extract
@@ -135,3 +135,33 @@ def test_root_interface_outputs_carry_the_deployment_and_bound_their_samples():
     assert np.all(res["root_peak_force"] >= np.maximum.accumulate(force))
     assert np.all(res["root_peak_torque"] >= np.maximum.accumulate(torque))
     assert np.all(np.diff(res["root_peak_force"]) >= 0.0)
+
+
+def test_locked_frequency_through_fmpy_equals_the_table1_column(tmp_path):
+    """`locked_frequency` (issue #45 item 2) read from the packed FMU equals the `table1` study's
+    `linear_frequency_hz` column for the same parameters (one flexible panel of 10 modes, the
+    paper's zero-backlash latch on a 50 mm cam, k 1e7 and 1e8 N/m^1.5): the FMU computes it
+    inside a communication step when the last hinge locks, the study after its run from the end
+    state's memory, both from the designed locked pose (docs/panel_lock_locked_frequency.md), to
+    1e-9 (the CSV's 10 significant digits). It is 0 until every hinge has latched, and a flexible array's value differs from the
+    rigid one's (the panels' modes are in it)."""
+    stop = 15.0
+    native("table1", "--set", "n_panels=1", "--stop", stop, "--out", tmp_path)
+    lines = (tmp_path / "panel_lock_table1.csv").read_text().splitlines()
+    head = [strip_unit(c) for c in lines[0].split(",")]
+    rows = [dict(zip(head, map(float, line.split(",")))) for line in lines[1:]]
+    for k in (1e7, 1e8):
+        study = next(r for r in rows if r["k"] == k and r["n"] == 1.5)["linear_frequency_hz"]
+        values = {"n_panels": 1, "flexible_panels": True, "n_modes": 10, "cam_radius": 0.05,
+                  "groove_width": 0.01, "contact_stiffness": k, "contact_exponent": 1.5}
+        res = simulate_fmu(str(PANEL), start_values=values, stop_time=stop, output_interval=0.1,
+                           output=["locked_frequency", "hinge0_latched", "hinge1_latched"])
+        locked = res["hinge0_latched"] & res["hinge1_latched"]
+        assert locked[-1] and not locked[0], k
+        assert np.all(res["locked_frequency"][~locked] == 0.0), k
+        f = res["locked_frequency"][locked]
+        assert np.all(f == f[0]), k  # computed once
+        assert abs(f[0] / study - 1.0) < 1e-9, (k, f[0], study)  # the CSV has 10 digits
+    rigid = simulate_fmu(str(PANEL), start_values={**values, "flexible_panels": False, "n_modes": 0},
+                         stop_time=stop, output_interval=0.1, output=["locked_frequency"])
+    assert abs(rigid["locked_frequency"][-1] / f[0] - 1.0) > 1e-6, (rigid["locked_frequency"][-1], f[0])

@@ -78,6 +78,17 @@ fn plate_inertia(m: f64, length: f64, width: f64, thick: f64) -> Mat3 {
 
 /// Builds the model and its layout; `Err` explains a bad parameter.
 pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
+    build_posed(p, None)
+}
+
+/// [`build`] with the bodies placed at the hinges' deployment angles `pose` [rad] (one per
+/// hinge) instead of their stowed angles: the same bodies, joints and effects in the same order,
+/// only the initial positions differ (the locked array's start for its linearization,
+/// [`super::locked_frequency`]).
+pub(super) fn build_posed(
+    p: &PanelLockParams,
+    pose: Option<&[f64]>,
+) -> Result<(Model, Layout), String> {
     p.validate()?;
     let mut b = ModelBuilder::new();
     let motor_input = b.add_input("root_motor_torque");
@@ -149,7 +160,7 @@ pub fn build(p: &PanelLockParams) -> Result<(Model, Layout), String> {
         };
         let hv = p.hinge(k);
         let (lock, stow) = (hv.lock_angle, hv.stowed_angle);
-        phi += s * (stow - lock);
+        phi += s * (pose.map_or(stow, |a| a[k]) - lock);
         let pv = p.panel(k);
         let (len, mass, name) = if k == 0 {
             (p.yoke_length, p.yoke_mass, "yoke".to_string())

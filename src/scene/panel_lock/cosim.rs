@@ -21,8 +21,10 @@ use crate::scene::{CoSimModel, LogLevel, LogRecord, ModelError, StepRequest};
 /// root interface peaks, after the counters; 5: the integrator's monitors
 /// ([`crate::integrator::Integrator::monitors`]), after the peaks; older states restore with the
 /// rank baseline taken afresh); 6: the root interface's work ([`super::interface::InterfacePeaks::work`]),
-/// after the monitors (older states restore with it at 0).
-const STATE_FORMAT: u32 = 6;
+/// after the monitors (older states restore with it at 0); 7: the locked frequency and the
+/// locked set it belongs to ([`super::locked_frequency::LockedFrequency`]), after the work (older
+/// states compute it from the restored state).
+const STATE_FORMAT: u32 = 7;
 
 /// A new PanelLock instance at default parameters.
 pub fn create() -> Box<dyn CoSimModel> {
@@ -183,6 +185,8 @@ impl PanelLockModel {
         self.ports
             .put_integer(ivr::FACTORIZATIONS, clamp(stats.factorizations))?;
         self.ports.put_integer(ivr::INTEGRATOR_USED, used)?;
+        self.ports
+            .put_real(vr_locked_frequency(), o.locked_frequency)?;
         Ok(())
     }
 
@@ -255,6 +259,12 @@ impl CoSimModel for PanelLockModel {
                 .set_satellite_load(j, self.ports.get_real(vr_satellite_load(j))?)
                 .map_err(ModelError::InvalidValue)?;
         }
+        if let Some(note) = scene.update_locked_frequency() {
+            self.log.push(LogRecord {
+                level: LogLevel::Warning,
+                message: note,
+            });
+        }
         self.scene = Some(scene);
         self.clock = clock;
         self.publish()?;
@@ -295,6 +305,30 @@ impl CoSimModel for PanelLockModel {
             });
         }
         let end = stopped.finish(&mut self.clock, &step, now);
+        let scene = self.scene()?;
+        let note = scene.update_locked_frequency();
+        let (hz, cpu, t_now) = (
+            scene.locked_frequency.hz,
+            scene.locked_frequency.cpu,
+            scene.sim.state.t,
+        );
+        match note {
+            Some(note) => self.log.push(LogRecord {
+                level: LogLevel::Warning,
+                message: note,
+            }),
+            None if hz > 0.0 && cpu > 0.0 && scene.locked_frequency.fresh => {
+                self.log.push(LogRecord {
+                    level: LogLevel::Event,
+                    message: format!(
+                        "locked_frequency = {hz:.6} Hz (array linearized about its equilibrium at t = {:.6} s, {:.1} ms)",
+                        self.clock.start() + t_now,
+                        1e3 * cpu
+                    ),
+                })
+            }
+            None => {}
+        }
         let after = self.lock_times();
         for (k, (a, b)) in after.iter().zip(&before).enumerate() {
             if a.is_finite() && !b.is_finite() {
@@ -334,6 +368,14 @@ impl CoSimModel for PanelLockModel {
                 w.f64(s.interface_peaks.torque);
                 w.f64s(&s.sim.integrator_monitors());
                 w.f64(s.interface_peaks.work);
+                w.f64(s.locked_frequency.hz);
+                w.f64s(
+                    &s.locked_frequency
+                        .locked
+                        .iter()
+                        .map(|&l| if l { 1.0 } else { 0.0 })
+                        .collect::<Vec<f64>>(),
+                );
             }
         }
         w.into_bytes()
@@ -424,6 +466,22 @@ impl CoSimModel for PanelLockModel {
             }
             if version >= 6 {
                 scene.interface_peaks.work = r.finite_f64("root interface work")?;
+            }
+            if version >= 7 {
+                let hz = r.finite_f64("locked frequency")?;
+                let locked = r.f64s("locked set")?;
+                if hz < 0.0 || locked.iter().any(|&l| l != 0.0 && l != 1.0) {
+                    return Err(ModelError::BadState(format!(
+                        "corrupt state: locked frequency {hz} Hz or locked set {locked:?}"
+                    )));
+                }
+                scene.locked_frequency.hz = hz;
+                scene.locked_frequency.locked = locked.iter().map(|&l| l == 1.0).collect();
+            } else if let Some(note) = scene.update_locked_frequency() {
+                restored.log.push(LogRecord {
+                    level: LogLevel::Warning,
+                    message: note,
+                });
             }
             restored.scene = Some(scene);
         }

@@ -65,6 +65,7 @@ mod events;
 pub mod flex_outputs;
 pub mod flex_panel;
 pub mod interface;
+pub mod locked_frequency;
 mod params;
 pub mod ports;
 pub mod power_ports;

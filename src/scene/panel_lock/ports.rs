@@ -661,6 +661,18 @@ pub fn vr_panel(k: usize, j: usize) -> ValueRef {
     vr_satellite_output(SATELLITE_OUTPUTS.len() + (k - 1) * PANEL_OUTPUTS.len() + j)
 }
 
+/// The locked structure's output, after the per-panel outputs (name, unit, description).
+pub const LOCKED_FREQUENCY_OUTPUT: (&str, Option<&str>, &str) = (
+    "locked_frequency",
+    Some("Hz"),
+    "Lowest undamped natural frequency of the locked array linearized about its static equilibrium (the model's own masses and stiffnesses: the latches' contact stiffness at their preload, the springs, the panels' modes, the joints), computed once when the last hinge locks (a latch never releases). 0 before every hinge has locked, without latches, and when no equilibrium is found (free-floating satellite; the log says why).",
+);
+
+/// Value reference of `locked_frequency` (after the last panel's outputs).
+pub fn vr_locked_frequency() -> ValueRef {
+    vr_panel(MAX_PANELS, PANEL_OUTPUTS.len() - 1) + 1
+}
+
 /// Integer value references.
 pub mod ivr {
     use super::ValueRef;
@@ -882,6 +894,8 @@ pub fn info() -> &'static ModelInfo {
                 ports.push(PortSpec::real_output(&format!("panel{k}_{name}"), vr_panel(k, j), *unit, &format!("Panel {k} (1 = innermost): {desc} Zero with rigid panels, for panels the array does not have and for modes beyond n_modes.")));
             }
         }
+        let (name, unit, desc) = LOCKED_FREQUENCY_OUTPUT;
+        ports.push(PortSpec::real_output(name, vr_locked_frequency(), unit, desc));
         for (vr, name, desc) in [
             (ivr::STEPS, "solver_steps", "Accepted integrator steps since the start."),
             (ivr::REJECTED, "solver_rejected_steps", "Rejected integrator steps since the start."),
@@ -893,7 +907,7 @@ pub fn info() -> &'static ModelInfo {
         }
         ModelInfo {
             identifier: IDENTIFIER,
-            guid: "{6df60479-b89e-496b-a2fd-dfb926e87222}",
+            guid: "{0d731b86-81f5-4830-8d8c-4a13aed89c98}",
             description: "Deployment and lock-up of a solar array: yoke and panels joined by hinge bodies with preloaded torsion springs, pin/groove latches with a selectable contact law, stow stops, optional cable loops; rigid panels or flexible (Craig-Bampton modal) panels.",
             ports,
             default_stop_time: 60.0,

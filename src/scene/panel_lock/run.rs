@@ -5,6 +5,7 @@ use super::flex_outputs::PanelFlexOutput;
 use super::interface::{
     InterfacePeaks, PeakHook, interface_motion, interface_power, interface_wrench,
 };
+use super::locked_frequency::LockedFrequency;
 use super::params::PanelLockParams;
 use crate::effect::EvalCtx;
 use crate::effect::angle::relative_angle;
@@ -50,6 +51,10 @@ pub struct PanelLockOutputs {
     pub root_work: f64,
     /// Velocity [m/s] of the outer panel's tip midpoint along the panel normal.
     pub tip_normal_velocity: f64,
+    /// Lowest undamped natural frequency [Hz] of the locked array linearized about its static
+    /// equilibrium, as [`PanelLock::update_locked_frequency`] last left it (0 before every hinge
+    /// has locked).
+    pub locked_frequency: f64,
     /// Kinetic, potential (springs, contact, gravity) energy, energy dissipated and input work [J].
     pub kinetic: f64,
     pub potential: f64,
@@ -65,6 +70,9 @@ pub struct PanelLock {
     pub sim: Simulation,
     /// Peaks of the root interface wrench so far (kept by [`PanelLock::advance_to`]).
     pub interface_peaks: InterfacePeaks,
+    /// The locked array's lowest natural frequency, brought up to date by
+    /// [`PanelLock::update_locked_frequency`].
+    pub locked_frequency: LockedFrequency,
 }
 
 impl PanelLock {
@@ -82,6 +90,7 @@ impl PanelLock {
             layout,
             sim,
             interface_peaks: InterfacePeaks::default(),
+            locked_frequency: LockedFrequency::default(),
         };
         let start = scene.root_wrench().map_err(String::from)?;
         scene.interface_peaks.note(&start);
@@ -138,6 +147,16 @@ impl PanelLock {
         let now = self.root_wrench().map_err(String::from)?;
         self.interface_peaks.note(&now);
         Ok(())
+    }
+
+    /// Brings [`PanelLock::locked_frequency`] up to date with the locked set (computed from a
+    /// copy of the system when the last hinge has locked; nothing otherwise): call it after
+    /// advancing. Returns the reason when the computation failed (the value is then 0).
+    pub fn update_locked_frequency(&mut self) -> Option<String> {
+        let mut f = std::mem::take(&mut self.locked_frequency);
+        let note = f.update(self);
+        self.locked_frequency = f;
+        note
     }
 
     /// Advances to `t` [s], keeping the interface peaks over every accepted step.
@@ -294,6 +313,7 @@ impl PanelLock {
             root_power,
             root_work: self.interface_peaks.work,
             tip_normal_velocity: tip_v.dot(&normal),
+            locked_frequency: self.locked_frequency.hz,
             kinetic: e.kinetic,
             potential: e.potential,
             dissipated: e.dissipated,

@@ -12,9 +12,9 @@
 //! located peaks merged in ([`super::trace::ForceTrace`]), not from the output samples: a
 //! lock-up impact lasts milliseconds and falls between 0.01 s samples.
 
+pub use super::locked_frequency::locked_modes;
 use super::trace::ForceTrace;
 use super::{PanelLock, PanelLockParams};
-use crate::dae::linearize::{Equilibrium, natural_frequencies, static_equilibrium};
 use crate::report::spectrum::{amplitude_spectrum, dominant_frequency};
 use crate::report::svg::{Markers, Series, line_plot, line_plot_marked};
 use crate::report::write_csv;
@@ -128,21 +128,6 @@ pub fn post_lock_frequency(v: &[f64], dt: f64) -> Option<f64> {
     dominant_frequency(v, dt, BAND.0, BAND.1)
 }
 
-/// The array as the run left it, linearized about its static equilibrium
-/// ([`crate::dae::linearize`]): the equilibrium nearest the run's last state (the latches'
-/// contact at their preload, the springs, the panels' modes, the joints; the effects' memory,
-/// e.g. locked latches, as it is) and the undamped natural frequencies there [Hz], ascending.
-/// The run's state is left unchanged. `Err` if no equilibrium is found.
-pub fn locked_modes(s: &mut PanelLock) -> Result<(Equilibrium, Vec<f64>), String> {
-    let (t, q) = (s.sim.state.t, s.sim.state.q.clone());
-    s.sim.system.memory.copy_from_slice(&s.sim.state.memory);
-    let sys = &mut s.sim.system;
-    let eq = static_equilibrium(sys, t, &q, 1e-8, 1e-12, 50)
-        .map_err(|e| format!("locked array: {e}"))?;
-    let f = natural_frequencies(sys, t, &eq.q, &eq.lambda)?;
-    Ok((eq, f))
-}
-
 /// Runs one deployment of `p` to `t_end` sampled every `dt` [s].
 pub fn run_case(p: PanelLockParams, t_end: f64, dt: f64) -> Result<CaseResult, String> {
     let (k_c, n_c) = (p.contact_stiffness, p.contact_exponent);
@@ -191,7 +176,7 @@ pub fn run_case(p: PanelLockParams, t_end: f64, dt: f64) -> Result<CaseResult, S
     };
     if r.window_start().is_finite() {
         r.frequency = post_lock_frequency(r.window(), dt);
-        r.linear_frequency = locked_modes(&mut s)?.1.first().copied();
+        r.linear_frequency = locked_modes(&s)?.1.first().copied();
     }
     Ok(r)
 }
