@@ -17,6 +17,7 @@ pub mod demo_plots;
 mod dependencies;
 pub mod edit;
 mod events;
+pub mod load_damper;
 pub mod manager;
 pub mod params;
 pub mod persist;
@@ -40,5 +41,6 @@ pub use rig::{BlockGeometry, BlockPose, BlockRig, Lug, Plate, Rig, RigHook, RigS
 pub use runner::RopeBlockSim;
 pub use scene::RopeBlockScene;
 pub use structure::{
-    BlockSpec, BodyRef, EndSpec, ForceSpec, LoadSpec, NodeContact, NodeSpec, RopeSpec, Structure,
+    BlockSpec, BodyRef, DamperSpec, EndSpec, ForceSpec, LoadSpec, NodeContact, NodeSpec, RopeSpec,
+    Structure,
 };
