@@ -186,7 +186,7 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
         })?;
     }
     if !s.dampers.is_empty() {
-        b.add_force_effect(Arc::new(super::load_damper::LoadDampers::new(
+        b.add_force_effect(Arc::new(super::rig_dampers::RigDampers::new(
             s, &loads, &nodes,
         )));
     }

@@ -12,12 +12,12 @@ use crate::model::kinematics::{BodyKin, kin_of};
 
 /// The dampers of a structure, each on its load's body.
 #[derive(Debug, Clone)]
-pub struct LoadDampers {
+pub struct RigDampers {
     /// The load's body and its damper's matrix `c P` [N s/m].
     pub elements: Vec<(BodyId, Mat3)>,
 }
 
-impl LoadDampers {
+impl RigDampers {
     /// The dampers of `s` on the bodies of its build: `loads` (by load number) and `nodes` (by
     /// rope, interior node).
     pub fn new(s: &Structure, loads: &[BodyId], nodes: &[Vec<BodyId>]) -> Self {
@@ -59,7 +59,7 @@ impl LoadDampers {
                 }
             }
         }
-        LoadDampers { elements }
+        RigDampers { elements }
     }
 
     /// The force of element `(body, cp)` as a two-point force from the ground (A) to the load
@@ -78,9 +78,9 @@ impl LoadDampers {
     }
 }
 
-impl ForceEffect for LoadDampers {
+impl ForceEffect for RigDampers {
     fn name(&self) -> &str {
-        "load damper"
+        "rig damper"
     }
 
     fn add_forces(&self, ctx: &EvalCtx, f: &mut [f64]) {
@@ -152,7 +152,7 @@ mod tests {
             memory: &[],
             frozen: &[],
         };
-        let d = LoadDampers::new(&s, &[BodyId(0)], &[]);
+        let d = RigDampers::new(&s, &[BodyId(0)], &[]);
         let mut f = vec![0.0; 3];
         d.add_forces(&ctx, &mut f);
         assert_eq!(f, vec![0.0, -20.0, -30.0]);
