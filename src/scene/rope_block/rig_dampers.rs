@@ -163,4 +163,62 @@ mod tests {
         let want = Matrix6::from_diagonal(&nalgebra::Vector6::new(0.0, 10.0, 10.0, 0.0, 0.0, 0.0));
         assert_eq!(sink.0, want);
     }
+
+    /// A rope of five interior nodes, the third and fourth on edges: the strand damper takes
+    /// nodes 0 and 1 across axis x and node 4 across axis y, nothing between the contact
+    /// nodes; the contact-node damper takes nodes 2 and 3 in all directions.
+    #[test]
+    fn strand_and_contact_dampers_pick_their_nodes() {
+        use super::super::structure::{NodeContact, NodeSpec, RopeSpec};
+        let node = |contact: bool| NodeSpec {
+            mass: 1.0,
+            sigma: 0.0,
+            position: Vec3::zeros(),
+            velocity: Vec3::zeros(),
+            contact: contact.then_some(NodeContact {
+                block: 0,
+                edge: 0,
+                anchor: Vec3::zeros(),
+                mode: crate::rope::SlipMode::Stick,
+                mu_rope: 0.2,
+                cap: 1.0,
+            }),
+        };
+        let rope = RopeSpec {
+            name: "rope".into(),
+            props: crate::rope::RopeProps::default(),
+            nominal_segment: 1.0,
+            start: super::super::structure::EndSpec::Load(0),
+            end: super::super::structure::EndSpec::Load(0),
+            sigma_start: 0.0,
+            sigma_end: 1.0,
+            nodes: [false, false, true, true, false].map(node).to_vec(),
+        };
+        let s = Structure {
+            ropes: vec![rope],
+            dampers: vec![
+                DamperSpec::Strands {
+                    rope: 0,
+                    damping: 2.0,
+                    free_axes: [Vec3::x(), Vec3::y()],
+                },
+                DamperSpec::ContactNodes {
+                    rope: 0,
+                    damping: 3.0,
+                },
+            ],
+            ..Structure::default()
+        };
+        let bodies: Vec<BodyId> = (10..15).map(BodyId).collect();
+        let d = RigDampers::new(&s, &[], &[bodies]);
+        let across = |a: Vec3| 2.0 * (Mat3::identity() - a * a.transpose());
+        let want = vec![
+            (BodyId(10), across(Vec3::x())),
+            (BodyId(11), across(Vec3::x())),
+            (BodyId(14), across(Vec3::y())),
+            (BodyId(12), 3.0 * Mat3::identity()),
+            (BodyId(13), 3.0 * Mat3::identity()),
+        ];
+        assert_eq!(d.elements, want);
+    }
 }
