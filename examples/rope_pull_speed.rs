@@ -14,8 +14,17 @@
 //!   rejections, Newton work, edge slides, CPU time of the thread, and T2/T1 across the node
 //!   (its two segments) sampled every 1 ms, mean over 1-2 s, least and largest.
 //!
-//! Run: `cargo run --release --example rope_pull_speed [-- capstan | tilted [T1 tilt]]
-//! [pseudo_coefficient]` (both by default; `tilted 9.81e5 20` runs that one case at the three
+//! - `quasi`: the 981 kN, 20 deg tilted edge with its end load's swing critically damped
+//!   ([`pulled::PullOptions`]), pulled at 0.025, 0.05, 0.1, 0.2 m/s until the hook has pulled
+//!   0.4 m, T2/T1 sampled every 0.2 mm of pulled length and compared at equal pulled length
+//!   (`quasi strands`: the strands' material nodes damped across their strand too; `contact`:
+//!   the contact node along its edge too, at the strand nodes' damping; a number scales every
+//!   damping, critical by default; `coarse` samples every 10 mm instead).
+//! - `tolerance`: the undamped 981 kN, 20 deg rig at 0.2 m/s with rtol/atol scaled by 0.01, 0.1,
+//!   1, 10, 100 (a work-precision view).
+//!
+//! Run: `cargo run --release --example rope_pull_speed [-- capstan | tilted [T1 tilt] | quasi |
+//! tolerance] [pseudo_coefficient]` (both by default; `tilted 9.81e5 20` runs that one case at the three
 //! speeds; a friction law's name, `edge_first` (the default) or `pseudo_coefficient`, runs the
 //! rigs under that law).
 //! The figures are in docs/rope_friction.md ("Pulled at a speed").
@@ -29,7 +38,7 @@ mod rig;
 
 use mbcosim::model::Profile;
 use mbcosim::rope::friction::FrictionLaw;
-use pulled::hooked;
+use pulled::{PullOptions, hooked_with};
 use rig::{Hold, Wrap};
 
 fn capstan(law: FrictionLaw) {
@@ -48,7 +57,7 @@ fn capstan(law: FrictionLaw) {
                 end_mass: 100.0 * t1 / 9.81e3,
                 ..Wrap::drum(k, 0.52, t1, props, pull, Hold::Fixed)
             };
-            let mut sim = hooked(&rig, 0.2);
+            let mut sim = hooked_with(&rig, 0.2, PullOptions::default());
             let (mut over_ends, mut local) = (0.0f64, 0.0f64);
             let mut at = (0.0, 0, 0.0, 0.0);
             for s in 1..=2000 {
@@ -138,13 +147,147 @@ fn tilted(args: &[String], law: FrictionLaw) {
     }
 }
 
+/// The damped (quasi-static) tilted edge at four speeds, compared at equal pulled length.
+fn quasi(strands: bool, contact: bool, factor: f64, ds: f64) {
+    let (t1, tilt) = (9.81e5, 20.0);
+    let rig = pulled::tilted_rig(t1, tilt);
+    let c = factor * pulled::swing_critical_damping(&rig, t1);
+    let cs = if strands {
+        factor * pulled::strand_critical_damping(&rig, t1)
+    } else {
+        0.0
+    };
+    let cc = if contact {
+        factor * pulled::strand_critical_damping(&rig, t1)
+    } else {
+        0.0
+    };
+    let opt = pulled::PullOptions {
+        damping: c,
+        strand_damping: cs,
+        contact_damping: cc,
+        ..Default::default()
+    };
+    println!(
+        "tilted edge {t1:.3e} N, {tilt} deg, end load damped across its strand by {c:.4e} N s/m, strand nodes by {cs:.4e} N s/m, the contact node along its edge by {cc:.4e} N s/m; pulled 0.4 m, T2/T1 every {ds} m of pulled length"
+    );
+    let mut runs = Vec::new();
+    for v in [0.025, 0.05, 0.1, 0.2] {
+        let start = cpu_seconds();
+        let r = pulled::run_tilted_by_length(t1, tilt, v, opt, ds, 0.4);
+        let cpu = cpu_seconds() - start;
+        let per_s = r.steps as f64 / r.t_end;
+        for from in [0.1, 0.2] {
+            let (mean, least, largest) = r.stats_from(from);
+            println!(
+                "v {v:.3} m/s: to {:.2} s: steps {} ({per_s:.0} per s), rejected {}, Newton {} (failed {}), edge slides {}; {cpu:.2} s CPU; T2/T1 from {from} m pulled: mean {mean:.5}, least {least:.5}, largest {largest:.5}",
+                r.t_end, r.steps, r.rejected, r.newton, r.newton_failed, r.edge_slides
+            );
+        }
+        runs.push((v, r));
+    }
+    let slow = &runs[0].1;
+    for (v, r) in &runs[1..] {
+        let worst = r
+            .ratios
+            .iter()
+            .zip(&slow.ratios)
+            .zip(&r.lengths)
+            .filter(|(_, s)| **s >= 0.2 - 1e-12)
+            .map(|((q, q0), _)| (q / q0 - 1.0).abs())
+            .fold(0.0f64, f64::max);
+        println!(
+            "v {v:.3} m/s against 0.025 m/s at equal pulled length 0.2-0.4 m: largest |ratio / ratio_0.025 - 1| {worst:.3e}"
+        );
+    }
+    // means over bins of 0.05 m of pulled length
+    for k in 0..6 {
+        let (a, b) = (0.1 + 0.05 * k as f64, 0.15 + 0.05 * k as f64);
+        let row: Vec<String> = runs
+            .iter()
+            .map(|(v, r)| {
+                let q: Vec<f64> = r
+                    .lengths
+                    .iter()
+                    .zip(&r.ratios)
+                    .filter(|(s, _)| **s > a + 1e-12 && **s <= b + 1e-12)
+                    .map(|(_, q)| *q)
+                    .collect();
+                format!("{v}: {:.5}", q.iter().sum::<f64>() / q.len() as f64)
+            })
+            .collect();
+        println!("mean over pulled ({a:.2}, {b:.2}] m: {}", row.join(", "));
+    }
+    // the samples at a few pulled lengths, for the table
+    for s in [0.05, 0.1, 0.2, 0.3, 0.4] {
+        let row: Vec<String> = runs
+            .iter()
+            .map(|(v, r)| {
+                let i = r.lengths.iter().position(|x| (x - s).abs() < 1e-9);
+                format!(
+                    "{v}: {}",
+                    i.map_or("-".into(), |i| format!("{:.5}", r.ratios[i]))
+                )
+            })
+            .collect();
+        println!("pulled {s} m: {}", row.join(", "));
+    }
+}
+
+/// The undamped 981 kN, 20 deg rig at 0.2 m/s over 2 s with the tolerances scaled.
+fn tolerance(law: FrictionLaw) {
+    let (t1, tilt, v) = (9.81e5, 20.0, 0.2);
+    println!(
+        "tilted edge {t1:.3e} N, {tilt} deg, {v} m/s, undamped, 2 s, samples every 1 ms; rtol 1e-6 and atol 1e-7 m times:"
+    );
+    for scale in [0.01, 0.1, 1.0, 10.0, 100.0] {
+        let opt = pulled::PullOptions {
+            tol_scale: scale,
+            ..Default::default()
+        };
+        let start = cpu_seconds();
+        let r = pulled::run_tilted_with(law, t1, tilt, v, opt);
+        println!(
+            "x{scale}: steps {}, rejected {}, Newton {} (failed {}), edge slides {}; T2/T1 over 1-2 s mean {:.4}, least {:.4}, largest {:.4}; {:.2} s CPU",
+            r.steps,
+            r.rejected,
+            r.newton,
+            r.newton_failed,
+            r.edge_slides,
+            r.mean,
+            r.least,
+            r.largest,
+            cpu_seconds() - start
+        );
+    }
+}
+
 fn main() {
     let what: Vec<String> = std::env::args().skip(1).collect();
     let law = what
         .iter()
         .find_map(|w| FrictionLaw::from_name(w))
         .unwrap_or_default();
-    let all = !what.iter().any(|w| w == "capstan" || w == "tilted");
+    if what.iter().any(|w| w == "quasi") {
+        let factor = what.iter().find_map(|w| w.parse().ok()).unwrap_or(1.0);
+        let ds = if what.iter().any(|w| w == "coarse") {
+            1e-2
+        } else {
+            2e-4
+        };
+        quasi(
+            what.iter().any(|w| w == "strands"),
+            what.iter().any(|w| w == "contact"),
+            factor,
+            ds,
+        );
+    }
+    if what.iter().any(|w| w == "tolerance") {
+        tolerance(law);
+    }
+    let all = !what
+        .iter()
+        .any(|w| ["capstan", "tilted", "quasi", "tolerance"].contains(&w.as_str()));
     if all || what.iter().any(|w| w == "capstan") {
         capstan(law);
     }

@@ -302,6 +302,7 @@ impl Wrap {
                 nodes,
             }],
             forces,
+            dampers: vec![],
             ground: None,
         }
     }

@@ -5,7 +5,7 @@
 //! point-on-line joint per contact node (the node on its plate edge's line, two Lagrange
 //! multipliers: the paper's fixed joint across the edge, while along the edge the rope effect's
 //! elastic-plastic friction element holds it), then one fixed joint per welded block. Force
-//! effects: gravity, constant applied forces, the block-ground contact when the scene has a
+//! effects: gravity, constant applied forces, the test rigs' dampers, the block-ground contact when the scene has a
 //! ground, and the one rope effect (last).
 
 use super::structure::{BodyRef, EndSpec, Structure};
@@ -184,6 +184,11 @@ pub fn build(s: &Structure) -> Result<(Model, BuildMap), String> {
             torque_direction: Vec3::zeros(),
             torque: Profile::constant(0.0),
         })?;
+    }
+    if !s.dampers.is_empty() {
+        b.add_force_effect(Arc::new(super::rig_dampers::RigDampers::new(
+            s, &loads, &nodes,
+        )));
     }
     // blocks and loads: the shortest nominal segment, since their positions set the stretch of
     // the end segments

@@ -24,6 +24,7 @@ pub mod ports;
 pub mod power_ports;
 pub mod rig;
 pub mod rig_checks;
+pub mod rig_dampers;
 pub mod rig_digest;
 pub mod rig_file;
 pub mod rigging;
@@ -41,5 +42,6 @@ pub use rig::{BlockGeometry, BlockPose, BlockRig, Lug, Plate, Rig, RigHook, RigS
 pub use runner::RopeBlockSim;
 pub use scene::RopeBlockScene;
 pub use structure::{
-    BlockSpec, BodyRef, EndSpec, ForceSpec, LoadSpec, NodeContact, NodeSpec, RopeSpec, Structure,
+    BlockSpec, BodyRef, DamperSpec, EndSpec, ForceSpec, LoadSpec, NodeContact, NodeSpec, RopeSpec,
+    Structure,
 };

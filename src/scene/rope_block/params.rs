@@ -372,6 +372,7 @@ impl RopeBlockParams {
             hooks: hooks.iter().map(|h| HookInit::at(*h)).collect(),
             ropes,
             forces: vec![],
+            dampers: vec![],
             ground: self.ground.map(|g| g.spec(&mesh)).transpose()?,
         })
     }

@@ -79,6 +79,33 @@ pub struct ForceSpec {
     pub magnitude: Profile,
 }
 
+/// Linear viscous dampers to the ground (a test rig's element: not among the FMU's parameters,
+/// not in its saved state, as the applied forces). On a point of velocity `v` [m/s] a damper
+/// acts with `-damping (I - a a^T) v` [N] for a unit free axis `a` (world frame): the motion
+/// along `a` is free, every motion across it damped; a zero axis damps all three directions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DamperSpec {
+    /// On load `load`, free along `free_axis`.
+    Load {
+        load: usize,
+        /// [N s/m], >= 0.
+        damping: f64,
+        free_axis: Vec3,
+    },
+    /// On every material node (no contact) of rope `rope`'s two strands, each with `damping`
+    /// [N s/m]: free along `free_axes[0]` before the rope's first contact node, along
+    /// `free_axes[1]` after its last (nodes between contact nodes are not damped). Taken at
+    /// every build, so nodes merged or split on the way keep the rule.
+    Strands {
+        rope: usize,
+        damping: f64,
+        free_axes: [Vec3; 2],
+    },
+    /// On every contact node of rope `rope`, in all directions (its joint leaves it only the
+    /// motion along its edge, so this damps its slide along the edge), with `damping` [N s/m].
+    ContactNodes { rope: usize, damping: f64 },
+}
+
 /// What a rope end is attached to.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum EndSpec {
@@ -161,6 +188,8 @@ pub struct Structure {
     pub hooks: Vec<HookInit>,
     pub ropes: Vec<RopeSpec>,
     pub forces: Vec<ForceSpec>,
+    /// Viscous dampers on loads and strands (test rigs only; empty in every shipped scene).
+    pub dampers: Vec<DamperSpec>,
     /// Block-ground contact (`None`: not assembled).
     pub ground: Option<GroundSpec>,
 }
@@ -185,6 +214,40 @@ impl Structure {
                 return Err(format!(
                     "load '{}': mass must be finite and > 0 kg, got {}",
                     l.name, l.mass
+                ));
+            }
+        }
+        for d in &self.dampers {
+            let (damping, axes) = match *d {
+                DamperSpec::Load {
+                    load,
+                    damping,
+                    free_axis,
+                } => {
+                    self.check_body(&BodyRef::Load(load), "damper")?;
+                    (damping, vec![free_axis])
+                }
+                DamperSpec::Strands {
+                    rope,
+                    damping,
+                    free_axes,
+                } => {
+                    if rope >= self.ropes.len() {
+                        return Err(format!("damper: rope {rope} does not exist"));
+                    }
+                    (damping, free_axes.to_vec())
+                }
+                DamperSpec::ContactNodes { rope, damping } => {
+                    if rope >= self.ropes.len() {
+                        return Err(format!("damper: rope {rope} does not exist"));
+                    }
+                    (damping, vec![])
+                }
+            };
+            let unit = |a: &Vec3| fin(a) && (a.norm() == 0.0 || (a.norm() - 1.0).abs() <= 1e-9);
+            if !(damping.is_finite() && damping >= 0.0 && axes.iter().all(unit)) {
+                return Err(format!(
+                    "damper {d:?}: damping must be finite and >= 0 N s/m and each free axis zero or a unit vector"
                 ));
             }
         }
