@@ -131,20 +131,18 @@ fn tilted(args: &[String], law: FrictionLaw) {
         for v in [0.05, 0.1, 0.2] {
             let start = cpu_seconds();
             let r = pulled::run_tilted_under(law, t1, tilt, v);
-            println!(
-                "T1 {t1:.3e} N, tilt {tilt:4.1} deg, v {v:.2} m/s: steps {}, rejected {}, Newton {} (failed {}), edge slides {}; T2/T1 over 1-2 s mean {:.4}, least {:.4}, largest {:.4}; {:.2} s CPU",
-                r.steps,
-                r.rejected,
-                r.newton,
-                r.newton_failed,
-                r.edge_slides,
-                r.mean,
-                r.least,
-                r.largest,
-                cpu_seconds() - start
-            );
+            let label = format!("T1 {t1:.3e} N, tilt {tilt:4.1} deg, v {v:.2} m/s");
+            print_tilted(&label, &r, cpu_seconds() - start);
         }
     }
+}
+
+/// One tilted-edge run's line: its work counters, T2/T1 over 1-2 s and the thread's CPU [s].
+fn print_tilted(label: &str, r: &pulled::TiltedRun, cpu: f64) {
+    println!(
+        "{label}: steps {}, rejected {}, Newton {} (failed {}), edge slides {}; T2/T1 over 1-2 s mean {:.4}, least {:.4}, largest {:.4}; {cpu:.2} s CPU",
+        r.steps, r.rejected, r.newton, r.newton_failed, r.edge_slides, r.mean, r.least, r.largest,
+    );
 }
 
 /// The damped (quasi-static) tilted edge at four speeds, compared at equal pulled length.
@@ -247,18 +245,7 @@ fn tolerance(law: FrictionLaw) {
         };
         let start = cpu_seconds();
         let r = pulled::run_tilted_with(law, t1, tilt, v, opt);
-        println!(
-            "x{scale}: steps {}, rejected {}, Newton {} (failed {}), edge slides {}; T2/T1 over 1-2 s mean {:.4}, least {:.4}, largest {:.4}; {:.2} s CPU",
-            r.steps,
-            r.rejected,
-            r.newton,
-            r.newton_failed,
-            r.edge_slides,
-            r.mean,
-            r.least,
-            r.largest,
-            cpu_seconds() - start
-        );
+        print_tilted(&format!("x{scale}"), &r, cpu_seconds() - start);
     }
 }
 

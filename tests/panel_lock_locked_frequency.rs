@@ -23,16 +23,18 @@ fn one_rigid_panel() -> PanelLockParams {
     }
 }
 
-/// The FMU's model with [`one_rigid_panel`]'s parameters set through its ports.
-fn one_rigid_panel_model() -> PanelLockModel {
+/// The FMU's model with [`one_rigid_panel`]'s parameters set through its ports, then `extra`,
+/// initialized.
+fn one_rigid_panel_model(extra: &[(&str, f64)]) -> PanelLockModel {
     let p = one_rigid_panel();
     let mut m = PanelLockModel::new();
-    for (name, v) in [
+    let own = [
         ("n_panels", 1.0),
         ("cam_radius", p.cam_radius),
         ("groove_width", p.groove_width),
-    ] {
-        set_by_name(&mut m, name, v).unwrap();
+    ];
+    for (name, v) in own.iter().chain(extra) {
+        set_by_name(&mut m, name, *v).unwrap();
     }
     m.initialize(0.0).unwrap();
     m
@@ -124,7 +126,7 @@ fn hand_frequency(p: &PanelLockParams) -> f64 {
 fn locked_frequency_of_one_rigid_panel_by_hand() {
     let p = one_rigid_panel();
     let hand = hand_frequency(&p);
-    let mut m = one_rigid_panel_model();
+    let mut m = one_rigid_panel_model(&[]);
     let h = 0.1;
     let mut locked_at = None;
     for i in 0..400 {
@@ -178,17 +180,7 @@ fn locked_frequency_of_one_rigid_panel_by_hand() {
 /// large-amplitude cycles do not (a check that can fail).
 #[test]
 fn locked_frequency_is_the_small_amplitude_free_vibration() {
-    let p = one_rigid_panel();
-    let mut m = PanelLockModel::new();
-    for (name, v) in [
-        ("n_panels", 1.0),
-        ("cam_radius", p.cam_radius),
-        ("groove_width", p.groove_width),
-        ("restitution", 0.99),
-    ] {
-        set_by_name(&mut m, name, v).unwrap();
-    }
-    m.initialize(0.0).unwrap();
+    let mut m = one_rigid_panel_model(&[("restitution", 0.99)]);
     let h = 0.01;
     let (mut t, mut v) = (Vec::new(), Vec::new());
     for i in 0..28_000 {

@@ -330,25 +330,14 @@ impl GenAlpha {
         sys: &mut System,
         t1: f64,
     ) -> Result<(), NewtonFailure> {
-        let (nv, nc) = (sys.n_v(), sys.n_c());
-        if nc == 0 {
+        if sys.n_c() == 0 {
             return Ok(());
         }
         sys.eval_constraints(t1, &self.q1, &self.v1);
-        self.rhs[..nv].fill(0.0);
-        self.lam_scratch.resize(nc, 0.0);
-        sys.g_mul(&self.v1, &mut self.lam_scratch);
-        for (r, row) in sys.rows.iter().enumerate() {
-            self.rhs[nv + r] = -(self.lam_scratch[r] + row.phi_t);
-        }
-        self.lin.solve(&mut self.rhs).map_err(|e| NewtonFailure {
-            t: t1,
-            cause: NewtonCause::SingularMatrix(e),
-        })?;
-        for (v, dv) in self.v1.iter_mut().zip(&self.rhs[..nv]) {
-            *v += dv;
-        }
-        Ok(())
+        let mut v1 = std::mem::take(&mut self.v1);
+        let done = self.project_onto_joints(sys, t1, &mut v1, true);
+        self.v1 = v1;
+        done
     }
 
     /// Projects the error estimate in `tmp` [m, rad] onto the joints' tangent space at `q1`
@@ -364,22 +353,43 @@ impl GenAlpha {
         sys: &mut System,
         t1: f64,
     ) -> Result<(), NewtonFailure> {
-        let (nv, nc) = (sys.n_v(), sys.n_c());
-        if nc == 0 {
+        if sys.n_c() == 0 {
             return Ok(());
         }
+        let mut e = std::mem::take(&mut self.tmp);
+        let done = self.project_onto_joints(sys, t1, &mut e, false);
+        self.tmp = e;
+        done
+    }
+
+    /// `x += dx`, the correction that puts `x` on the joints' tangent space, `G (x + dx) + c = 0`
+    /// with `c` the constraints' explicit time rates (`with_time_rates`) or 0, in the metric of
+    /// the step's Newton matrix (one solve with its factors; the constraints evaluated at `q1`).
+    fn project_onto_joints(
+        &mut self,
+        sys: &mut System,
+        t1: f64,
+        x: &mut [f64],
+        with_time_rates: bool,
+    ) -> Result<(), NewtonFailure> {
+        let (nv, nc) = (sys.n_v(), sys.n_c());
         self.rhs[..nv].fill(0.0);
         self.lam_scratch.resize(nc, 0.0);
-        sys.g_mul(&self.tmp, &mut self.lam_scratch);
-        for r in 0..nc {
-            self.rhs[nv + r] = -self.lam_scratch[r];
+        sys.g_mul(x, &mut self.lam_scratch);
+        for (r, row) in sys.rows.iter().enumerate() {
+            let g_x = self.lam_scratch[r];
+            self.rhs[nv + r] = if with_time_rates {
+                -(g_x + row.phi_t)
+            } else {
+                -g_x
+            };
         }
         self.lin.solve(&mut self.rhs).map_err(|e| NewtonFailure {
             t: t1,
             cause: NewtonCause::SingularMatrix(e),
         })?;
-        for (e, de) in self.tmp.iter_mut().zip(&self.rhs[..nv]) {
-            *e += de;
+        for (xi, dx) in x.iter_mut().zip(&self.rhs[..nv]) {
+            *xi += dx;
         }
         Ok(())
     }
