@@ -19,6 +19,8 @@ pub mod shell;
 pub mod slip;
 #[cfg(test)]
 mod slip_dense;
+#[cfg(test)]
+mod winch_pull_tests;
 
 pub use effect::{NodeSegments, RopeEffect};
 pub use layout::{

@@ -502,8 +502,10 @@ pub const CHECKS: &[Check] = &[
         tests: &[
             "tests/output_checks/rope_bonds.rs::port_powers_add_up_to_the_rope_effect_s_input_power",
             "tests/output_checks/rope_bonds.rs::hook_power_is_the_force_outputs_against_the_commanded_velocity",
+            "src/rope/winch_pull_tests.rs::winch_pull_and_dissipation_of_one_segment_are_the_hand_formulas",
+            "tests/python/test_osp_ports.py::test_the_joined_winch_is_passive",
         ],
-        against: "hook moving sideways and up while paying out: hook + winch power = the rope effect's own input power (its sum, what the integrator books), 1e-9 of the port power; hook power = -(fx, fy, fz) . commanded velocity through the FMU variables, fz from the tensions, 1e-9; winch power = -winch force x rate, 1e-12 (the winch force itself is checked only through the power sum: weak)",
+        against: "hook moving sideways and up while paying out: hook + winch power = the rope effect's own input power (its sum, what the integrator books), 1e-9 of the port power; hook power = -(fx, fy, fz) . commanded velocity through the FMU variables, fz from the tensions, 1e-9; winch power = -winch force x rate, 1e-12; the winch pull on one segment against EA (e + e^2/2) + c (strain rate) l / L by hand, 1e-12; the winch joined to a mass-spring-damper through its port decays (passivity: drum speed below 5 % of its first second's after 4 s)",
     },
     Check {
         model: ROPE_BLOCK,

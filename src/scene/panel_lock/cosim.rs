@@ -2,6 +2,7 @@
 
 use super::array::{HingeTable, PanelTable};
 use super::array_file::read_array;
+use super::locked_frequency::Update;
 use super::params::DEFAULT_FLEX_MODES;
 use super::ports::*;
 use super::{PanelLock, PanelLockParams};
@@ -259,7 +260,7 @@ impl CoSimModel for PanelLockModel {
                 .set_satellite_load(j, self.ports.get_real(vr_satellite_load(j))?)
                 .map_err(ModelError::InvalidValue)?;
         }
-        if let Some(note) = scene.update_locked_frequency() {
+        if let Update::Failed(note) = scene.update_locked_frequency() {
             self.log.push(LogRecord {
                 level: LogLevel::Warning,
                 message: note,
@@ -306,28 +307,21 @@ impl CoSimModel for PanelLockModel {
         }
         let end = stopped.finish(&mut self.clock, &step, now);
         let scene = self.scene()?;
-        let note = scene.update_locked_frequency();
-        let (hz, cpu, t_now) = (
-            scene.locked_frequency.hz,
-            scene.locked_frequency.cpu,
-            scene.sim.state.t,
-        );
-        match note {
-            Some(note) => self.log.push(LogRecord {
+        let t_now = scene.sim.state.t;
+        match scene.update_locked_frequency() {
+            Update::Failed(note) => self.log.push(LogRecord {
                 level: LogLevel::Warning,
                 message: note,
             }),
-            None if hz > 0.0 && cpu > 0.0 && scene.locked_frequency.fresh => {
-                self.log.push(LogRecord {
-                    level: LogLevel::Event,
-                    message: format!(
-                        "locked_frequency = {hz:.6} Hz (array linearized about its equilibrium at t = {:.6} s, {:.1} ms)",
-                        self.clock.start() + t_now,
-                        1e3 * cpu
-                    ),
-                })
-            }
-            None => {}
+            Update::Computed { hz, cpu } if hz > 0.0 => self.log.push(LogRecord {
+                level: LogLevel::Event,
+                message: format!(
+                    "locked_frequency = {hz:.6} Hz (array linearized about its equilibrium at t = {:.6} s, {:.1} ms)",
+                    self.clock.start() + t_now,
+                    1e3 * cpu
+                ),
+            }),
+            _ => {}
         }
         let after = self.lock_times();
         for (k, (a, b)) in after.iter().zip(&before).enumerate() {
@@ -477,7 +471,7 @@ impl CoSimModel for PanelLockModel {
                 }
                 scene.locked_frequency.hz = hz;
                 scene.locked_frequency.locked = locked.iter().map(|&l| l == 1.0).collect();
-            } else if let Some(note) = scene.update_locked_frequency() {
+            } else if let Update::Failed(note) = scene.update_locked_frequency() {
                 restored.log.push(LogRecord {
                     level: LogLevel::Warning,
                     message: note,

@@ -74,44 +74,47 @@ pub struct LockedFrequency {
     pub hz: f64,
     /// Per hinge, locked or not, when [`Self::hz`] was last computed (empty: never).
     pub locked: Vec<bool>,
-    /// CPU time of the last computation [s].
-    pub cpu: f64,
-    /// Whether the last [`Self::update`] computed the value (false when it found the set
-    /// unchanged).
-    pub fresh: bool,
+}
+
+/// What one [`LockedFrequency::update`] did.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Update {
+    /// Nothing computed: the locked set is the one of the value held, or not every hinge is
+    /// locked (the value is then 0).
+    NotComputed,
+    /// Computed now: the frequency [Hz] and the CPU time it took [s].
+    Computed { hz: f64, cpu: f64 },
+    /// The computation failed, for this reason; the value is 0.
+    Failed(String),
 }
 
 impl LockedFrequency {
     /// Brings the value up to date with `scene`'s locked set: computed when every hinge is
     /// locked and the set differs from the one of the value held (at most once per run, as
-    /// latches never release), back to 0 when not every hinge is locked. Returns the reason
-    /// when the computation failed (the value is then 0).
-    pub fn update(&mut self, scene: &PanelLock) -> Option<String> {
+    /// latches never release), back to 0 when not every hinge is locked.
+    pub fn update(&mut self, scene: &PanelLock) -> Update {
         let locked: Vec<bool> = scene.lock_times().iter().map(|t| t.is_finite()).collect();
-        self.fresh = false;
         if locked == self.locked {
-            return None;
+            return Update::NotComputed;
         }
         let all = scene.layout.latches.is_some() && locked.iter().all(|&l| l);
         self.locked = locked;
         self.hz = 0.0;
-        self.cpu = 0.0;
         if !all {
-            return None;
+            return Update::NotComputed;
         }
-        let cpu = std::time::Instant::now();
-        self.fresh = true;
+        let start = std::time::Instant::now();
         let result = locked_modes(scene);
-        self.cpu = cpu.elapsed().as_secs_f64();
+        let cpu = start.elapsed().as_secs_f64();
         match result {
             Ok((_, f)) => match f.first() {
                 Some(&f) if f.is_finite() => {
                     self.hz = f;
-                    None
+                    Update::Computed { hz: f, cpu }
                 }
-                _ => Some("locked_frequency: the locked array has no mode".into()),
+                _ => Update::Failed("locked_frequency: the locked array has no mode".into()),
             },
-            Err(e) => Some(format!(
+            Err(e) => Update::Failed(format!(
                 "locked_frequency stays 0: no linearization of the locked array at t = {} s ({e})",
                 scene.sim.state.t
             )),

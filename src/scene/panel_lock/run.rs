@@ -5,7 +5,7 @@ use super::flex_outputs::PanelFlexOutput;
 use super::interface::{
     InterfacePeaks, PeakHook, interface_motion, interface_power, interface_wrench,
 };
-use super::locked_frequency::LockedFrequency;
+use super::locked_frequency::{LockedFrequency, Update};
 use super::params::PanelLockParams;
 use crate::effect::EvalCtx;
 use crate::effect::angle::relative_angle;
@@ -151,8 +151,8 @@ impl PanelLock {
 
     /// Brings [`PanelLock::locked_frequency`] up to date with the locked set (computed from a
     /// copy of the system when the last hinge has locked; nothing otherwise): call it after
-    /// advancing. Returns the reason when the computation failed (the value is then 0).
-    pub fn update_locked_frequency(&mut self) -> Option<String> {
+    /// advancing. Says what it did (computed, failed with the reason, or nothing).
+    pub fn update_locked_frequency(&mut self) -> Update {
         let mut f = std::mem::take(&mut self.locked_frequency);
         let note = f.update(self);
         self.locked_frequency = f;
